@@ -1,0 +1,55 @@
+// Kelvin-Voigt parameters across the runs of a session (thesis Tables 3 and 4,
+// eq. 40): how K and C vary with the square root of the restitution, and
+// predicting one run from another run's parameters.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_two_point.h"
+
+namespace impactlab {
+
+// Table 3: each K against the session's average.
+struct StiffnessSpread {
+  double average = 0.0;               // K_avg
+  std::vector<double> deviation;      // K - K_avg
+  std::vector<double> pct_variation;  // 100 |K - K_avg| / K_avg
+};
+StiffnessSpread SpreadOf(const std::vector<double>& stiffness);
+
+// Eq. 40: C = a (1 - b sqrt(xi)), fitted by ordinary least squares as
+// C = alpha + beta sqrt(xi), a = alpha, b = -beta / alpha. Standard errors
+// from the residual scatter (n - 2 degrees of freedom); zero with two runs,
+// where the line passes through both points and the scatter is unknown.
+struct DampingLine {
+  Estimate a;            // damping units
+  Estimate b;            // 1
+  double correlation_ab = 0.0;
+  double rms_residual = 0.0;  // damping units
+  int points = 0;
+};
+// Throws std::invalid_argument with fewer than two points or equal abscissae.
+DampingLine FitDampingLine(const std::vector<double>& sqrt_restitution,
+                           const std::vector<double>& damping);
+
+// Table 4 (PENDUL option 3): a target run's rebounds predicted from a source
+// run's restitution, starting at the target's measured `start_rebound`,
+// beside the target's own fit ("calculated").
+struct RunPrediction {
+  std::string source_run;
+  std::string target_run;
+  int start_rebound = 0;
+  double start_xmax = 0.0;             // the target's measured maximum the prediction starts from
+  std::vector<double> predicted;       // rebound start_rebound, start_rebound + 1, ...
+  std::vector<double> calculated;      // the target's own two-point fit
+  std::vector<double> deviation;       // calculated - predicted
+  std::vector<double> pct_peak;        // 100 deviation / calculated
+  std::vector<double> pct_start;       // 100 deviation / start_xmax (Table 4's "% X0")
+};
+RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run,
+                         const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,
+                         const std::vector<double>& target_xmax,
+                         const KelvinVoigtTwoPointFit& target_fit, int start_rebound);
+
+}  // namespace impactlab

@@ -1,0 +1,77 @@
+// The closed-form Kelvin-Voigt fit from two rebound maxima and a contact time
+// (thesis eq. 34-38; PENDUL option 1), generalised to any pair a < b.
+//
+// N = b - a impacts separate the maxima, each keeping the fraction e of the
+// speed through equilibrium, so
+//   ln e = [ln v(X_b) - ln v(X_a)] / N,   Lambda = 2 N ln e
+//   zeta = sqrt(Lambda^2 / (Lambda^2 + 4 N^2 pi^2))         (eq. 36, kinematic)
+//   K = M pi^2 / (tau_c^2 (1 - zeta^2)),  C = 2 zeta sqrt(K M)  (eq. 37, 38)
+// with v(X) the pendulum's speed through equilibrium (model/pendulum.h: exact,
+// or PENDUL's X_a sqrt(g/L) and 2 sqrt(gL) sin(X_b / 2L) in the thesis
+// convention). Under force separation zeta and K follow from e and tau_c by
+// that convention's relations instead. The predicted maximum of rebound n is
+// the amplitude of the speed v(X_a) e^(n - a), also for n < a.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/contact.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+// One run's measured maxima in session numbering (rebound 0 is the table's
+// first rebound, Figure 15) with their one-sigma uncertainties.
+struct ReboundMeasurements {
+  std::vector<double> xmax;        // length units
+  std::vector<double> xmax_sigma;  // empty, or one per maximum (0 = exact)
+  std::optional<double> contact_time;  // s
+  double contact_time_sigma = 0.0;     // s
+};
+
+struct TwoPointOptions {
+  std::array<int, 2> rebounds = {0, 1};  // a < b, session numbering
+  Separation separation = Separation::kKinematic;
+};
+
+// An estimate and its one-sigma uncertainty (linear propagation of the
+// measurement uncertainties; 0 when the inputs carry none).
+struct Estimate {
+  double value = 0.0;
+  double sigma = 0.0;
+};
+
+struct KelvinVoigtTwoPointFit {
+  // False when the pair shows no dissipation (X_b > X_a): `diagnostic` says
+  // why, and no parameter below is meaningful.
+  bool ok = false;
+  std::string diagnostic;
+  std::array<int, 2> rebounds_used = {0, 1};
+  Separation separation = Separation::kKinematic;
+
+  Estimate log_restitution;  // ln e
+  Estimate restitution;      // e
+  Estimate damping_ratio;    // zeta
+  // Present when a contact time was given.
+  std::optional<double> contact_time;  // s, the value used
+  std::optional<Estimate> stiffness;   // K, force/length
+  std::optional<Estimate> damping;     // C, force*time/length
+
+  std::vector<Estimate> predicted_xmax;  // model's X max of rebound 0, 1, ... (session numbering)
+};
+
+// Throws std::invalid_argument for a pair out of range, non-positive maxima or
+// contact time; returns ok = false with a diagnostic when X_b > X_a.
+KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double mass,
+                                              const ReboundMeasurements& measured,
+                                              const TwoPointOptions& options);
+
+// Amplitude of rebound `to` predicted from the maximum `from_x` of rebound
+// `from` and a restitution: v(from_x) e^(to - from) converted back to an amplitude.
+double PredictMaximum(const Pendulum& pendulum, double from_x, int from, int to,
+                      double log_restitution);
+
+}  // namespace impactlab

@@ -1,0 +1,72 @@
+// A small typed view of an HDF5 results file: datasets addressed by slash
+// paths ("/runs/0.234/contact_time"), intermediate groups created on demand,
+// every numeric dataset written with its `units` attribute (results-layout.md).
+// The HDF5 library stays private to io/.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace impactlab {
+
+class Hdf5File {
+ public:
+  // Creates (truncating) or opens read-only. Throws InputError naming the file.
+  static Hdf5File Create(const std::filesystem::path& path);
+  static Hdf5File OpenReadOnly(const std::filesystem::path& path);
+
+  Hdf5File(Hdf5File&&) noexcept;
+  Hdf5File& operator=(Hdf5File&&) noexcept;
+  ~Hdf5File();
+
+  const std::filesystem::path& path() const;
+
+  // Writing. `units` is mandatory for numbers ("1" for dimensionless).
+  void WriteScalar(const std::string& dataset, double value, std::string_view units);
+  void WriteVector(const std::string& dataset, const std::vector<double>& values,
+                   std::string_view units);
+  void WriteIntegers(const std::string& dataset, const std::vector<long long>& values);
+  void WriteStrings(const std::string& dataset, const std::vector<std::string>& values);
+  void CreateGroup(const std::string& group);
+  void SetAttribute(const std::string& object, const std::string& name, const std::string& value);
+  void SetAttribute(const std::string& object, const std::string& name, long long value);
+  void SetAttribute(const std::string& object, const std::string& name,
+                    const std::vector<long long>& values);
+
+  // Reading. Throws InputError naming the file and the object when missing.
+  bool Exists(const std::string& object) const;
+  std::vector<std::string> Children(const std::string& group) const;  // in creation order
+  double ReadScalar(const std::string& dataset) const;
+  std::vector<double> ReadVector(const std::string& dataset) const;
+  std::vector<long long> ReadIntegers(const std::string& dataset) const;
+  std::vector<std::string> ReadStrings(const std::string& dataset) const;
+  std::string ReadStringAttribute(const std::string& object, const std::string& name) const;
+  long long ReadIntegerAttribute(const std::string& object, const std::string& name) const;
+  std::vector<long long> ReadIntegerArrayAttribute(const std::string& object,
+                                                   const std::string& name) const;
+  bool HasAttribute(const std::string& object, const std::string& name) const;
+
+  // Optional reads: nullopt when the object is absent.
+  std::optional<double> ReadScalarIfPresent(const std::string& dataset) const;
+
+ private:
+  struct Impl;
+  explicit Hdf5File(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Writes `path` atomically: `write` fills a temporary file beside it, which is
+// renamed over `path` only after it is complete and closed. If `write` throws,
+// the temporary is removed and an earlier file at `path` is left untouched.
+void WriteHdf5Atomically(const std::filesystem::path& path,
+                         const std::function<void(Hdf5File&)>& write);
+
+// Joins path components with '/', e.g. JoinPath({"runs", id, "rebounds"}).
+std::string JoinPath(std::initializer_list<std::string_view> parts);
+
+}  // namespace impactlab

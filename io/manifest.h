@@ -1,0 +1,33 @@
+// Reads and validates a session manifest (format 1) with toml++.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/session.h"
+
+namespace impactlab {
+
+struct ManifestWarning {
+  InputLocation where;
+  std::string message;  // e.g. "unknown key (ignored)"
+};
+
+struct ManifestReadResult {
+  Session session;
+  std::vector<ManifestWarning> warnings;  // unknown keys and other non-fatal findings
+};
+
+// Reads `session_folder/session.toml`. Throws InputError naming the file, the
+// key, the line where known, and what was expected. Paths in the manifest must
+// stay inside the folder (no absolute paths, no "..", no symbolic link leading
+// out); referenced files are checked to exist.
+ManifestReadResult ReadManifest(const std::filesystem::path& session_folder);
+
+// Same, from manifest text (tests); `manifest_path` is used in messages and its
+// parent folder resolves relative paths.
+ManifestReadResult ParseManifest(const std::string& toml_text,
+                                 const std::filesystem::path& manifest_path);
+
+}  // namespace impactlab

@@ -1,0 +1,121 @@
+// The lab session manifest, format 1 (docs/manifest.md; contract in session-format.md).
+//
+// These are plain data: what the manifest says, with paths already resolved and
+// checked to lie inside the session folder. Reading and validation live in
+// manifest.h; nothing here touches the file system.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/units.h"
+
+namespace impactlab {
+
+enum class Arrangement {
+  kPair,  // two identical penduli touching at rest (the thesis's apparatus)
+  kWall,  // one pendulum against a rigid stop
+};
+
+struct Apparatus {
+  double pendulum_length = 0.0;  // L, length units
+  double mass = 0.0;             // M of one pendulum, mass units (weight / g when given as weight)
+  double gravity = 0.0;          // g, length/s^2 (the unit system's default unless given)
+  Arrangement arrangement = Arrangement::kPair;
+};
+
+// Screen settings of one oscillograph trace. Positions are in graticule
+// divisions: vertical from the graticule centre (up positive), horizontal from
+// the left edge.
+struct TraceSettings {
+  double time_per_div = 0.0;      // s/div
+  double volts_per_div = 0.0;     // V/div
+  double zero_div = 0.0;          // screen height of 0 V
+  std::array<double, 2> band_div = {-4.0, 4.0};  // vertical band the trace stays in
+  double t0_div = 0.0;            // screen position of t = 0 (the release)
+  std::optional<int> impact;      // contact traces: which impact the delayed sweep shows
+  std::optional<std::filesystem::path> csv;  // digital trace (time_s,volts) instead of the photo
+};
+
+struct Calibration {
+  std::string id;
+  std::string cell;                   // "right" or "left"
+  double initial_displacement = 0.0;  // X0 of the freely swinging pendulum, length units
+  std::optional<std::filesystem::path> photo;
+  TraceSettings trace;
+};
+
+struct Run {
+  std::string id;
+  double initial_displacement = 0.0;  // X0: half the gap between the bars at release
+  std::optional<std::filesystem::path> photo;
+  std::map<std::string, std::string> calibration;  // cell ("right"/"left") -> calibration id
+  int first_rebound = 1;  // rebound, counting from the first impact, that the tables call 0
+  std::map<std::string, TraceSettings> traces;  // "right", "left", "contact"
+
+  // Measured values typed in by hand (refitting published data).
+  std::vector<double> rebounds;          // Xmax of rebound 0, 1, 2, ... (session numbering)
+  std::optional<double> contact_time;    // s
+  std::array<int, 2> fit_rebounds = {0, 1};  // the pair a < b the closed-form fit uses
+  // impactlab extensions (docs/manifest.md): reading uncertainties of typed-in values.
+  std::optional<double> rebound_uncertainty;       // length units, one standard deviation
+  std::optional<double> contact_time_uncertainty;  // s, one standard deviation
+
+  bool HasTypedRebounds() const { return !rebounds.empty(); }
+};
+
+struct LogChannel {
+  std::string name;    // e.g. "q1"
+  std::string column;  // CSV column
+  std::optional<double> counts_per_rev;  // encoder: angle = 2 pi counts / (cpr * gear_ratio)
+  double gear_ratio = 1.0;
+  std::optional<double> sensitivity;  // accelerometer: V per g
+};
+
+struct Log {
+  std::string id;
+  std::filesystem::path experiment;
+  std::optional<std::filesystem::path> simulation;
+  std::string time_column = "t";
+  std::vector<LogChannel> channels;
+};
+
+// impactlab extension: session-wide reduction settings ([reduction] table).
+struct ReductionSettings {
+  // One contact time for every run (the thesis's "average experimental contact
+  // time", Table 3); a run's own contact_time is used when this is absent.
+  std::optional<double> contact_time;  // s
+  // "per-run": K from each run's own fit; "average": the mean K of the runs is
+  // used for every run and C follows from it (the thesis's design expedient).
+  bool average_stiffness = false;
+  std::string convention = "exact";   // pendulum: "exact" or "thesis" (PENDUL's small angle)
+  std::string separation = "kinematic";  // Kelvin-Voigt contact end: "kinematic" or "force"
+};
+
+// impactlab extension: predict one run from another run's parameters (Table 4).
+struct Prediction {
+  std::string source_run;  // parameters are fitted on this run
+  std::string target_run;  // and predict this run's rebounds
+  int start_rebound = 0;   // the target's measured rebound the prediction starts from
+};
+
+struct Session {
+  std::filesystem::path folder;    // the session folder (read-only to us)
+  std::filesystem::path manifest;  // folder / "session.toml"
+  int format = 1;
+  std::string title;
+  UnitSystem units = UnitSystem::kInLbfS;
+  std::optional<Apparatus> apparatus;  // required when the session has runs
+  std::array<int, 2> divisions = {10, 8};
+  std::vector<Calibration> calibrations;
+  std::vector<Run> runs;
+  std::vector<Log> logs;
+  ReductionSettings reduction;
+  std::vector<Prediction> predictions;
+};
+
+}  // namespace impactlab

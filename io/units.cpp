@@ -1,0 +1,26 @@
+#include "io/units.h"
+
+namespace impactlab {
+
+std::string_view UnitSystemName(UnitSystem system) {
+  return system == UnitSystem::kSI ? "SI" : "in-lbf-s";
+}
+
+std::optional<UnitSystem> ParseUnitSystem(std::string_view name) {
+  if (name == "in-lbf-s") return UnitSystem::kInLbfS;
+  if (name == "SI") return UnitSystem::kSI;
+  return std::nullopt;
+}
+
+UnitLabels LabelsFor(UnitSystem system) {
+  if (system == UnitSystem::kSI) {
+    return {"m", "N", "kg", "N/m", "N*s/m", "m/s^2", "m/s"};
+  }
+  return {"in", "lbf", "lbf*s^2/in", "lbf/in", "lbf*s/in", "in/s^2", "in/s"};
+}
+
+double StandardGravity(UnitSystem system) {
+  return system == UnitSystem::kSI ? 9.80665 : 385.644;
+}
+
+}  // namespace impactlab

@@ -1,0 +1,105 @@
+#include "model/pendulum.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+#include <fmt/format.h>
+
+namespace impactlab {
+namespace {
+
+using std::numbers::pi;
+
+bool IsThesis(const Pendulum& p) { return p.convention == PendulumConvention::kThesis; }
+
+void CheckPendulum(const Pendulum& p) {
+  if (!(p.length > 0.0) || !(p.gravity > 0.0) || !std::isfinite(p.length) ||
+      !std::isfinite(p.gravity)) {
+    throw std::invalid_argument(
+        fmt::format("pendulum needs L > 0 and g > 0, got L = {}, g = {}", p.length, p.gravity));
+  }
+}
+
+// k = sin(theta_m / 2), the modulus of the exact pendulum's elliptic functions.
+double Modulus(const Pendulum& p, double xmax) { return std::sin(0.5 * SwingAngle(p, xmax)); }
+
+// X = L sin(theta) = 2 L sin(theta/2) cos(theta/2) with sin(theta/2) = k sn(u).
+// cos(theta/2) = dn(u) = sqrt(1 - k^2 sn^2): taken from sn because Boost 1.74's
+// dn is wrong at the quarter period u = K (by 2e-3 at k = 0.2), and k^2 sn^2
+// <= 1/2 leaves the square root well conditioned.
+double DisplacementFromSn(const Pendulum& p, double k, double u) {
+  const double sin_half_theta = k * boost::math::jacobi_sn(k, u);
+  return 2.0 * p.length * sin_half_theta *
+         std::sqrt((1.0 - sin_half_theta) * (1.0 + sin_half_theta));
+}
+
+}  // namespace
+
+double NaturalFrequency(const Pendulum& p) {
+  CheckPendulum(p);
+  return std::sqrt(p.gravity / p.length);
+}
+
+double SwingAngle(const Pendulum& p, double xmax) {
+  CheckPendulum(p);
+  if (!(xmax >= 0.0) || !(xmax < p.length)) {
+    throw std::domain_error(fmt::format(
+        "a swing amplitude must satisfy 0 <= X < L, got X = {} with L = {}", xmax, p.length));
+  }
+  return IsThesis(p) ? xmax / p.length : std::asin(xmax / p.length);
+}
+
+double SpeedFromAmplitude(const Pendulum& p, double xmax) {
+  if (IsThesis(p)) {
+    SwingAngle(p, xmax);  // validates
+    return xmax * NaturalFrequency(p);
+  }
+  return SpeedFromPeakEnergy(p, xmax);
+}
+
+double SpeedFromPeakEnergy(const Pendulum& p, double xmax) {
+  // (1/2) v^2 = g L (1 - cos theta) = 2 g L sin^2(theta/2).
+  return 2.0 * std::sqrt(p.gravity * p.length) * std::sin(0.5 * SwingAngle(p, xmax));
+}
+
+double AmplitudeFromSpeed(const Pendulum& p, double speed) {
+  CheckPendulum(p);
+  if (!(speed >= 0.0) || !std::isfinite(speed)) {
+    throw std::domain_error(fmt::format("a swing speed must be >= 0, got {}", speed));
+  }
+  if (IsThesis(p)) return speed / NaturalFrequency(p);
+  const double k = speed / (2.0 * std::sqrt(p.gravity * p.length));
+  if (!(k < std::numbers::sqrt2 / 2.0)) {
+    throw std::domain_error(fmt::format(
+        "a swing at {} through equilibrium would pass the horizontal (L = {}, g = {})", speed,
+        p.length, p.gravity));
+  }
+  // X = L sin(theta_m) = 2 L sin(theta_m/2) cos(theta_m/2).
+  return 2.0 * p.length * k * std::sqrt((1.0 - k) * (1.0 + k));
+}
+
+double HalfPeriod(const Pendulum& p, double xmax) {
+  const double small_angle = pi / NaturalFrequency(p);
+  if (IsThesis(p)) return small_angle;
+  // 2 sqrt(L/g) K(k), K(0) = pi/2.
+  return 2.0 * boost::math::ellint_1(Modulus(p, xmax)) / NaturalFrequency(p);
+}
+
+double ReleaseSwingDisplacement(const Pendulum& p, double release_x, double t) {
+  const double w0 = NaturalFrequency(p);
+  if (IsThesis(p)) return release_x * std::cos(w0 * t);
+  // sin(theta/2) = k sn(K - w0 t, k): at t = 0 sn(K) = 1, theta = theta_m.
+  const double k = Modulus(p, release_x);
+  return DisplacementFromSn(p, k, boost::math::ellint_1(k) - w0 * t);
+}
+
+double ReboundDisplacement(const Pendulum& p, double speed, double t) {
+  const double w0 = NaturalFrequency(p);
+  if (IsThesis(p)) return speed / w0 * std::sin(w0 * t);
+  return DisplacementFromSn(p, speed / (2.0 * std::sqrt(p.gravity * p.length)), w0 * t);
+}
+
+}  // namespace impactlab

@@ -1,0 +1,62 @@
+#include "model/pendulum.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <catch2/catch.hpp>
+
+namespace impactlab {
+namespace {
+
+using std::numbers::pi;
+constexpr double kG = 385.644;  // in/s^2, the thesis's g
+
+TEST_CASE("pendulum: small amplitudes approach the small-angle model") {
+  const Pendulum exact{22.0, kG, PendulumConvention::kExact};
+  const double w0 = std::sqrt(kG / 22.0);
+  CHECK(HalfPeriod(exact, 1e-6) == Approx(pi / w0).epsilon(1e-14));
+  CHECK(SpeedFromAmplitude(exact, 1e-6) == Approx(1e-6 * w0).epsilon(1e-12));
+}
+
+TEST_CASE("pendulum: exact half period grows with amplitude as K(sin(theta/2))") {
+  const Pendulum exact{1.0, 9.80665, PendulumConvention::kExact};
+  CHECK(HalfPeriod(exact, 0.5) > HalfPeriod(exact, 0.1));
+  // X = L/2: theta_m = 30 deg, K(sin 15 deg) = 1.598142002112540 (mpmath, 30 digits).
+  CHECK(HalfPeriod(exact, 0.5) ==
+        Approx(2.0 * 1.598142002112540 / std::sqrt(9.80665)).epsilon(1e-14));
+}
+
+TEST_CASE("pendulum: amplitude and speed are inverse in both conventions") {
+  for (auto convention : {PendulumConvention::kExact, PendulumConvention::kThesis}) {
+    const Pendulum p{22.0, kG, convention};
+    for (double x : {1e-9, 1e-3, 0.115, 1.519, 15.0}) {
+      CHECK(AmplitudeFromSpeed(p, SpeedFromAmplitude(p, x)) == Approx(x).epsilon(1e-14));
+    }
+  }
+}
+
+TEST_CASE("pendulum: energy speed uses 2 sin^2(theta/2), exact for tiny angles") {
+  const Pendulum thesis{22.0, kG, PendulumConvention::kThesis};
+  // 1 - cos(X/L) would lose every digit here; 2 sin^2 keeps them.
+  const double x = 1e-7;
+  CHECK(SpeedFromPeakEnergy(thesis, x) == Approx(x * std::sqrt(kG / 22.0)).epsilon(1e-14));
+}
+
+TEST_CASE("pendulum: release swing starts at X0 and reaches equilibrium after a quarter period") {
+  const Pendulum p{22.0, kG, PendulumConvention::kExact};
+  const double x0 = 5.0;
+  CHECK(ReleaseSwingDisplacement(p, x0, 0.0) == Approx(x0).epsilon(1e-14));
+  CHECK(ReleaseSwingDisplacement(p, x0, 0.5 * HalfPeriod(p, x0)) == Approx(0.0).margin(1e-13));
+  // A rebound through equilibrium at the release swing's speed peaks at X0.
+  const double v = SpeedFromAmplitude(p, x0);
+  CHECK(ReboundDisplacement(p, v, 0.5 * HalfPeriod(p, x0)) == Approx(x0).epsilon(1e-13));
+}
+
+TEST_CASE("pendulum: amplitude beyond the horizontal is a domain error") {
+  const Pendulum p{1.0, 9.81, PendulumConvention::kExact};
+  CHECK_THROWS_AS(SwingAngle(p, 1.0), std::domain_error);
+  CHECK_THROWS_AS(AmplitudeFromSpeed(p, 2.0 * std::sqrt(9.81)), std::domain_error);
+}
+
+}  // namespace
+}  // namespace impactlab
