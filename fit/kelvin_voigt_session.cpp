@@ -75,15 +75,15 @@ RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run
                          const std::vector<double>& target_xmax,
                          const KelvinVoigtTwoPointFit& target_fit, int start_rebound) {
   if (!source_fit.ok || !target_fit.ok) {
-    throw std::invalid_argument(fmt::format(
-        "cannot predict run {} from run {}: {} has no Kelvin-Voigt fit", target_run, source_run,
-        source_fit.ok ? target_run : source_run));
+    throw std::invalid_argument(
+        fmt::format("cannot predict run {} from run {}: {} has no Kelvin-Voigt fit", target_run,
+                    source_run, source_fit.ok ? target_run : source_run));
   }
   const int count = static_cast<int>(target_xmax.size());
   if (start_rebound < 0 || start_rebound >= count) {
-    throw std::invalid_argument(fmt::format(
-        "start_rebound {} is not a measured rebound of run {} (0..{})", start_rebound,
-        target_run, count - 1));
+    throw std::invalid_argument(
+        fmt::format("start_rebound {} is not a measured rebound of run {} (0..{})", start_rebound,
+                    target_run, count - 1));
   }
   RunPrediction out;
   out.source_run = source_run;

@@ -23,8 +23,8 @@ StiffnessSpread SpreadOf(const std::vector<double>& stiffness);
 // from the residual scatter (n - 2 degrees of freedom); zero with two runs,
 // where the line passes through both points and the scatter is unknown.
 struct DampingLine {
-  Estimate a;            // damping units
-  Estimate b;            // 1
+  Estimate a;  // damping units
+  Estimate b;  // 1
   double correlation_ab = 0.0;
   double rms_residual = 0.0;  // damping units
   int points = 0;
@@ -40,12 +40,12 @@ struct RunPrediction {
   std::string source_run;
   std::string target_run;
   int start_rebound = 0;
-  double start_xmax = 0.0;             // the target's measured maximum the prediction starts from
-  std::vector<double> predicted;       // rebound start_rebound, start_rebound + 1, ...
-  std::vector<double> calculated;      // the target's own two-point fit
-  std::vector<double> deviation;       // calculated - predicted
-  std::vector<double> pct_peak;        // 100 deviation / calculated
-  std::vector<double> pct_start;       // 100 deviation / start_xmax (Table 4's "% X0")
+  double start_xmax = 0.0;         // the target's measured maximum the prediction starts from
+  std::vector<double> predicted;   // rebound start_rebound, start_rebound + 1, ...
+  std::vector<double> calculated;  // the target's own two-point fit
+  std::vector<double> deviation;   // calculated - predicted
+  std::vector<double> pct_peak;    // 100 deviation / calculated
+  std::vector<double> pct_start;   // 100 deviation / start_xmax (Table 4's "% X0")
 };
 RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run,
                          const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,

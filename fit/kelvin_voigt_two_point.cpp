@@ -39,9 +39,9 @@ void CheckInputs(const ReboundMeasurements& m, const TwoPointOptions& options) {
   const auto [a, b] = options.rebounds;
   const int count = static_cast<int>(m.xmax.size());
   if (!(0 <= a && a < b && b < count)) {
-    throw std::invalid_argument(fmt::format(
-        "the fit pair must satisfy 0 <= a < b < {} (rebounds measured), got [{}, {}]", count, a,
-        b));
+    throw std::invalid_argument(
+        fmt::format("the fit pair must satisfy 0 <= a < b < {} (rebounds measured), got [{}, {}]",
+                    count, a, b));
   }
   for (int n = 0; n < count; ++n) {
     if (!(m.xmax[n] > 0.0) || !std::isfinite(m.xmax[n])) {
@@ -62,7 +62,8 @@ void CheckInputs(const ReboundMeasurements& m, const TwoPointOptions& options) {
 
 double PredictMaximum(const Pendulum& pendulum, double from_x, int from, int to,
                       double log_restitution) {
-  const double speed = SpeedFromAmplitude(pendulum, from_x) * std::exp(log_restitution * (to - from));
+  const double speed =
+      SpeedFromAmplitude(pendulum, from_x) * std::exp(log_restitution * (to - from));
   return AmplitudeFromSpeed(pendulum, speed);
 }
 
@@ -102,12 +103,17 @@ KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double m
 
   fit.ok = true;
   std::size_t i = 0;
-  fit.log_restitution = {values[i], sigmas[i]}; ++i;
-  fit.restitution = {values[i], sigmas[i]}; ++i;
-  fit.damping_ratio = {values[i], sigmas[i]}; ++i;
+  fit.log_restitution = {values[i], sigmas[i]};
+  ++i;
+  fit.restitution = {values[i], sigmas[i]};
+  ++i;
+  fit.damping_ratio = {values[i], sigmas[i]};
+  ++i;
   if (measured.contact_time) {
-    fit.stiffness = Estimate{values[i], sigmas[i]}; ++i;
-    fit.damping = Estimate{values[i], sigmas[i]}; ++i;
+    fit.stiffness = Estimate{values[i], sigmas[i]};
+    ++i;
+    fit.damping = Estimate{values[i], sigmas[i]};
+    ++i;
   }
   for (; i < values.size(); ++i) fit.predicted_xmax.push_back({values[i], sigmas[i]});
   if (fit.log_restitution.value == 0.0) {

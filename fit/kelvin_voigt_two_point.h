@@ -26,8 +26,8 @@ namespace impactlab {
 // One run's measured maxima in session numbering (rebound 0 is the table's
 // first rebound, Figure 15) with their one-sigma uncertainties.
 struct ReboundMeasurements {
-  std::vector<double> xmax;        // length units
-  std::vector<double> xmax_sigma;  // empty, or one per maximum (0 = exact)
+  std::vector<double> xmax;            // length units
+  std::vector<double> xmax_sigma;      // empty, or one per maximum (0 = exact)
   std::optional<double> contact_time;  // s
   double contact_time_sigma = 0.0;     // s
 };

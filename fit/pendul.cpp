@@ -12,8 +12,7 @@ PendulResponse PendulResponseFor(const Pendulum& pendulum, const KelvinVoigt& pa
   out.damping_ratio = RatesOf(parameters).damping_ratio;
   out.sequence = SimulateRebounds(pendulum, law, release_x, rebound_count);
   out.contact = out.sequence.contact;
-  const double first_amplitude =
-      rebound_count > 0 ? out.sequence.xmax[1] : out.sequence.xmax[0];
+  const double first_amplitude = rebound_count > 0 ? out.sequence.xmax[1] : out.sequence.xmax[0];
   out.rebound_time = HalfPeriod(pendulum, first_amplitude);
   return out;
 }
@@ -34,12 +33,11 @@ PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
 }
 
 std::vector<PendulResponse> PendulPredict(const Pendulum& pendulum, const PendulFit& fitted,
-                                          const std::vector<double>& release_x,
-                                          int rebound_count) {
+                                          const std::vector<double>& release_x, int rebound_count) {
   std::vector<PendulResponse> out;
   for (double x0 : release_x) {
-    out.push_back(PendulResponseFor(pendulum, fitted.response.parameters,
-                                    fitted.fit.separation, x0, rebound_count));
+    out.push_back(PendulResponseFor(pendulum, fitted.response.parameters, fitted.fit.separation, x0,
+                                    rebound_count));
   }
   return out;
 }

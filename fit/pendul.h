@@ -18,9 +18,9 @@ namespace impactlab {
 struct PendulResponse {
   KelvinVoigt parameters;
   double damping_ratio = 0.0;
-  ContactResponse contact;   // tau_c, e
+  ContactResponse contact;    // tau_c, e
   double rebound_time = 0.0;  // tau_r of the first rebound, s (amplitude-dependent when exact)
-  ReboundSequence sequence;  // amplitudes and times of every rebound
+  ReboundSequence sequence;   // amplitudes and times of every rebound
 };
 
 // Option 2: the response to a release from `release_x`.
@@ -40,7 +40,6 @@ PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
 
 // Option 3: option 1's parameters, one response per new release displacement.
 std::vector<PendulResponse> PendulPredict(const Pendulum& pendulum, const PendulFit& fitted,
-                                          const std::vector<double>& release_x,
-                                          int rebound_count);
+                                          const std::vector<double>& release_x, int rebound_count);
 
 }  // namespace impactlab

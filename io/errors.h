@@ -11,8 +11,8 @@ namespace impactlab {
 
 struct InputLocation {
   std::filesystem::path file;
-  std::string key;                 // dotted manifest key, e.g. "run[2].traces.right.volts_per_div"
-  std::optional<long long> line;   // 1-based line in the file, when known
+  std::string key;                // dotted manifest key, e.g. "run[2].traces.right.volts_per_div"
+  std::optional<long long> line;  // 1-based line in the file, when known
 };
 
 // Thrown for input the user can fix: a missing file, a wrong manifest key, a

@@ -88,9 +88,9 @@ struct Hdf5File::Impl {
 
   Handle CreateDataset(const std::string& name, hid_t type, const std::vector<hsize_t>& dims) {
     EnsureParentGroups(name);
-    Handle space(dims.empty() ? H5Screate(H5S_SCALAR)
-                              : H5Screate_simple(static_cast<int>(dims.size()), dims.data(),
-                                                 nullptr),
+    Handle space(dims.empty()
+                     ? H5Screate(H5S_SCALAR)
+                     : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                  H5Sclose);
     const Handle links = IntermediateGroups();
     Handle dset(H5Dcreate2(file.get(), name.c_str(), type, space.get(), links.get(), H5P_DEFAULT,
@@ -101,8 +101,7 @@ struct Hdf5File::Impl {
   }
 
   Handle OpenObject(const std::string& name) const {
-    if (H5Lexists(file.get(), name.c_str(), H5P_DEFAULT) <= 0 &&
-        name != "/") {
+    if (H5Lexists(file.get(), name.c_str(), H5P_DEFAULT) <= 0 && name != "/") {
       Fail(name, "not found in the results file");
     }
     Handle obj(H5Oopen(file.get(), name.c_str(), H5P_DEFAULT), H5Oclose);
@@ -138,9 +137,9 @@ struct Hdf5File::Impl {
     const hsize_t n = values.size();
     Handle space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
     if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
-    Handle attr(H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space.get(), H5P_DEFAULT,
-                           H5P_DEFAULT),
-                H5Aclose);
+    Handle attr(
+        H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+        H5Aclose);
     Check(H5Awrite(attr.get(), H5T_NATIVE_LLONG, values.data()), object, "write an attribute");
   }
 
@@ -162,7 +161,9 @@ Hdf5File Hdf5File::Create(const std::filesystem::path& path) {
   SilenceHdf5ErrorStack();
   auto impl = std::make_unique<Impl>();
   impl->path = path;
-  const Handle plist = OrderedGroupCreation();
+  // The root group remembers creation order too.
+  Handle plist(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_link_creation_order(plist.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
   impl->file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, plist.get(), H5P_DEFAULT), H5Fclose);
   if (!impl->file.valid()) {
     throw InputError({path, "", std::nullopt}, "cannot create the results file");
@@ -191,8 +192,8 @@ const std::filesystem::path& Hdf5File::path() const { return impl_->path; }
 
 void Hdf5File::WriteScalar(const std::string& name, double value, std::string_view units) {
   const Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {});
-  impl_->Check(H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value),
-               name, "write the dataset");
+  impl_->Check(H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), name,
+               "write the dataset");
   impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
 }
 
@@ -201,8 +202,8 @@ void Hdf5File::WriteVector(const std::string& name, const std::vector<double>& v
   const Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {values.size()});
   if (!values.empty()) {
     impl_->Check(
-        H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        name, "write the dataset");
+        H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
+        "write the dataset");
   }
   impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
 }
@@ -211,8 +212,8 @@ void Hdf5File::WriteIntegers(const std::string& name, const std::vector<long lon
   const Handle dset = impl_->CreateDataset(name, H5T_STD_I64LE, {values.size()});
   if (!values.empty()) {
     impl_->Check(
-        H5Dwrite(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        name, "write the dataset");
+        H5Dwrite(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
+        "write the dataset");
   }
 }
 
@@ -222,8 +223,8 @@ void Hdf5File::WriteStrings(const std::string& name, const std::vector<std::stri
   std::vector<const char*> text;
   for (const std::string& v : values) text.push_back(v.c_str());
   if (!text.empty()) {
-    impl_->Check(H5Dwrite(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()),
-                 name, "write the dataset");
+    impl_->Check(H5Dwrite(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), name,
+                 "write the dataset");
   }
 }
 
@@ -282,8 +283,8 @@ double Hdf5File::ReadScalar(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
   if (impl_->ElementCount(dset) != 1) impl_->Fail(name, "expected a scalar dataset");
   double value = 0.0;
-  impl_->Check(H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value),
-               name, "read the dataset");
+  impl_->Check(H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), name,
+               "read the dataset");
   return value;
 }
 
@@ -297,8 +298,8 @@ std::vector<double> Hdf5File::ReadVector(const std::string& name) const {
   std::vector<double> values(static_cast<std::size_t>(impl_->ElementCount(dset)));
   if (!values.empty()) {
     impl_->Check(
-        H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        name, "read the dataset");
+        H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
+        "read the dataset");
   }
   return values;
 }
@@ -308,8 +309,8 @@ std::vector<long long> Hdf5File::ReadIntegers(const std::string& name) const {
   std::vector<long long> values(static_cast<std::size_t>(impl_->ElementCount(dset)));
   if (!values.empty()) {
     impl_->Check(
-        H5Dread(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        name, "read the dataset");
+        H5Dread(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
+        "read the dataset");
   }
   return values;
 }
@@ -339,8 +340,7 @@ std::string Hdf5File::ReadStringAttribute(const std::string& object,
   return value;
 }
 
-long long Hdf5File::ReadIntegerAttribute(const std::string& object,
-                                         const std::string& name) const {
+long long Hdf5File::ReadIntegerAttribute(const std::string& object, const std::string& name) const {
   const std::vector<long long> values = ReadIntegerArrayAttribute(object, name);
   if (values.size() != 1) impl_->Fail(object, fmt::format("attribute '{}' is not a scalar", name));
   return values.front();
@@ -350,7 +350,8 @@ std::vector<long long> Hdf5File::ReadIntegerArrayAttribute(const std::string& ob
                                                            const std::string& name) const {
   const Handle attr = impl_->OpenAttribute(object, name);
   Handle space(H5Aget_space(attr.get()), H5Sclose);
-  std::vector<long long> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  std::vector<long long> values(
+      static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
   impl_->Check(H5Aread(attr.get(), H5T_NATIVE_LLONG, values.data()), object, "read an attribute");
   return values;
 }
@@ -359,6 +360,21 @@ bool Hdf5File::HasAttribute(const std::string& object, const std::string& name) 
   if (!Exists(object)) return false;
   const Handle obj = impl_->OpenObject(object);
   return H5Aexists(obj.get(), name.c_str()) > 0;
+}
+
+bool Hdf5File::IsGroup(const std::string& object) const {
+  if (!Exists(object)) return false;
+  H5O_info_t info;
+  const Handle obj = impl_->OpenObject(object);
+  return H5Oget_info2(obj.get(), &info, H5O_INFO_BASIC) >= 0 && info.type == H5O_TYPE_GROUP;
+}
+
+bool Hdf5File::IsNumericDataset(const std::string& object) const {
+  if (!Exists(object) || IsGroup(object)) return false;
+  const Handle dset = impl_->OpenDataset(object);
+  const Handle type(H5Dget_type(dset.get()), H5Tclose);
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  return type_class == H5T_FLOAT || type_class == H5T_INTEGER;
 }
 
 void WriteHdf5Atomically(const std::filesystem::path& path,

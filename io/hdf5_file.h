@@ -50,6 +50,8 @@ class Hdf5File {
   std::vector<long long> ReadIntegerArrayAttribute(const std::string& object,
                                                    const std::string& name) const;
   bool HasAttribute(const std::string& object, const std::string& name) const;
+  bool IsGroup(const std::string& object) const;
+  bool IsNumericDataset(const std::string& object) const;  // float or integer elements
 
   // Optional reads: nullopt when the object is absent.
   std::optional<double> ReadScalarIfPresent(const std::string& dataset) const;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "io/errors.h"
 #include "io/session.h"
 
 namespace impactlab {

@@ -32,12 +32,12 @@ struct Apparatus {
 // divisions: vertical from the graticule centre (up positive), horizontal from
 // the left edge.
 struct TraceSettings {
-  double time_per_div = 0.0;      // s/div
-  double volts_per_div = 0.0;     // V/div
-  double zero_div = 0.0;          // screen height of 0 V
+  double time_per_div = 0.0;                     // s/div
+  double volts_per_div = 0.0;                    // V/div
+  double zero_div = 0.0;                         // screen height of 0 V
   std::array<double, 2> band_div = {-4.0, 4.0};  // vertical band the trace stays in
-  double t0_div = 0.0;            // screen position of t = 0 (the release)
-  std::optional<int> impact;      // contact traces: which impact the delayed sweep shows
+  double t0_div = 0.0;                           // screen position of t = 0 (the release)
+  std::optional<int> impact;                 // contact traces: which impact the delayed sweep shows
   std::optional<std::filesystem::path> csv;  // digital trace (time_s,volts) instead of the photo
 };
 
@@ -58,8 +58,8 @@ struct Run {
   std::map<std::string, TraceSettings> traces;  // "right", "left", "contact"
 
   // Measured values typed in by hand (refitting published data).
-  std::vector<double> rebounds;          // Xmax of rebound 0, 1, 2, ... (session numbering)
-  std::optional<double> contact_time;    // s
+  std::vector<double> rebounds;              // Xmax of rebound 0, 1, 2, ... (session numbering)
+  std::optional<double> contact_time;        // s
   std::array<int, 2> fit_rebounds = {0, 1};  // the pair a < b the closed-form fit uses
   // impactlab extensions (docs/manifest.md): reading uncertainties of typed-in values.
   std::optional<double> rebound_uncertainty;       // length units, one standard deviation
@@ -69,8 +69,8 @@ struct Run {
 };
 
 struct LogChannel {
-  std::string name;    // e.g. "q1"
-  std::string column;  // CSV column
+  std::string name;                      // e.g. "q1"
+  std::string column;                    // CSV column
   std::optional<double> counts_per_rev;  // encoder: angle = 2 pi counts / (cpr * gear_ratio)
   double gear_ratio = 1.0;
   std::optional<double> sensitivity;  // accelerometer: V per g
@@ -92,7 +92,7 @@ struct ReductionSettings {
   // "per-run": K from each run's own fit; "average": the mean K of the runs is
   // used for every run and C follows from it (the thesis's design expedient).
   bool average_stiffness = false;
-  std::string convention = "exact";   // pendulum: "exact" or "thesis" (PENDUL's small angle)
+  std::string convention = "exact";      // pendulum: "exact" or "thesis" (PENDUL's small angle)
   std::string separation = "kinematic";  // Kelvin-Voigt contact end: "kinematic" or "force"
 };
 

@@ -19,8 +19,6 @@ UnitLabels LabelsFor(UnitSystem system) {
   return {"in", "lbf", "lbf*s^2/in", "lbf/in", "lbf*s/in", "in/s^2", "in/s"};
 }
 
-double StandardGravity(UnitSystem system) {
-  return system == UnitSystem::kSI ? 9.80665 : 385.644;
-}
+double StandardGravity(UnitSystem system) { return system == UnitSystem::kSI ? 9.80665 : 385.644; }
 
 }  // namespace impactlab

@@ -15,13 +15,13 @@ enum class UnitSystem {
 
 // Unit strings of one system, as written to `units` attributes.
 struct UnitLabels {
-  std::string length;     // "in" or "m"
-  std::string force;      // "lbf" or "N"
-  std::string mass;       // "lbf*s^2/in" or "kg"
-  std::string stiffness;  // "lbf/in" or "N/m"
-  std::string damping;    // "lbf*s/in" or "N*s/m"
+  std::string length;        // "in" or "m"
+  std::string force;         // "lbf" or "N"
+  std::string mass;          // "lbf*s^2/in" or "kg"
+  std::string stiffness;     // "lbf/in" or "N/m"
+  std::string damping;       // "lbf*s/in" or "N*s/m"
   std::string acceleration;  // "in/s^2" or "m/s^2"
-  std::string speed;      // "in/s" or "m/s"
+  std::string speed;         // "in/s" or "m/s"
 };
 
 // The manifest's name of the system: "in-lbf-s" or "SI".

@@ -13,7 +13,7 @@ namespace impactlab {
 //  - force: the contact force first returns to 0 (it never pulls).
 enum class Separation { kKinematic, kForce };
 
-const char* SeparationName(Separation separation);  // "kinematic" or "force"
+const char* SeparationName(Separation separation);    // "kinematic" or "force"
 Separation ParseSeparation(const std::string& name);  // throws std::invalid_argument
 
 // One impact at `impact_speed`, x(0) = 0, x'(0) = impact_speed.

@@ -5,10 +5,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <boost/math/special_functions/sinc.hpp>
 #include <boost/math/special_functions/sinhc.hpp>
 #include <boost/math/tools/roots.hpp>
-#include <fmt/format.h>
 
 namespace impactlab {
 namespace {
@@ -31,7 +31,9 @@ void CheckSpeed(double v) {
 }
 
 // sqrt(|1 - zeta^2|) without cancellation: (1 - zeta) is exact near 1.
-double SqrtOneMinusZetaSquared(double zeta) { return std::sqrt(std::abs((1.0 - zeta) * (1.0 + zeta))); }
+double SqrtOneMinusZetaSquared(double zeta) {
+  return std::sqrt(std::abs((1.0 - zeta) * (1.0 + zeta)));
+}
 
 // h(zeta) = acos(zeta)/sqrt(1 - zeta^2), continued analytically through zeta = 1
 // (h(1) = 1) as acosh(zeta)/sqrt(zeta^2 - 1). wn * (time of peak compression).
@@ -46,20 +48,20 @@ double PeakPhaseRatio(double zeta) {
 }
 
 void ThrowNoKinematicSeparation(double zeta) {
-  throw NoSeparationError(fmt::format(
-      "damping ratio zeta = {} >= 1: with kinematic separation the compression never "
-      "returns to 0, so contact never ends; use force separation",
-      zeta));
+  throw NoSeparationError(
+      fmt::format("damping ratio zeta = {} >= 1: with kinematic separation the compression never "
+                  "returns to 0, so contact never ends; use force separation",
+                  zeta));
 }
 
 }  // namespace
 
 KelvinVoigtRates RatesOf(const KelvinVoigt& m) {
-  if (!(m.mass > 0.0) || !(m.stiffness > 0.0) || !(m.damping >= 0.0) ||
-      !std::isfinite(m.mass) || !std::isfinite(m.stiffness) || !std::isfinite(m.damping)) {
+  if (!(m.mass > 0.0) || !(m.stiffness > 0.0) || !(m.damping >= 0.0) || !std::isfinite(m.mass) ||
+      !std::isfinite(m.stiffness) || !std::isfinite(m.damping)) {
     throw std::invalid_argument(
-        fmt::format("Kelvin-Voigt needs M > 0, K > 0, C >= 0, got M = {}, K = {}, C = {}",
-                    m.mass, m.stiffness, m.damping));
+        fmt::format("Kelvin-Voigt needs M > 0, K > 0, C >= 0, got M = {}, K = {}, C = {}", m.mass,
+                    m.stiffness, m.damping));
   }
   return {std::sqrt(m.stiffness / m.mass), m.damping / (2.0 * std::sqrt(m.stiffness * m.mass))};
 }
@@ -89,9 +91,8 @@ ContactResponse KelvinVoigtContact(const KelvinVoigtRates& r, double v, Separati
   out.separation = separation;
   out.log_restitution = LogRestitutionFromDampingRatio(zeta, separation);
   out.restitution = std::exp(out.log_restitution);
-  out.contact_time = separation == Separation::kForce
-                         ? 2.0 * h / wn
-                         : pi / (wn * SqrtOneMinusZetaSquared(zeta));
+  out.contact_time =
+      separation == Separation::kForce ? 2.0 * h / wn : pi / (wn * SqrtOneMinusZetaSquared(zeta));
   out.peak_time = h / wn;
   out.peak_compression = v / wn * std::exp(-zeta * h);
   return out;
@@ -116,9 +117,9 @@ double KelvinVoigtCompression(const KelvinVoigtRates& r, double v, double t) {
 
 double DampingRatioFromLogRestitution(double log_e, Separation separation) {
   if (!(log_e < 0.0) || !std::isfinite(log_e)) {
-    throw std::domain_error(fmt::format(
-        "a restitution below 1 is needed to infer damping, got ln e = {} (e = {})", log_e,
-        std::exp(log_e)));
+    throw std::domain_error(
+        fmt::format("a restitution below 1 is needed to infer damping, got ln e = {} (e = {})",
+                    log_e, std::exp(log_e)));
   }
   if (separation == Separation::kKinematic) {
     return -log_e / std::hypot(log_e, pi);  // eq. 36 with N = 1
@@ -128,9 +129,9 @@ double DampingRatioFromLogRestitution(double log_e, Separation separation) {
   double hi = std::max(1.0, -log_e);
   while (residual(hi) > 0.0) hi *= 2.0;
   std::uintmax_t iterations = 200;
-  const auto [lo_root, hi_root] = boost::math::tools::toms748_solve(
-      residual, 0.0, hi, -log_e, residual(hi), boost::math::tools::eps_tolerance<double>(52),
-      iterations);
+  const auto [lo_root, hi_root] =
+      boost::math::tools::toms748_solve(residual, 0.0, hi, -log_e, residual(hi),
+                                        boost::math::tools::eps_tolerance<double>(52), iterations);
   return 0.5 * (lo_root + hi_root);
 }
 

@@ -4,9 +4,9 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
-#include <fmt/format.h>
 
 namespace impactlab {
 namespace {
@@ -73,9 +73,9 @@ double AmplitudeFromSpeed(const Pendulum& p, double speed) {
   if (IsThesis(p)) return speed / NaturalFrequency(p);
   const double k = speed / (2.0 * std::sqrt(p.gravity * p.length));
   if (!(k < std::numbers::sqrt2 / 2.0)) {
-    throw std::domain_error(fmt::format(
-        "a swing at {} through equilibrium would pass the horizontal (L = {}, g = {})", speed,
-        p.length, p.gravity));
+    throw std::domain_error(
+        fmt::format("a swing at {} through equilibrium would pass the horizontal (L = {}, g = {})",
+                    speed, p.length, p.gravity));
   }
   // X = L sin(theta_m) = 2 L sin(theta_m/2) cos(theta_m/2).
   return 2.0 * p.length * k * std::sqrt((1.0 - k) * (1.0 + k));

@@ -17,15 +17,15 @@ namespace impactlab {
 
 struct ReboundSequence {
   // Index N = 0, 1, ..., count: amplitude and timing of rebound N.
-  std::vector<double> xmax;           // X_N max, length units (xmax[0] = X0)
-  std::vector<double> peak_time;      // time of X_N max since release, s
-  std::vector<double> start_time;     // rebound N leaves equilibrium (N >= 1); 0 for N = 0
-  std::vector<double> duration;       // rebound N's swing out and back, s (N = 0: quarter swing)
+  std::vector<double> xmax;        // X_N max, length units (xmax[0] = X0)
+  std::vector<double> peak_time;   // time of X_N max since release, s
+  std::vector<double> start_time;  // rebound N leaves equilibrium (N >= 1); 0 for N = 0
+  std::vector<double> duration;    // rebound N's swing out and back, s (N = 0: quarter swing)
   // Index N - 1 for impact N = 1, ..., count.
-  std::vector<double> impact_time;    // impact N begins, s since release
-  std::vector<double> impact_speed;   // speed through equilibrium into impact N
-  std::vector<double> exit_speed;     // speed through equilibrium out of impact N
-  ContactResponse contact;            // tau_c, e (the same for every impact of a linear law)
+  std::vector<double> impact_time;   // impact N begins, s since release
+  std::vector<double> impact_speed;  // speed through equilibrium into impact N
+  std::vector<double> exit_speed;    // speed through equilibrium out of impact N
+  ContactResponse contact;           // tau_c, e (the same for every impact of a linear law)
 };
 
 // Amplitudes and times of `rebound_count` rebounds after release from

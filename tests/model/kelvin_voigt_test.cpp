@@ -10,7 +10,8 @@ namespace {
 
 using std::numbers::pi;
 
-TEST_CASE("kelvin_voigt: kinematic separation gives tau_c = pi/wd and e = exp(-pi zeta/sqrt(1-zeta^2))") {
+TEST_CASE(
+    "kelvin_voigt: kinematic separation gives tau_c = pi/wd and e = exp(-pi zeta/sqrt(1-zeta^2))") {
   const KelvinVoigtRates r{1000.0, 0.1};
   const ContactResponse c = KelvinVoigtContact(r, 2.0, Separation::kKinematic);
   const double wd = 1000.0 * std::sqrt(1.0 - 0.01);
@@ -25,7 +26,7 @@ TEST_CASE("kelvin_voigt: force separation ends where K x + C x' = 0 and keeps mo
   const KelvinVoigtRates r = RatesOf(m);
   const ContactResponse kin = KelvinVoigtContact(m, 1.0, Separation::kKinematic);
   const ContactResponse force = KelvinVoigtContact(m, 1.0, Separation::kForce);
-  CHECK(kin.restitution == Approx(0.800).margin(5e-4));   // fitting-notes.md
+  CHECK(kin.restitution == Approx(0.800).margin(5e-4));  // fitting-notes.md
   CHECK(force.restitution == Approx(0.807).margin(1e-3));
   CHECK(force.contact_time < kin.contact_time);
   // Force at separation, by a central difference of x(t).
@@ -39,9 +40,8 @@ TEST_CASE("kelvin_voigt: force separation ends where K x + C x' = 0 and keeps mo
 TEST_CASE("kelvin_voigt: zeta >= 1 with kinematic separation is a clear error, not NaN") {
   CHECK_THROWS_AS(KelvinVoigtContact(KelvinVoigtRates{100.0, 1.0}, 1.0, Separation::kKinematic),
                   NoSeparationError);
-  CHECK_THROWS_WITH(
-      KelvinVoigtContact(KelvinVoigtRates{100.0, 1.5}, 1.0, Separation::kKinematic),
-      Catch::Contains("never") && Catch::Contains("force"));
+  CHECK_THROWS_WITH(KelvinVoigtContact(KelvinVoigtRates{100.0, 1.5}, 1.0, Separation::kKinematic),
+                    Catch::Contains("never") && Catch::Contains("force"));
 }
 
 TEST_CASE("kelvin_voigt: force separation is continuous through critical damping") {

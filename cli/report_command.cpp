@@ -1,0 +1,62 @@
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "io/errors.h"
+#include "pipeline/results_file.h"
+#include "report/tables.h"
+
+namespace impactlab::cli {
+namespace {
+
+void WriteText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw InputError({path, "", std::nullopt}, "cannot write the report");
+}
+
+}  // namespace
+
+void AddReportCommand(CLI::App& app, Action& action) {
+  struct Args {
+    std::filesystem::path results;
+    std::string format = "md";
+    std::filesystem::path output;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand("report", "Write the report tables of a results file");
+  cmd->add_option("results", args->results, "Results file written by `impactlab reduce`")
+      ->required();
+  cmd->add_option("-f,--format", args->format, "md, csv or tex")
+      ->check(CLI::IsMember({"md", "csv", "tex"}))
+      ->capture_default_str();
+  cmd->add_option("-o,--output", args->output,
+                  "Output file (default: standard output); with csv, an existing folder gets "
+                  "one file per table");
+  cmd->callback([&action, args] {
+    action = [args] {
+      const SessionResult result = ReadResults(args->results);
+      const ReportFormat format = *ParseReportFormat(args->format);
+      const std::vector<Table> tables = BuildTables(result);
+      if (format == ReportFormat::kCsv && !args->output.empty() &&
+          std::filesystem::is_directory(args->output)) {
+        for (const Table& t : tables) {
+          WriteText(args->output / (t.name + ".csv"), RenderTable(t, format));
+        }
+        return kExitOk;
+      }
+      const std::string text = RenderTables(result.title, tables, format);
+      if (args->output.empty()) {
+        fmt::print("{}", text);
+      } else {
+        WriteText(args->output, text);
+      }
+      return kExitOk;
+    };
+  });
+}
+
+}  // namespace impactlab::cli

@@ -1,0 +1,280 @@
+#include "pipeline/results_file.h"
+
+#include <fmt/format.h>
+
+#include "io/errors.h"
+#include "io/hdf5_file.h"
+
+namespace impactlab {
+namespace {
+
+// Paths and unit strings in one place, so writer and reader cannot drift apart.
+std::string RunPath(const std::string& id) { return JoinPath({"runs", id}); }
+std::string KelvinVoigtPath(const std::string& id) { return RunPath(id) + "/fit/kelvin_voigt"; }
+
+std::vector<double> Values(const std::vector<Estimate>& e) {
+  std::vector<double> out;
+  for (const Estimate& x : e) out.push_back(x.value);
+  return out;
+}
+std::vector<double> Sigmas(const std::vector<Estimate>& e) {
+  std::vector<double> out;
+  for (const Estimate& x : e) out.push_back(x.sigma);
+  return out;
+}
+
+void WriteEstimate(Hdf5File& f, const std::string& name, const Estimate& e,
+                   std::string_view units) {
+  f.WriteScalar(name, e.value, units);
+  f.WriteScalar(name + "_std_error", e.sigma, units);
+}
+
+Estimate ReadEstimate(const Hdf5File& f, const std::string& name) {
+  return {f.ReadScalar(name), f.ReadScalarIfPresent(name + "_std_error").value_or(0.0)};
+}
+
+void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
+  const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
+  const std::string g = KelvinVoigtPath(run.id);
+  f.CreateGroup(g);
+  f.SetAttribute(g, "method", "two-point");
+  f.SetAttribute(g, "separation", SeparationName(fit.separation));
+  f.SetAttribute(g, "rebounds_used",
+                 std::vector<long long>{fit.rebounds_used[0], fit.rebounds_used[1]});
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.diagnostic);
+  if (!fit.diagnostic.empty()) f.SetAttribute(g, "diagnostic", fit.diagnostic);
+  if (!fit.ok) return;
+  WriteEstimate(f, g + "/zeta", fit.damping_ratio, "1");
+  WriteEstimate(f, g + "/restitution", fit.restitution, "1");
+  WriteEstimate(f, g + "/log_restitution", fit.log_restitution, "1");
+  if (fit.stiffness) {
+    WriteEstimate(f, g + "/stiffness", *fit.stiffness, u.stiffness);
+    WriteEstimate(f, g + "/damping", *fit.damping, u.damping);
+    f.SetAttribute(g, "stiffness_source", run.stiffness_source);
+  }
+  if (fit.contact_time) f.WriteScalar(g + "/contact_time_used", *fit.contact_time, "s");
+  f.WriteVector(g + "/predicted_xmax", Values(fit.predicted_xmax), u.length);
+  f.WriteVector(g + "/predicted_xmax_std_error", Sigmas(fit.predicted_xmax), u.length);
+  f.WriteVector(g + "/deviation", run.deviation, u.length);
+  f.WriteVector(g + "/deviation_pct_peak", run.deviation_pct_peak, "%");
+  f.WriteVector(g + "/deviation_pct_x0", run.deviation_pct_x0, "%");
+}
+
+void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
+  if (run.id.find('/') != std::string::npos || run.id.empty() || run.id == "." || run.id == "..") {
+    throw InputError({f.path(), "runs", std::nullopt},
+                     fmt::format("run id \"{}\" cannot name an HDF5 group", run.id));
+  }
+  const std::string g = RunPath(run.id);
+  f.CreateGroup(g);
+  f.SetAttribute(g, "status", run.Status());
+  f.SetAttribute(g, "first_rebound", static_cast<long long>(run.first_rebound));
+  if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
+  f.WriteScalar(g + "/initial_displacement", run.initial_displacement, u.length);
+  if (!run.xmax.empty()) {
+    f.WriteVector(g + "/rebounds/xmax", run.xmax, u.length);
+    f.WriteVector(g + "/rebounds/xmax_std_error", run.xmax_sigma, u.length);
+    f.WriteVector(g + "/rebounds/t_peak", run.t_peak, "s");
+    f.SetAttribute(g + "/rebounds/t_peak", "source", run.t_peak_source);
+  }
+  if (run.contact_time) {
+    f.WriteScalar(g + "/contact_time", *run.contact_time, "s");
+    f.WriteScalar(g + "/contact_time_std_error", run.contact_time_sigma, "s");
+    f.SetAttribute(g + "/contact_time", "source", run.contact_time_source);
+  }
+  if (run.kelvin_voigt) WriteKelvinVoigt(f, run, u);
+}
+
+void WriteSessionKelvinVoigt(Hdf5File& f, const SessionKelvinVoigt& s, const UnitLabels& u) {
+  const std::string g = "/session/kelvin_voigt";
+  f.CreateGroup(g);
+  f.SetAttribute(g, "stiffness", s.average_stiffness ? "average" : "per-run");
+  f.WriteStrings(g + "/run_ids", s.run_ids);
+  f.WriteVector(g + "/sqrt_restitution", s.sqrt_restitution, "1");
+  f.WriteVector(g + "/stiffness", s.stiffness, u.stiffness);
+  f.WriteScalar(g + "/stiffness_average", s.spread.average, u.stiffness);
+  f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, u.stiffness);
+  f.WriteVector(g + "/stiffness_pct_variation", s.spread.pct_variation, "%");
+  f.WriteVector(g + "/damping", s.damping, u.damping);
+  if (s.damping_line) {
+    const DampingLine& line = *s.damping_line;
+    const std::string l = g + "/damping_line";
+    f.CreateGroup(l);
+    f.SetAttribute(l, "equation", "C = a (1 - b sqrt(xi))  (thesis eq. 40)");
+    WriteEstimate(f, l + "/a", line.a, u.damping);
+    WriteEstimate(f, l + "/b", line.b, "1");
+    f.WriteScalar(l + "/correlation_ab", line.correlation_ab, "1");
+    f.WriteScalar(l + "/rms_residual", line.rms_residual, u.damping);
+    f.SetAttribute(l, "points", static_cast<long long>(line.points));
+  }
+}
+
+void WritePrediction(Hdf5File& f, const RunPrediction& p, const UnitLabels& u) {
+  const std::string g = JoinPath({"predictions", p.target_run + "_from_" + p.source_run});
+  f.CreateGroup(g);
+  f.SetAttribute(g, "source_run", p.source_run);
+  f.SetAttribute(g, "target_run", p.target_run);
+  f.SetAttribute(g, "start_rebound", static_cast<long long>(p.start_rebound));
+  f.WriteScalar(g + "/start_xmax", p.start_xmax, u.length);
+  f.WriteVector(g + "/predicted_xmax", p.predicted, u.length);
+  f.WriteVector(g + "/calculated_xmax", p.calculated, u.length);
+  f.WriteVector(g + "/deviation", p.deviation, u.length);
+  f.WriteVector(g + "/deviation_pct_peak", p.pct_peak, "%");
+  f.WriteVector(g + "/deviation_pct_start", p.pct_start, "%");
+}
+
+void WriteAll(Hdf5File& f, const SessionResult& r) {
+  const UnitLabels u = LabelsFor(r.units);
+  f.SetAttribute("/", "layout", static_cast<long long>(kResultsLayout));
+  f.SetAttribute("/", "producer", r.producer);
+  f.SetAttribute("/", "session_title", r.title);
+  f.SetAttribute("/", "units", std::string(UnitSystemName(r.units)));
+  f.SetAttribute("/", "created", r.created);
+  f.SetAttribute("/", "session_folder", r.session_folder);
+  f.SetAttribute("/", "convention", ConventionName(r.convention));
+  f.SetAttribute("/", "separation", SeparationName(r.separation));
+  f.WriteScalar("/apparatus/pendulum_length", r.apparatus.pendulum_length, u.length);
+  f.WriteScalar("/apparatus/mass", r.apparatus.mass, u.mass);
+  f.WriteScalar("/apparatus/gravity", r.apparatus.gravity, u.acceleration);
+  if (r.session_contact_time) f.WriteScalar("/session/contact_time", *r.session_contact_time, "s");
+  f.WriteStrings("/session/warnings", r.warnings);
+  f.CreateGroup("/runs");
+  for (const RunResult& run : r.runs) WriteRun(f, run, u);
+  if (r.kelvin_voigt) WriteSessionKelvinVoigt(f, *r.kelvin_voigt, u);
+  for (const RunPrediction& p : r.predictions) WritePrediction(f, p, u);
+}
+
+std::vector<Estimate> Zip(const std::vector<double>& values, const std::vector<double>& sigmas) {
+  std::vector<Estimate> out;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    out.push_back({values[i], i < sigmas.size() ? sigmas[i] : 0.0});
+  }
+  return out;
+}
+
+RunResult ReadRun(const Hdf5File& f, const std::string& id) {
+  const std::string g = RunPath(id);
+  RunResult run;
+  run.id = id;
+  const std::string status = f.ReadStringAttribute(g, "status");
+  run.ok = status == "ok";
+  if (!run.ok) run.failure = status.rfind("failed: ", 0) == 0 ? status.substr(8) : status;
+  run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
+  if (f.HasAttribute(g, "source")) run.source = f.ReadStringAttribute(g, "source");
+  run.initial_displacement = f.ReadScalar(g + "/initial_displacement");
+  if (f.Exists(g + "/rebounds/xmax")) {
+    run.xmax = f.ReadVector(g + "/rebounds/xmax");
+    run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
+    run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
+    run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
+  }
+  if (f.Exists(g + "/contact_time")) {
+    run.contact_time = f.ReadScalar(g + "/contact_time");
+    run.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
+    run.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
+  }
+  const std::string k = KelvinVoigtPath(id);
+  if (!f.Exists(k)) return run;
+  KelvinVoigtTwoPointFit fit;
+  fit.separation = ParseSeparation(f.ReadStringAttribute(k, "separation"));
+  const auto used = f.ReadIntegerArrayAttribute(k, "rebounds_used");
+  fit.rebounds_used = {static_cast<int>(used.at(0)), static_cast<int>(used.at(1))};
+  fit.ok = f.ReadStringAttribute(k, "status") == "ok";
+  if (f.HasAttribute(k, "diagnostic")) fit.diagnostic = f.ReadStringAttribute(k, "diagnostic");
+  if (fit.ok) {
+    fit.damping_ratio = ReadEstimate(f, k + "/zeta");
+    fit.restitution = ReadEstimate(f, k + "/restitution");
+    fit.log_restitution = ReadEstimate(f, k + "/log_restitution");
+    if (f.Exists(k + "/stiffness")) {
+      fit.stiffness = ReadEstimate(f, k + "/stiffness");
+      fit.damping = ReadEstimate(f, k + "/damping");
+      run.stiffness_source = f.ReadStringAttribute(k, "stiffness_source");
+    }
+    fit.contact_time = f.ReadScalarIfPresent(k + "/contact_time_used");
+    fit.predicted_xmax =
+        Zip(f.ReadVector(k + "/predicted_xmax"), f.ReadVector(k + "/predicted_xmax_std_error"));
+    run.deviation = f.ReadVector(k + "/deviation");
+    run.deviation_pct_peak = f.ReadVector(k + "/deviation_pct_peak");
+    run.deviation_pct_x0 = f.ReadVector(k + "/deviation_pct_x0");
+  }
+  run.kelvin_voigt = std::move(fit);
+  return run;
+}
+
+SessionKelvinVoigt ReadSessionKelvinVoigt(const Hdf5File& f) {
+  const std::string g = "/session/kelvin_voigt";
+  SessionKelvinVoigt s;
+  s.average_stiffness = f.ReadStringAttribute(g, "stiffness") == "average";
+  s.run_ids = f.ReadStrings(g + "/run_ids");
+  s.sqrt_restitution = f.ReadVector(g + "/sqrt_restitution");
+  s.stiffness = f.ReadVector(g + "/stiffness");
+  s.spread.average = f.ReadScalar(g + "/stiffness_average");
+  s.spread.deviation = f.ReadVector(g + "/stiffness_deviation");
+  s.spread.pct_variation = f.ReadVector(g + "/stiffness_pct_variation");
+  s.damping = f.ReadVector(g + "/damping");
+  const std::string l = g + "/damping_line";
+  if (f.Exists(l)) {
+    DampingLine line;
+    line.a = ReadEstimate(f, l + "/a");
+    line.b = ReadEstimate(f, l + "/b");
+    line.correlation_ab = f.ReadScalar(l + "/correlation_ab");
+    line.rms_residual = f.ReadScalar(l + "/rms_residual");
+    line.points = static_cast<int>(f.ReadIntegerAttribute(l, "points"));
+    s.damping_line = line;
+  }
+  return s;
+}
+
+RunPrediction ReadPrediction(const Hdf5File& f, const std::string& name) {
+  const std::string g = JoinPath({"predictions", name});
+  RunPrediction p;
+  p.source_run = f.ReadStringAttribute(g, "source_run");
+  p.target_run = f.ReadStringAttribute(g, "target_run");
+  p.start_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "start_rebound"));
+  p.start_xmax = f.ReadScalar(g + "/start_xmax");
+  p.predicted = f.ReadVector(g + "/predicted_xmax");
+  p.calculated = f.ReadVector(g + "/calculated_xmax");
+  p.deviation = f.ReadVector(g + "/deviation");
+  p.pct_peak = f.ReadVector(g + "/deviation_pct_peak");
+  p.pct_start = f.ReadVector(g + "/deviation_pct_start");
+  return p;
+}
+
+}  // namespace
+
+void WriteResults(const SessionResult& result, const std::filesystem::path& path) {
+  WriteHdf5Atomically(path, [&](Hdf5File& file) { WriteAll(file, result); });
+}
+
+SessionResult ReadResults(const std::filesystem::path& path) {
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  if (!f.HasAttribute("/", "layout") || f.ReadIntegerAttribute("/", "layout") != kResultsLayout) {
+    throw InputError({path, "/layout", std::nullopt},
+                     fmt::format("not an impactlab results file of layout {}", kResultsLayout));
+  }
+  SessionResult r;
+  r.producer = f.ReadStringAttribute("/", "producer");
+  r.title = f.ReadStringAttribute("/", "session_title");
+  const auto units = ParseUnitSystem(f.ReadStringAttribute("/", "units"));
+  if (!units) throw InputError({path, "/units", std::nullopt}, "unknown unit system");
+  r.units = *units;
+  r.created = f.ReadStringAttribute("/", "created");
+  r.session_folder = f.ReadStringAttribute("/", "session_folder");
+  r.convention = ParseConvention(f.ReadStringAttribute("/", "convention"));
+  r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
+  r.apparatus.pendulum_length = f.ReadScalar("/apparatus/pendulum_length");
+  r.apparatus.mass = f.ReadScalar("/apparatus/mass");
+  r.apparatus.gravity = f.ReadScalar("/apparatus/gravity");
+  r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
+  r.warnings = f.ReadStrings("/session/warnings");
+  for (const std::string& id : f.Children("/runs")) r.runs.push_back(ReadRun(f, id));
+  if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
+  if (f.Exists("/predictions")) {
+    for (const std::string& name : f.Children("/predictions")) {
+      r.predictions.push_back(ReadPrediction(f, name));
+    }
+  }
+  return r;
+}
+
+}  // namespace impactlab

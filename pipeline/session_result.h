@@ -1,0 +1,78 @@
+// What reducing a session produces: one RunResult per run, the cross-run
+// Kelvin-Voigt analysis and the predictions. The results file (results_file.h)
+// stores exactly this; the report formats it and never recomputes it.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_session.h"
+#include "fit/kelvin_voigt_two_point.h"
+#include "io/session.h"
+#include "io/units.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+struct RunResult {
+  std::string id;
+  bool ok = false;
+  std::string failure;  // why, when !ok (file, key and reason where they apply)
+  std::string source;   // where the maxima came from: "typed-in"
+
+  double initial_displacement = 0.0;  // X0, length units
+  int first_rebound = 1;
+
+  std::vector<double> xmax;        // rebound 0, 1, ... (session numbering)
+  std::vector<double> xmax_sigma;  // one-sigma, same length (0 where unknown)
+  std::vector<double> t_peak;      // s since release
+  std::string t_peak_source;       // "model" for typed-in runs
+
+  std::optional<double> contact_time;  // s
+  double contact_time_sigma = 0.0;
+  std::string contact_time_source;  // "typed-in" or "session"
+
+  std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
+  // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.
+  std::vector<double> deviation, deviation_pct_peak, deviation_pct_x0;
+  std::string stiffness_source;  // "run" or "session average"
+
+  std::string Status() const { return ok ? "ok" : "failed: " + failure; }
+};
+
+// Table 3 and eq. 40 over the runs with a Kelvin-Voigt fit and a contact time.
+struct SessionKelvinVoigt {
+  std::vector<std::string> run_ids;
+  std::vector<double> sqrt_restitution;  // sqrt(xi), xi = the run's fitted e
+  std::vector<double> stiffness;         // each run's own K
+  std::vector<double> damping;           // C as the runs report it (own or average K)
+  StiffnessSpread spread;
+  std::optional<DampingLine> damping_line;
+  bool average_stiffness = false;
+};
+
+struct SessionResult {
+  std::string title;
+  UnitSystem units = UnitSystem::kInLbfS;
+  std::string producer;  // "impactlab <version>"
+  std::string created;   // ISO 8601
+  std::string session_folder;
+  Apparatus apparatus;
+  PendulumConvention convention = PendulumConvention::kExact;
+  Separation separation = Separation::kKinematic;
+  std::optional<double> session_contact_time;  // [reduction] contact_time, s
+
+  std::vector<RunResult> runs;
+  std::optional<SessionKelvinVoigt> kelvin_voigt;
+  std::vector<RunPrediction> predictions;
+  std::vector<std::string> warnings;  // manifest warnings and non-fatal findings
+
+  int FailedRuns() const;
+  const RunResult* FindRun(const std::string& id) const;
+};
+
+const char* ConventionName(PendulumConvention convention);    // "exact" or "thesis"
+PendulumConvention ParseConvention(const std::string& name);  // throws std::invalid_argument
+
+}  // namespace impactlab

@@ -1,0 +1,251 @@
+#include "report/tables.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include <fmt/format.h>
+
+namespace impactlab {
+namespace {
+
+std::string Fixed(double v, int digits) { return fmt::format("{:.{}f}", v, digits); }
+// A deviation that rounds to zero prints as +0.0000, never -0.0000.
+std::string Signed(double v, int digits) {
+  const std::string text = fmt::format("{:+.{}f}", v, digits);
+  return text.find_first_not_of("+-0.") == std::string::npos ? "+" + text.substr(1) : text;
+}
+std::string WithSigma(const Estimate& e, int digits) {
+  if (e.sigma == 0.0) return Fixed(e.value, digits);
+  return fmt::format("{:.{}f} ± {:.{}f}", e.value, digits, e.sigma, digits);
+}
+std::string Sig(double v, int significant) { return fmt::format("{:.{}g}", v, significant); }
+
+Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
+  Table t;
+  t.name = "table2_deviations";
+  t.caption = "Deviation of theoretical response from experimental response (thesis Table 2)";
+  t.columns = {"Run",
+               "Rebound",
+               fmt::format("Experimental Xmax ({})", u.length),
+               fmt::format("Theoretical Xmax ({})", u.length),
+               fmt::format("Deviation ({})", u.length),
+               "Deviation % of peak",
+               "Deviation % of X0"};
+  for (const RunResult& run : r.runs) {
+    if (!run.ok) continue;
+    const auto& fit = *run.kelvin_voigt;
+    for (std::size_t n = 0; n < run.xmax.size(); ++n) {
+      const bool used = static_cast<int>(n) == fit.rebounds_used[0] ||
+                        static_cast<int>(n) == fit.rebounds_used[1];
+      t.rows.push_back({run.id, fmt::format("{}{}", n, used ? "*" : ""), Fixed(run.xmax[n], 4),
+                        Fixed(fit.predicted_xmax[n].value, 4), Signed(run.deviation[n], 4),
+                        Fixed(std::abs(run.deviation_pct_peak[n]), 1),
+                        Fixed(std::abs(run.deviation_pct_x0[n]), 1)});
+    }
+  }
+  t.notes = {"* rebound used to determine the Kelvin-Voigt parameters.",
+             "Deviation = theoretical - experimental; percentages are of its magnitude."};
+  return t;
+}
+
+Table ParameterTable(const SessionResult& r, const UnitLabels& u) {
+  Table t;
+  t.name = "kelvin_voigt_parameters";
+  t.caption = "Kelvin-Voigt parameters per run (two-point fit, eq. 34-38)";
+  t.columns = {"Run",
+               "Pair",
+               "zeta",
+               "e",
+               fmt::format("K ({})", u.stiffness),
+               fmt::format("C ({})", u.damping),
+               "tau_c (us)",
+               "Status"};
+  for (const RunResult& run : r.runs) {
+    if (!run.ok || !run.kelvin_voigt) {
+      t.rows.push_back({run.id, "", "", "", "", "", "", run.Status()});
+      continue;
+    }
+    const auto& fit = *run.kelvin_voigt;
+    t.rows.push_back({run.id, fmt::format("{}-{}", fit.rebounds_used[0], fit.rebounds_used[1]),
+                      WithSigma(fit.damping_ratio, 5), WithSigma(fit.restitution, 4),
+                      fit.stiffness ? WithSigma(*fit.stiffness, 0) : "-",
+                      fit.damping ? WithSigma(*fit.damping, 3) : "-",
+                      fit.contact_time ? Fixed(*fit.contact_time * 1e6, 1) : "-", "ok"});
+  }
+  t.notes = {"± one standard error, propagated from the stated reading uncertainties.",
+             fmt::format("Pendulum convention: {}; separation: {}.", ConventionName(r.convention),
+                         SeparationName(r.separation))};
+  return t;
+}
+
+Table StiffnessTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
+  Table t;
+  t.name = "table3_stiffness";
+  t.caption = "Values of K versus sqrt(xi) (thesis Table 3)";
+  t.columns = {"Run", "sqrt(xi)", fmt::format("K ({})", u.stiffness),
+               fmt::format("Delta K ({})", u.stiffness), "% variation"};
+  std::vector<std::size_t> order(s.run_ids.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return s.sqrt_restitution[a] < s.sqrt_restitution[b];
+  });
+  for (std::size_t i : order) {
+    t.rows.push_back({s.run_ids[i], Fixed(s.sqrt_restitution[i], 4), Fixed(s.stiffness[i], 0),
+                      Fixed(std::abs(s.spread.deviation[i]), 0),
+                      Fixed(s.spread.pct_variation[i], 2)});
+  }
+  t.rows.push_back({"K avg", "", Fixed(s.spread.average, 0), "", ""});
+  t.notes = {"xi is the run's fitted coefficient of restitution e."};
+  return t;
+}
+
+Table DampingLineTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
+  Table t;
+  t.name = "eq40_damping_line";
+  t.caption = "C versus sqrt(xi): least-squares line C = a (1 - b sqrt(xi)) (thesis eq. 40)";
+  t.columns = {"Quantity", "Value", "Standard error", "Units"};
+  const DampingLine& line = *s.damping_line;
+  t.rows = {{"a", Sig(line.a.value, 6), Sig(line.a.sigma, 3), u.damping},
+            {"b", Sig(line.b.value, 6), Sig(line.b.sigma, 3), "1"},
+            {"correlation(a, b)", Fixed(line.correlation_ab, 4), "", "1"},
+            {"rms residual", Sig(line.rms_residual, 4), "", u.damping},
+            {"runs", fmt::format("{}", line.points), "", ""}};
+  t.notes = {s.average_stiffness ? "C from the session's average K." : "C from each run's own K."};
+  return t;
+}
+
+Table PredictionTable(const RunPrediction& p, const UnitLabels& u) {
+  Table t;
+  t.name = fmt::format("table4_prediction_{}_from_{}", p.target_run, p.source_run);
+  t.caption = fmt::format(
+      "Predicted (from run {}) and calculated theoretical response for run {} (thesis Table 4)",
+      p.source_run, p.target_run);
+  t.columns = {"Rebound",
+               fmt::format("Predicted Xmax ({})", u.length),
+               fmt::format("Calculated Xmax ({})", u.length),
+               fmt::format("Deviation ({})", u.length),
+               "Deviation % peak",
+               "Deviation % X0"};
+  for (std::size_t i = 0; i < p.predicted.size(); ++i) {
+    t.rows.push_back({fmt::format("{}", p.start_rebound + static_cast<int>(i)),
+                      Fixed(p.predicted[i], 4), Fixed(p.calculated[i], 4),
+                      Signed(p.deviation[i], 4), Fixed(std::abs(p.pct_peak[i]), 1),
+                      Fixed(std::abs(p.pct_start[i]), 1)});
+  }
+  t.notes = {fmt::format("X0 here is the starting maximum, rebound {} = {} {}.", p.start_rebound,
+                         Fixed(p.start_xmax, 4), u.length)};
+  return t;
+}
+
+std::string EscapeCsv(const std::string& cell) {
+  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
+  std::string out = "\"";
+  for (char c : cell) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string EscapeLatex(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '%':
+        out += "\\%";
+        break;
+      case '_':
+        out += "\\_";
+        break;
+      case '&':
+        out += "\\&";
+        break;
+      case '#':
+        out += "\\#";
+        break;
+      case '*':
+        out += "$^*$";
+        break;
+      default:
+        out += c;
+    }
+  }
+  // "±" is UTF-8; LaTeX gets the math symbol.
+  std::size_t pos = 0;
+  while ((pos = out.find("±", pos)) != std::string::npos)
+    out.replace(pos, std::string("±").size(), "$\\pm$");
+  return out;
+}
+
+std::string Join(const std::vector<std::string>& cells, const std::string& separator,
+                 std::string (*escape)(const std::string&)) {
+  std::string out;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (i > 0) out += separator;
+    out += escape ? escape(cells[i]) : cells[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Table> BuildTables(const SessionResult& r) {
+  const UnitLabels u = LabelsFor(r.units);
+  std::vector<Table> tables = {DeviationTable(r, u), ParameterTable(r, u)};
+  if (r.kelvin_voigt) {
+    tables.push_back(StiffnessTable(*r.kelvin_voigt, u));
+    if (r.kelvin_voigt->damping_line) tables.push_back(DampingLineTable(*r.kelvin_voigt, u));
+  }
+  for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
+  return tables;
+}
+
+std::optional<ReportFormat> ParseReportFormat(const std::string& name) {
+  if (name == "md") return ReportFormat::kMarkdown;
+  if (name == "csv") return ReportFormat::kCsv;
+  if (name == "tex") return ReportFormat::kLatex;
+  return std::nullopt;
+}
+
+std::string RenderTable(const Table& t, ReportFormat format) {
+  std::string out;
+  switch (format) {
+    case ReportFormat::kCsv:
+      out += Join(t.columns, ",", EscapeCsv) + "\n";
+      for (const auto& row : t.rows) out += Join(row, ",", EscapeCsv) + "\n";
+      return out;
+    case ReportFormat::kMarkdown:
+      out += fmt::format("### {}\n\n| {} |\n|", t.caption, Join(t.columns, " | ", nullptr));
+      for (std::size_t i = 0; i < t.columns.size(); ++i) out += i == 0 ? " :--- |" : " ---: |";
+      out += "\n";
+      for (const auto& row : t.rows) out += fmt::format("| {} |\n", Join(row, " | ", nullptr));
+      for (const auto& note : t.notes) out += fmt::format("\n{}\n", note);
+      return out + "\n";
+    case ReportFormat::kLatex:
+      out += fmt::format(
+          "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\begin{{tabular}}{{l{}}}"
+          "\n\\hline\n",
+          EscapeLatex(t.caption), std::string(t.columns.size() - 1, 'r'));
+      out += Join(t.columns, " & ", EscapeLatex) + " \\\\\n\\hline\n";
+      for (const auto& row : t.rows) out += Join(row, " & ", EscapeLatex) + " \\\\\n";
+      out += "\\hline\n\\end{tabular}\n";
+      for (const auto& note : t.notes)
+        out += fmt::format("\n\\par\\footnotesize {}\n", EscapeLatex(note));
+      return out + "\\end{table}\n\n";
+  }
+  return out;
+}
+
+std::string RenderTables(const std::string& title, const std::vector<Table>& tables,
+                         ReportFormat format) {
+  std::string out;
+  if (format == ReportFormat::kMarkdown) out += fmt::format("# {}\n\n", title);
+  if (format == ReportFormat::kLatex) out += fmt::format("% {}\n", title);
+  for (const Table& t : tables) {
+    if (format == ReportFormat::kCsv) {
+      out += fmt::format("# {}: {}\n{}\n", t.name, t.caption, RenderTable(t, format));
+    } else {
+      out += RenderTable(t, format);
+    }
+  }
+  return out;
+}
+
+}  // namespace impactlab
