@@ -18,9 +18,10 @@ std::vector<double> Estimates(const Pendulum& pendulum, double mass, double xa, 
                               std::size_t rebound_count, Separation separation) {
   // Eq. 34/35: the speed ratio over N impacts; PENDUL's thesis convention
   // takes X_a through X sqrt(g/L) and X_b through its potential energy.
+  // The log of the ratio, not a difference of logs: at X/L = 1e-9 each ln v is
+  // about -16 and the difference would lose a digit.
   const double log_e =
-      (std::log(SpeedFromPeakEnergy(pendulum, xb)) - std::log(SpeedFromAmplitude(pendulum, xa))) /
-      (b - a);
+      std::log(SpeedFromPeakEnergy(pendulum, xb) / SpeedFromAmplitude(pendulum, xa)) / (b - a);
   // ln e = 0 is the elastic limit; DampingRatioFromLogRestitution wants ln e < 0.
   const double zeta = log_e < 0.0 ? DampingRatioFromLogRestitution(log_e, separation) : 0.0;
   std::vector<double> out = {log_e, std::exp(log_e), zeta};

@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 #include <boost/math/special_functions/sinc.hpp>
-#include <boost/math/special_functions/sinhc.hpp>
 #include <boost/math/tools/roots.hpp>
 
 namespace impactlab {
@@ -30,9 +29,10 @@ void CheckSpeed(double v) {
   }
 }
 
-// sqrt(|1 - zeta^2|) without cancellation: (1 - zeta) is exact near 1.
+// sqrt(|1 - zeta^2|) without cancellation ((1 - zeta) is exact near 1) and
+// without overflow for huge zeta.
 double SqrtOneMinusZetaSquared(double zeta) {
-  return std::sqrt(std::abs((1.0 - zeta) * (1.0 + zeta)));
+  return std::sqrt(std::abs(1.0 - zeta)) * std::sqrt(1.0 + zeta);
 }
 
 // h(zeta) = acos(zeta)/sqrt(1 - zeta^2), continued analytically through zeta = 1
@@ -44,7 +44,11 @@ double PeakPhaseRatio(double zeta) {
     // acos(zeta) = 2 asin(sqrt((1 - zeta)/2)): accurate as zeta -> 1.
     return 2.0 * std::asin(std::sqrt(0.5 * (1.0 - zeta))) / s;
   }
-  return std::log1p((zeta - 1.0) + s) / s;  // acosh(zeta) = log1p(zeta - 1 + s)
+  // Far above critical: acosh(zeta) = ln(2 zeta) + O(zeta^-2) and s = zeta (1 +
+  // O(zeta^-2)); written without s, which overflows near the largest double.
+  if (zeta > 1e8) return (std::numbers::ln2 + std::log(zeta)) / zeta;
+  // acosh(zeta) = ln(zeta + s) = log1p(zeta - 1) + log1p(s / zeta): accurate near 1.
+  return (std::log1p(zeta - 1.0) + std::log1p(s / zeta)) / s;
 }
 
 void ThrowNoKinematicSeparation(double zeta) {
@@ -75,7 +79,7 @@ double LogRestitutionFromDampingRatio(double zeta, Separation separation) {
   if (!(zeta >= 0.0) || !std::isfinite(zeta)) {
     throw std::invalid_argument(fmt::format("a damping ratio must be >= 0, got {}", zeta));
   }
-  if (separation == Separation::kForce) return -2.0 * zeta * PeakPhaseRatio(zeta);
+  if (separation == Separation::kForce) return -2.0 * (zeta * PeakPhaseRatio(zeta));
   if (zeta >= 1.0) ThrowNoKinematicSeparation(zeta);
   return -pi * zeta / SqrtOneMinusZetaSquared(zeta);
 }
@@ -108,11 +112,18 @@ double KelvinVoigtCompression(const KelvinVoigtRates& r, double v, double t) {
   const double wn = r.natural_frequency;
   // x = v exp(-zeta wn t) S(t), S = sin(wd t)/wd, t or sinh(b t)/b: written as
   // t sinc(wd t) and t sinhc(b t) so it stays exact as wd or b -> 0.
-  const double rate = wn * SqrtOneMinusZetaSquared(zeta);
-  double shape = t;
-  if (zeta < 1.0) shape = t * boost::math::sinc_pi(rate * t);
-  if (zeta > 1.0) shape = t * boost::math::sinhc_pi(rate * t);
-  return v * std::exp(-zeta * wn * t) * shape;
+  const double s = SqrtOneMinusZetaSquared(zeta);
+  const double tau = wn * t;
+  if (zeta <= 1.0) {
+    const double shape = zeta < 1.0 ? boost::math::sinc_pi(s * tau) : 1.0;
+    return v * t * std::exp(-zeta * tau) * shape;
+  }
+  // Overdamped: exp(-zeta tau) sinh(s tau) overflows times underflows for
+  // large s tau. With zeta - s = 1/(zeta + s):
+  // x = v t exp(-tau/(zeta + s)) (1 - exp(-2 s tau)) / (2 s tau).
+  if (tau == 0.0) return 0.0;
+  const double y = 2.0 * s * tau;
+  return v * t * std::exp(-tau / (zeta + s)) * (-std::expm1(-y) / y);
 }
 
 double DampingRatioFromLogRestitution(double log_e, Separation separation) {
@@ -125,9 +136,17 @@ double DampingRatioFromLogRestitution(double log_e, Separation separation) {
     return -log_e / std::hypot(log_e, pi);  // eq. 36 with N = 1
   }
   // 2 zeta h(zeta) rises monotonically from 0 to infinity: bracket and solve.
-  const auto residual = [log_e](double zeta) { return -2.0 * zeta * PeakPhaseRatio(zeta) - log_e; };
+  const auto residual = [log_e](double zeta) {
+    return -2.0 * (zeta * PeakPhaseRatio(zeta)) - log_e;
+  };
   double hi = std::max(1.0, -log_e);
-  while (residual(hi) > 0.0) hi *= 2.0;
+  while (residual(hi) > 0.0) {
+    hi *= 2.0;
+    if (!std::isfinite(hi)) {
+      throw std::domain_error(fmt::format(
+          "ln e = {} is beyond any finite damping ratio under force separation", log_e));
+    }
+  }
   std::uintmax_t iterations = 200;
   const auto [lo_root, hi_root] =
       boost::math::tools::toms748_solve(residual, 0.0, hi, -log_e, residual(hi),

@@ -70,7 +70,15 @@ double AmplitudeFromSpeed(const Pendulum& p, double speed) {
   if (!(speed >= 0.0) || !std::isfinite(speed)) {
     throw std::domain_error(fmt::format("a swing speed must be >= 0, got {}", speed));
   }
-  if (IsThesis(p)) return speed / NaturalFrequency(p);
+  if (IsThesis(p)) {
+    const double amplitude = speed / NaturalFrequency(p);
+    if (!(amplitude < p.length)) {
+      throw std::domain_error(
+          fmt::format("a swing at {} through equilibrium would reach X = {} >= L = {}", speed,
+                      amplitude, p.length));
+    }
+    return amplitude;
+  }
   const double k = speed / (2.0 * std::sqrt(p.gravity * p.length));
   if (!(k < std::numbers::sqrt2 / 2.0)) {
     throw std::domain_error(
