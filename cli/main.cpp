@@ -8,7 +8,6 @@
 #include "cli/commands.h"
 #include "cli/version.h"
 #include "io/errors.h"
-#include "model/contact.h"
 
 int main(int argc, char** argv) {
   using namespace impactlab::cli;
@@ -31,10 +30,7 @@ int main(int argc, char** argv) {
   } catch (const impactlab::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitInputError;
-  } catch (const impactlab::NoSeparationError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
-    return kExitModelDomain;
-  } catch (const std::domain_error& e) {
+  } catch (const std::domain_error& e) {  // includes NoSeparationError
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitModelDomain;
   } catch (const std::invalid_argument& e) {
