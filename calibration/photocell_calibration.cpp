@@ -1,0 +1,209 @@
+#include "calibration/photocell_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <Eigen/Dense>
+#include <boost/math/tools/roots.hpp>
+
+namespace impactlab {
+namespace {
+
+// T_0..T_n and their derivatives dT_k/du at u (three-term recurrences).
+void Chebyshev(double u, int n, Eigen::VectorXd& t, Eigen::VectorXd* dt = nullptr) {
+  t(0) = 1.0;
+  if (n >= 1) t(1) = u;
+  for (int k = 2; k <= n; ++k) t(k) = 2.0 * u * t(k - 1) - t(k - 2);
+  if (dt == nullptr) return;
+  // T_k' = k U_{k-1}, U_0 = 1, U_1 = 2u, U_k = 2u U_{k-1} - U_{k-2}.
+  dt->resize(n + 1);
+  (*dt)(0) = 0.0;
+  double u_prev = 0.0, u_cur = 1.0;  // U_{-1}, U_0
+  for (int k = 1; k <= n; ++k) {
+    (*dt)(k) = k * u_cur;
+    const double u_next = 2.0 * u * u_cur - u_prev;
+    u_prev = u_cur;
+    u_cur = u_next;
+  }
+}
+
+double ToUnit(double x, double x_max) { return 2.0 * x / x_max - 1.0; }
+
+struct OrderFit {
+  Eigen::VectorXd coefficients;
+  Eigen::MatrixXd covariance;
+  double rss = 0.0;
+  double bic = 0.0;
+};
+
+OrderFit FitOrder(const Eigen::MatrixXd& basis_all, const Eigen::VectorXd& v,
+                  const Eigen::VectorXd& weight, int order) {
+  const Eigen::Index n = v.size();
+  const Eigen::MatrixXd a = weight.asDiagonal() * basis_all.leftCols(order + 1);
+  const Eigen::VectorXd b = weight.asDiagonal() * v;
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  OrderFit fit;
+  fit.coefficients = qr.solve(b);
+  fit.rss = (a * fit.coefficients - b).squaredNorm();
+  const double dof = static_cast<double>(n - (order + 1));
+  const double scatter = fit.rss / dof;
+  fit.covariance = scatter * (a.transpose() * a).inverse();
+  fit.bic = static_cast<double>(n) * std::log(std::max(fit.rss, 1e-300) / static_cast<double>(n)) +
+            static_cast<double>(order + 1) * std::log(static_cast<double>(n));
+  return fit;
+}
+
+}  // namespace
+
+bool CalibrationOptions::Check(std::string* error) const {
+  if (max_order < 1 || max_order > 20) {
+    *error = fmt::format("max_order must be 1..20, got {}", max_order);
+    return false;
+  }
+  if (!(skip_after_release_s >= 0.0) || !(range_margin >= 0.0 && range_margin < 0.5)) {
+    *error = "skip_after_release_s must be >= 0 and range_margin in [0, 0.5)";
+    return false;
+  }
+  return true;
+}
+
+PhotocellCurve::PhotocellCurve(double x_max, std::vector<double> chebyshev,
+                               std::vector<double> covariance, double range_margin)
+    : x_max_(x_max), chebyshev_(std::move(chebyshev)), covariance_(std::move(covariance)) {
+  const double v0 = VoltsAt(0.0), v1 = VoltsAt(x_max_);
+  falling_ = v1 < v0;
+  volts_min_ = std::min(v0, v1);
+  volts_max_ = std::max(v0, v1);
+  margin_volts_ = range_margin * (volts_max_ - volts_min_);
+}
+
+double PhotocellCurve::VoltsAt(double x) const {
+  const int n = order();
+  Eigen::VectorXd t(n + 1);
+  Chebyshev(ToUnit(x, x_max_), n, t);
+  return t.dot(Eigen::Map<const Eigen::VectorXd>(chebyshev_.data(), n + 1));
+}
+
+double PhotocellCurve::SlopeAt(double x) const {
+  const int n = order();
+  Eigen::VectorXd t(n + 1), dt;
+  Chebyshev(ToUnit(x, x_max_), n, t, &dt);
+  return 2.0 / x_max_ * dt.dot(Eigen::Map<const Eigen::VectorXd>(chebyshev_.data(), n + 1));
+}
+
+bool PhotocellCurve::Covers(double volts) const {
+  return volts >= volts_min_ - margin_volts_ && volts <= volts_max_ + margin_volts_;
+}
+
+double PhotocellCurve::DisplacementFromVolts(double volts) const {
+  if (!Covers(volts)) {
+    throw std::domain_error(
+        fmt::format("{:.6g} V is outside the calibrated range {:.6g} .. {:.6g} V", volts,
+                    volts_min_, volts_max_));
+  }
+  // Within the margin the curve is extended linearly from its end.
+  if (volts < volts_min_ || volts > volts_max_) {
+    const double end_x = (volts < volts_min_) == falling_ ? x_max_ : 0.0;
+    return end_x + (volts - VoltsAt(end_x)) / SlopeAt(end_x);
+  }
+  const auto residual = [&](double x) { return VoltsAt(x) - volts; };
+  std::uintmax_t iterations = 100;
+  const auto [lo, hi] =
+      boost::math::tools::toms748_solve(residual, 0.0, x_max_, residual(0.0), residual(x_max_),
+                                        boost::math::tools::eps_tolerance<double>(50), iterations);
+  return 0.5 * (lo + hi);
+}
+
+double PhotocellCurve::DisplacementSigma(double volts) const {
+  const double x = std::clamp(DisplacementFromVolts(volts), 0.0, x_max_);
+  const int n = order();
+  Eigen::VectorXd t(n + 1);
+  Chebyshev(ToUnit(x, x_max_), n, t);
+  const Eigen::Map<const Eigen::MatrixXd> cov(covariance_.data(), n + 1, n + 1);
+  const double sigma_volts = std::sqrt(std::max(0.0, t.dot(cov * t)));
+  return sigma_volts / std::abs(SlopeAt(x));
+}
+
+CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
+                                     const CalibrationOptions& options) {
+  std::string error;
+  if (!options.Check(&error)) throw std::invalid_argument(error);
+  // The first swing: release to the equilibrium crossing, a quarter period.
+  const double quarter_period = 0.5 * HalfPeriod(pendulum, release_x);
+  CalibrationResult out;
+  std::vector<double> sigma;
+  for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
+    const double t = trace.time_s[i];
+    if (t < options.skip_after_release_s || t > quarter_period) continue;
+    out.time_s.push_back(t);
+    out.ideal_displacement.push_back(ReleaseSwingDisplacement(pendulum, release_x, t));
+    out.volts.push_back(trace.volts[i]);
+    sigma.push_back(trace.sigma_volts.empty() ? 1.0 : trace.sigma_volts[i]);
+  }
+  const int n = static_cast<int>(out.volts.size());
+  if (n < 8) {
+    throw std::invalid_argument(fmt::format(
+        "the calibration trace has {} samples in the first swing (0 .. {:.4g} s); at least 8 "
+        "are needed",
+        n, quarter_period));
+  }
+
+  const int max_order = std::min(options.max_order, n / 4);
+  Eigen::MatrixXd basis(n, max_order + 1);
+  Eigen::VectorXd v(n), weight(n);
+  Eigen::VectorXd row(max_order + 1);
+  for (int i = 0; i < n; ++i) {
+    Chebyshev(ToUnit(out.ideal_displacement[i], release_x), max_order, row);
+    basis.row(i) = row.transpose();
+    v(i) = out.volts[i];
+    weight(i) = 1.0 / sigma[i];
+  }
+  OrderFit best;
+  int best_order = 0;
+  for (int order = 1; order <= max_order; ++order) {
+    OrderFit fit = FitOrder(basis, v, weight, order);
+    out.bic.push_back(fit.bic);
+    if (best_order == 0 || fit.bic < best.bic) {
+      best = std::move(fit);
+      best_order = order;
+    }
+  }
+
+  std::vector<double> coefficients(best.coefficients.data(),
+                                   best.coefficients.data() + best.coefficients.size());
+  std::vector<double> covariance(best.covariance.data(),
+                                 best.covariance.data() + best.covariance.size());
+  out.curve = PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
+                             options.range_margin);
+
+  // Monotone over the whole swing, or the conversion would be ambiguous.
+  const int grid = 2048;
+  const double first_slope = out.curve.SlopeAt(0.5 * release_x);
+  for (int k = 0; k <= grid; ++k) {
+    const double x = release_x * k / grid;
+    if (out.curve.SlopeAt(x) * first_slope <= 0.0) {
+      throw std::domain_error(fmt::format(
+          "the calibration curve is not monotone: its slope changes sign near X = {:.4g} "
+          "({:.5g} V); the photocell output does not determine the displacement there",
+          x, out.curve.VoltsAt(x)));
+    }
+  }
+
+  double sum_v = 0.0, sum_x = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double r = out.volts[i] - out.curve.VoltsAt(out.ideal_displacement[i]);
+    out.residual_volts.push_back(r);
+    sum_v += r * r;
+    const double rx = r / out.curve.SlopeAt(out.ideal_displacement[i]);
+    sum_x += rx * rx;
+  }
+  out.samples_used = n;
+  out.residual_rms_volts = std::sqrt(sum_v / n);
+  out.residual_rms_length = std::sqrt(sum_x / n);
+  return out;
+}
+
+}  // namespace impactlab

@@ -1,0 +1,81 @@
+// Dynamic photocell calibration (thesis Chapter III, program CALIBR; Figures
+// 13-14), done with every sample instead of eleven hand-read points.
+//
+// One pendulum swings freely from X0, the sweep triggered at release. Over the
+// first swing to the equilibrium crossing, every sample's voltage is paired
+// with the ideal pendulum's displacement at its time (exact pendulum by
+// default), and a smooth curve V(X) is fitted by least squares: a Chebyshev
+// series on [0, X0] whose order the data choose (Bayesian information
+// criterion). The noise is in the voltage, so V is regressed on X, not the
+// reverse; the curve is then inverted. A curve that is not monotone over the
+// swing is refused, as is a conversion outside the calibrated voltages.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/trace.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+struct CalibrationOptions {
+  int max_order = 9;  // highest polynomial order tried (1 = linear)
+  // Samples closer than this to release are left out: the magnet releases
+  // over a few milliseconds, s.
+  double skip_after_release_s = 0.0;
+  // Calibrated voltages may be extended by this fraction of their span when
+  // converting (reading noise at the ends), 1.
+  double range_margin = 0.01;
+
+  bool Check(std::string* error) const;
+};
+
+// X(V): the calibrated photocell, with its one-sigma band.
+class PhotocellCurve {
+ public:
+  PhotocellCurve() = default;
+  PhotocellCurve(double x_max, std::vector<double> chebyshev, std::vector<double> covariance,
+                 double range_margin);
+
+  // V at displacement x (0 <= x <= x_max), and dV/dX.
+  double VoltsAt(double x) const;
+  double SlopeAt(double x) const;
+  // The displacement at which the cell reads `volts`. Throws std::domain_error
+  // outside the calibrated voltages (with the margin).
+  double DisplacementFromVolts(double volts) const;
+  // One-sigma uncertainty of DisplacementFromVolts from the fit alone.
+  double DisplacementSigma(double volts) const;
+  bool Covers(double volts) const;
+
+  double x_max() const { return x_max_; }
+  double volts_min() const { return volts_min_; }
+  double volts_max() const { return volts_max_; }
+  int order() const { return static_cast<int>(chebyshev_.size()) - 1; }
+  const std::vector<double>& chebyshev() const { return chebyshev_; }  // in u = 2X/x_max - 1
+  bool falling() const { return falling_; }                            // V falls as X grows
+
+ private:
+  double x_max_ = 0.0;
+  std::vector<double> chebyshev_;
+  std::vector<double> covariance_;  // row-major, (order+1)^2, V^2
+  double volts_min_ = 0.0, volts_max_ = 0.0, margin_volts_ = 0.0;
+  bool falling_ = true;
+};
+
+struct CalibrationResult {
+  PhotocellCurve curve;
+  // The pairs the fit used (Figure 14's points) and their residuals.
+  std::vector<double> time_s, ideal_displacement, volts, residual_volts;
+  double residual_rms_volts = 0.0;
+  double residual_rms_length = 0.0;  // the same, through the curve's slope
+  int samples_used = 0;
+  std::vector<double> bic;  // per order tried, from 1
+};
+
+// Throws std::invalid_argument for bad options or too few samples in the
+// swing, and std::domain_error when the curve is not monotone (with where).
+CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
+                                     const CalibrationOptions& options);
+
+}  // namespace impactlab
