@@ -1,0 +1,83 @@
+// Rebound maxima, times and durations from a displacement history (thesis
+// Chapter III "Reduction of data", Figure 15), and the contact time from the
+// contact circuit's pulse.
+//
+// A rebound is a stretch where the bar is away from the equilibrium position
+// (X above a small threshold); the release swing before the first impact is
+// rebound 0 (PENDUL's numbering, Figure 6). Each maximum comes from a
+// least-squares fit of the pendulum's own shape near the peak,
+//   X(t) = a cos(w (t - t0)) + b sin(w (t - t0)) + c,
+// with w the exact pendulum's angular frequency for that amplitude, so its
+// precision is far below the sample spacing and it carries an uncertainty
+// from the fit's residuals.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "io/trace.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+struct DisplacementHistory {
+  std::vector<double> time_s;        // s since release, increasing
+  std::vector<double> displacement;  // length units
+  std::vector<double> sigma;         // one-sigma per sample (length); empty when unknown
+};
+
+struct ReboundExtractionOptions {
+  // A rebound starts where X rises above this fraction of the largest X in
+  // the history (and ends where it falls below it again), 1.
+  double threshold_fraction = 0.03;
+  // Half-width of the peak fit window as a fraction of the rebound's duration.
+  // Wide windows average more samples; the model fits the whole swing shape.
+  double peak_window_fraction = 0.3;
+  int min_samples_per_peak = 7;
+
+  bool Check(std::string* error) const;
+};
+
+struct ExtractedRebound {
+  int number = 0;        // PENDUL numbering: 0 = release swing, N after impact N
+  Estimate xmax;         // length units
+  Estimate t_peak;       // s since release
+  double start_s = 0.0;  // X crosses 0 going out (linear interpolation)
+  double end_s = 0.0;    // X crosses 0 coming back
+  Estimate duration;     // end - start, s
+  int samples_in_fit = 0;
+  double fit_rms = 0.0;  // residual rms of the peak fit, length units
+};
+
+struct ReboundExtraction {
+  // Complete rebounds after the first impact (rebound 1, 2, ...), in order.
+  std::vector<ExtractedRebound> rebounds;
+  // Starts of the gaps between rebounds (contacts), s.
+  std::vector<double> impact_times;
+};
+
+// Throws std::invalid_argument for bad options or a history with fewer than two
+// rebounds' worth of samples.
+ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pendulum& pendulum,
+                                  const ReboundExtractionOptions& options);
+
+// The average of two histories (the thesis averaged right and left), on the
+// first one's times, with the second interpolated linearly; sigma combined.
+DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b);
+
+// The contact circuit's step pulse: high while the bars touch.
+struct ContactPulse {
+  Estimate rise_s;   // rising edge (half level), s on the trace's time axis
+  Estimate fall_s;   // falling edge, s
+  Estimate width_s;  // fall - rise, s: the contact time
+  double low_volts = 0.0, high_volts = 0.0;
+};
+
+// Finds the first complete pulse. Edges are located where the trace crosses
+// the level halfway between its low and high states, by linear interpolation
+// between the samples that straddle it. Throws std::invalid_argument when the
+// trace shows no complete pulse.
+ContactPulse MeasureContactPulse(const Trace& trace);
+
+}  // namespace impactlab

@@ -1,0 +1,99 @@
+#include "rebounds/rebound_extraction.h"
+
+#include <cmath>
+#include <random>
+
+#include <catch2/catch.hpp>
+
+#include "model/kelvin_voigt.h"
+#include "model/rebound_history.h"
+
+namespace impactlab {
+namespace {
+
+constexpr double kG = 385.644;
+const double kMass = 2.23 / kG;
+const Pendulum kPendulum{22.0, kG, PendulumConvention::kExact};
+
+struct Truth {
+  ReboundSequence sequence;
+  DisplacementHistory history;
+};
+
+// Ground truth from the model: a history sampled every dt with noise.
+Truth Simulate(double x0, double dt, double noise, unsigned seed) {
+  const KelvinVoigtContactLaw law({kMass, 462000.0, 10.0}, Separation::kKinematic);
+  Truth truth;
+  truth.sequence = SimulateRebounds(kPendulum, law, x0, 5);
+  const SampledHistory s = SampleHistory(truth.sequence, kPendulum, law, dt);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, noise);
+  truth.history.time_s = s.time;
+  for (double x : s.displacement) truth.history.displacement.push_back(x + n(rng));
+  return truth;
+}
+
+TEST_CASE("rebounds: noiseless maxima and peak times are found far below the sample spacing") {
+  const Truth truth = Simulate(1.519, 2e-3, 0.0, 1);
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(truth.sequence.xmax[rb.number]).epsilon(1e-9));
+    CHECK(rb.t_peak.value == Approx(truth.sequence.peak_time[rb.number]).margin(1e-8));
+    CHECK(rb.duration.value == Approx(truth.sequence.duration[rb.number]).epsilon(2e-3));
+  }
+  REQUIRE(r.impact_times.size() >= 5);
+  CHECK(r.impact_times[0] == Approx(truth.sequence.impact_time[0]).margin(2e-3));
+}
+
+TEST_CASE("rebounds: with noise the maxima stay within a few reported sigmas") {
+  const double x0 = 0.405, noise = 0.002;
+  const Truth truth = Simulate(x0, 1e-3, noise, 3);
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    const double error = rb.xmax.value - truth.sequence.xmax[rb.number];
+    CHECK(rb.xmax.sigma > 0.0);
+    CHECK(rb.xmax.sigma < noise);  // hundreds of samples average the noise down
+    CHECK(std::abs(error) < 4.0 * rb.xmax.sigma);
+    CHECK(rb.fit_rms == Approx(noise).epsilon(0.2));
+  }
+}
+
+TEST_CASE("rebounds: averaging right and left halves the difference between them") {
+  const Truth right = Simulate(0.6, 1e-3, 0.0, 1);
+  DisplacementHistory left = right.history;
+  for (double& x : left.displacement) x *= 1.02;  // a cell that reads 2 % high
+  const DisplacementHistory average = AverageHistories(right.history, left);
+  const ReboundExtraction r = ExtractRebounds(average, kPendulum, {});
+  CHECK(r.rebounds[0].xmax.value == Approx(1.01 * right.sequence.xmax[1]).epsilon(1e-6));
+}
+
+TEST_CASE("contact_pulse: a sampled step gives its width to a fraction of the sample spacing") {
+  Trace trace;
+  const double rise = 123.4e-6, width = 353.35e-6, dt = 1e-6;
+  for (double t = 0.0; t < 1e-3; t += dt) {
+    // A finite rise time of 5 us, resolved by the samples.
+    const auto step = [](double s) { return std::clamp(s / 5e-6 + 0.5, 0.0, 1.0); };
+    trace.time_s.push_back(t);
+    trace.volts.push_back(0.1 + 2.4 * (step(t - rise) - step(t - rise - width)));
+  }
+  const ContactPulse pulse = MeasureContactPulse(trace);
+  CHECK(pulse.rise_s.value == Approx(rise).margin(1e-9));
+  CHECK(pulse.width_s.value == Approx(width).margin(1e-9));
+  CHECK(pulse.high_volts == Approx(2.5));
+}
+
+TEST_CASE("contact_pulse: a trace without a complete pulse is refused") {
+  Trace flat;
+  for (int i = 0; i < 100; ++i) {
+    flat.time_s.push_back(i * 1e-6);
+    flat.volts.push_back(i < 50 ? 0.0 : 2.0);  // rises and never falls
+  }
+  CHECK_THROWS_WITH(MeasureContactPulse(flat), Catch::Contains("does not end"));
+}
+
+}  // namespace
+}  // namespace impactlab
