@@ -7,7 +7,9 @@
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
+#include "io/errors.h"
 #include "model/kelvin_voigt.h"
+#include "pipeline/trace_run.h"
 
 namespace impactlab {
 namespace {
@@ -40,37 +42,42 @@ std::vector<double> ModelPeakTimes(const Pendulum& pendulum, const RunResult& ru
   return peaks;
 }
 
-RunResult ReduceTypedRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                         Separation separation) {
-  RunResult out;
-  out.id = run.id;
+void MeasureTypedRun(const Run& run, RunResult& out) {
   out.source = "typed-in";
-  out.initial_displacement = run.initial_displacement;
-  out.first_rebound = run.first_rebound;
   out.xmax = run.rebounds;
   out.xmax_sigma.assign(run.rebounds.size(), run.rebound_uncertainty.value_or(0.0));
-
-  // The session's one contact time, when given, is the thesis's procedure
-  // (Table 3): it replaces each run's own.
-  if (session.reduction.contact_time) {
-    out.contact_time = session.reduction.contact_time;
-    out.contact_time_source = "session";
-  } else if (run.contact_time) {
+  if (run.contact_time) {
     out.contact_time = run.contact_time;
     out.contact_time_sigma = run.contact_time_uncertainty.value_or(0.0);
     out.contact_time_source = "typed-in";
   }
+}
 
+// The closed-form Kelvin-Voigt fit of a measured run, and Table 2's deviations.
+void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Separation separation,
+            RunResult& out) {
+  // The session's one contact time, when given, is the thesis's procedure
+  // (Table 3): it replaces each run's own.
+  if (session.reduction.contact_time) {
+    out.contact_time = session.reduction.contact_time;
+    out.contact_time_sigma = 0.0;
+    out.contact_time_source = "session";
+  }
   ReboundMeasurements measured{out.xmax, out.xmax_sigma, out.contact_time, out.contact_time_sigma};
   TwoPointOptions options;
   options.rebounds = run.fit_rebounds;
   options.separation = separation;
+  if (options.rebounds[1] >= static_cast<int>(out.xmax.size())) {
+    throw std::invalid_argument(
+        fmt::format("fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
+                    options.rebounds[0], options.rebounds[1], out.xmax.size() - 1));
+  }
   KelvinVoigtTwoPointFit fit =
       FitKelvinVoigtTwoPoint(pendulum, session.apparatus->mass, measured, options);
   if (!fit.ok) {
     out.failure = fit.diagnostic;
     out.kelvin_voigt = std::move(fit);
-    return out;
+    return;
   }
   for (std::size_t n = 0; n < out.xmax.size(); ++n) {
     const double deviation = fit.predicted_xmax[n].value - out.xmax[n];
@@ -78,25 +85,27 @@ RunResult ReduceTypedRun(const Run& run, const Session& session, const Pendulum&
     out.deviation_pct_peak.push_back(100.0 * deviation / out.xmax[n]);
     out.deviation_pct_x0.push_back(100.0 * deviation / out.initial_displacement);
   }
-  out.t_peak = ModelPeakTimes(pendulum, out, fit);
-  out.t_peak_source = "model";
+  if (out.t_peak.empty()) {
+    out.t_peak = ModelPeakTimes(pendulum, out, fit);
+    out.t_peak_source = "model";
+  }
   out.stiffness_source = "run";
   out.kelvin_voigt = std::move(fit);
   out.ok = true;
-  return out;
 }
 
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                    Separation separation) {
-  if (run.HasTypedRebounds()) return ReduceTypedRun(run, session, pendulum, separation);
+                    Separation separation, CalibrationCache& calibrations) {
   RunResult out;
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
-  out.failure = fmt::format(
-      "{}: run \"{}\" has no typed-in rebounds; reducing photos and CSV traces is not "
-      "available in this version",
-      session.manifest.string(), run.id);
+  if (run.HasTypedRebounds()) {
+    MeasureTypedRun(run, out);
+  } else {
+    MeasureTraceRun(run, session, pendulum, calibrations, out);
+  }
+  FitRun(run, session, pendulum, separation, out);
   return out;
 }
 
@@ -173,16 +182,20 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
   const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,
                           result.convention};
 
+  CalibrationCache calibrations(session, pendulum);
   for (const Run& run : session.runs) {
     try {
-      result.runs.push_back(ReduceRun(run, session, pendulum, result.separation));
+      result.runs.push_back(ReduceRun(run, session, pendulum, result.separation, calibrations));
     } catch (const std::exception& error) {
       RunResult failed;
       failed.id = run.id;
       failed.initial_displacement = run.initial_displacement;
       failed.first_rebound = run.first_rebound;
+      // An InputError names its own file and key; anything else gets the run's.
       failed.failure =
-          fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
+          dynamic_cast<const InputError*>(&error) != nullptr
+              ? error.what()
+              : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
       result.runs.push_back(std::move(failed));
     }
   }

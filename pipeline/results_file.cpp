@@ -33,6 +33,53 @@ Estimate ReadEstimate(const Hdf5File& f, const std::string& name) {
   return {f.ReadScalar(name), f.ReadScalarIfPresent(name + "_std_error").value_or(0.0)};
 }
 
+void WriteBar(Hdf5File& f, const std::string& g, const BarRebounds& bar, const UnitLabels& u) {
+  f.WriteVector(g + "/xmax", bar.xmax, u.length);
+  f.WriteVector(g + "/xmax_std_error", bar.xmax_sigma, u.length);
+  f.WriteVector(g + "/t_peak", bar.t_peak, "s");
+  f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
+  f.WriteVector(g + "/duration", bar.duration, "s");
+}
+
+BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
+  return {f.ReadVector(g + "/xmax"), f.ReadVector(g + "/xmax_std_error"),
+          f.ReadVector(g + "/t_peak"), f.ReadVector(g + "/t_peak_std_error"),
+          f.ReadVector(g + "/duration")};
+}
+
+void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& c,
+                      const UnitLabels& u) {
+  f.CreateGroup(g);
+  f.SetAttribute(g, "calibration_id", c.calibration_id);
+  f.SetAttribute(g, "model", "V(X) = sum c_k T_k(2X/X0 - 1), Chebyshev, order by BIC");
+  f.WriteScalar(g + "/release_x", c.release_x, u.length);
+  f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
+  f.WriteScalar(g + "/residual_rms_volts", c.residual_rms_volts, "V");
+  f.WriteScalar(g + "/residual_rms_length", c.residual_rms_length, u.length);
+  f.WriteScalar(g + "/volts_min", c.volts_min, "V");
+  f.WriteScalar(g + "/volts_max", c.volts_max, "V");
+  f.SetAttribute(g, "samples_used", static_cast<long long>(c.samples_used));
+  f.WriteVector(g + "/points_x", c.points_x, u.length);
+  f.WriteVector(g + "/points_volts", c.points_volts, "V");
+}
+
+CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const std::string& cell) {
+  CellCalibration c;
+  c.cell = cell;
+  c.calibration_id = f.ReadStringAttribute(g, "calibration_id");
+  c.release_x = f.ReadScalar(g + "/release_x");
+  c.chebyshev = f.ReadVector(g + "/chebyshev");
+  c.order = static_cast<int>(c.chebyshev.size()) - 1;
+  c.residual_rms_volts = f.ReadScalar(g + "/residual_rms_volts");
+  c.residual_rms_length = f.ReadScalar(g + "/residual_rms_length");
+  c.volts_min = f.ReadScalar(g + "/volts_min");
+  c.volts_max = f.ReadScalar(g + "/volts_max");
+  c.samples_used = static_cast<int>(f.ReadIntegerAttribute(g, "samples_used"));
+  c.points_x = f.ReadVector(g + "/points_x");
+  c.points_volts = f.ReadVector(g + "/points_volts");
+  return c;
+}
+
 void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
   const std::string g = KelvinVoigtPath(run.id);
@@ -76,6 +123,14 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
     f.WriteVector(g + "/rebounds/xmax_std_error", run.xmax_sigma, u.length);
     f.WriteVector(g + "/rebounds/t_peak", run.t_peak, "s");
     f.SetAttribute(g + "/rebounds/t_peak", "source", run.t_peak_source);
+  }
+  if (!run.rebound_duration.empty()) {
+    f.WriteVector(g + "/rebounds/duration", run.rebound_duration, "s");
+  }
+  if (run.right) WriteBar(f, g + "/rebounds/right", *run.right, u);
+  if (run.left) WriteBar(f, g + "/rebounds/left", *run.left, u);
+  for (const CellCalibration& c : run.calibrations) {
+    WriteCalibration(f, g + "/calibration/" + c.cell, c, u);
   }
   if (run.contact_time) {
     f.WriteScalar(g + "/contact_time", *run.contact_time, "s");
@@ -167,6 +222,15 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
     run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
     run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
     run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
+  }
+  if (f.Exists(g + "/rebounds/duration"))
+    run.rebound_duration = f.ReadVector(g + "/rebounds/duration");
+  if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
+  if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
+  if (f.Exists(g + "/calibration")) {
+    for (const std::string& cell : f.Children(g + "/calibration")) {
+      run.calibrations.push_back(ReadCalibration(f, g + "/calibration/" + cell, cell));
+    }
   }
   if (f.Exists(g + "/contact_time")) {
     run.contact_time = f.ReadScalar(g + "/contact_time");

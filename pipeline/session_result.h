@@ -15,11 +15,31 @@
 
 namespace impactlab {
 
+// One bar's rebounds as extracted from its displacement trace.
+struct BarRebounds {
+  std::vector<double> xmax, xmax_sigma;      // session numbering
+  std::vector<double> t_peak, t_peak_sigma;  // s since release
+  std::vector<double> duration;              // s, between the flank's zero crossings
+};
+
+// A photocell calibration as used by a run (Figures 13-14).
+struct CellCalibration {
+  std::string calibration_id;
+  std::string cell;               // "right" or "left"
+  double release_x = 0.0;         // X0 of the calibration swing
+  int order = 0;                  // of the Chebyshev series V(X)
+  std::vector<double> chebyshev;  // in u = 2X/X0 - 1, V
+  double residual_rms_volts = 0.0, residual_rms_length = 0.0;
+  int samples_used = 0;
+  double volts_min = 0.0, volts_max = 0.0;
+  std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
+};
+
 struct RunResult {
   std::string id;
   bool ok = false;
   std::string failure;  // why, when !ok (file, key and reason where they apply)
-  std::string source;   // where the maxima came from: "typed-in"
+  std::string source;   // where the maxima came from: "typed-in", "csv" or "photo"
 
   double initial_displacement = 0.0;  // X0, length units
   int first_rebound = 1;
@@ -27,11 +47,17 @@ struct RunResult {
   std::vector<double> xmax;        // rebound 0, 1, ... (session numbering)
   std::vector<double> xmax_sigma;  // one-sigma, same length (0 where unknown)
   std::vector<double> t_peak;      // s since release
-  std::string t_peak_source;       // "model" for typed-in runs
+  std::string t_peak_source;       // "trace", or "model" for typed-in runs
 
   std::optional<double> contact_time;  // s
   double contact_time_sigma = 0.0;
-  std::string contact_time_source;  // "typed-in" or "session"
+  std::string contact_time_source;  // "typed-in", "session" or "contact trace"
+
+  // Trace-based runs: each bar's rebounds (the run's xmax is their average,
+  // as the thesis did) and the calibrations used.
+  std::optional<BarRebounds> right, left;
+  std::vector<double> rebound_duration;  // s, of the average, session numbering
+  std::vector<CellCalibration> calibrations;
 
   std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
   // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.

@@ -1,0 +1,190 @@
+#include "pipeline/trace_run.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "io/errors.h"
+#include "rebounds/rebound_extraction.h"
+
+namespace impactlab {
+namespace {
+
+std::string RunKey(const Run& run) { return fmt::format("run \"{}\"", run.id); }
+
+// Volts to displacement through a cell's curve. Samples outside the
+// calibrated voltages are dropped, never extrapolated; too many of them means
+// the calibration does not cover what the run needs.
+DisplacementHistory ToDisplacement(const Trace& trace, const CalibrationResult& calibration,
+                                   const InputLocation& where) {
+  const PhotocellCurve& curve = calibration.curve;
+  DisplacementHistory h;
+  std::size_t dropped = 0;
+  double v_lo = trace.volts.front(), v_hi = trace.volts.front();
+  for (std::size_t i = 0; i < trace.volts.size(); ++i) {
+    const double v = trace.volts[i];
+    v_lo = std::min(v_lo, v);
+    v_hi = std::max(v_hi, v);
+    if (!curve.Covers(v)) {
+      ++dropped;
+      continue;
+    }
+    const double x = curve.DisplacementFromVolts(v);
+    const double sigma_v =
+        trace.sigma_volts.empty() ? calibration.residual_rms_volts : trace.sigma_volts[i];
+    const double slope = std::abs(curve.SlopeAt(std::clamp(x, 0.0, curve.x_max())));
+    h.time_s.push_back(trace.time_s[i]);
+    h.displacement.push_back(x);
+    h.sigma.push_back(std::hypot(curve.DisplacementSigma(v), sigma_v / slope));
+  }
+  if (dropped > trace.volts.size() / 50) {
+    throw InputError(
+        where,
+        fmt::format(
+            "{} of {} samples ({:.4g} .. {:.4g} V) lie outside the calibrated range {:.4g} .. "
+            "{:.4g} V: the calibration does not cover what this run needs",
+            dropped, trace.volts.size(), v_lo, v_hi, curve.volts_min(), curve.volts_max()));
+  }
+  return h;
+}
+
+CellCalibration Summarise(const std::string& id, const std::string& cell, double release_x,
+                          const CalibrationResult& c) {
+  CellCalibration out;
+  out.calibration_id = id;
+  out.cell = cell;
+  out.release_x = release_x;
+  out.order = c.curve.order();
+  out.chebyshev = c.curve.chebyshev();
+  out.residual_rms_volts = c.residual_rms_volts;
+  out.residual_rms_length = c.residual_rms_length;
+  out.samples_used = c.samples_used;
+  out.volts_min = c.curve.volts_min();
+  out.volts_max = c.curve.volts_max();
+  const std::size_t stride = std::max<std::size_t>(1, c.volts.size() / 500);
+  for (std::size_t i = 0; i < c.volts.size(); i += stride) {
+    out.points_x.push_back(c.ideal_displacement[i]);
+    out.points_volts.push_back(c.volts[i]);
+  }
+  return out;
+}
+
+// Session numbering: PENDUL rebound N is session rebound N - first_rebound.
+BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
+  BarRebounds out;
+  for (const ExtractedRebound& r : e.rebounds) {
+    const int n = r.number - first_rebound;
+    if (n < 0) continue;
+    if (n != static_cast<int>(out.xmax.size())) break;  // keep the sequence gap-free
+    out.xmax.push_back(r.xmax.value);
+    out.xmax_sigma.push_back(r.xmax.sigma);
+    out.t_peak.push_back(r.t_peak.value);
+    out.t_peak_sigma.push_back(r.t_peak.sigma);
+    out.duration.push_back(r.duration.value);
+  }
+  return out;
+}
+
+}  // namespace
+
+Trace LoadTrace(const Session& session, const TraceSettings& settings,
+                const std::optional<std::filesystem::path>& photo, const std::string& key) {
+  if (settings.csv) return ReadTraceCsv(*settings.csv);
+  if (photo) {
+    throw InputError({*photo, key, std::nullopt},
+                     "digitizing photos is not available in this build; give the trace as "
+                     "`csv = ...` instead");
+  }
+  throw InputError({session.manifest, key, std::nullopt},
+                   "the trace has neither a csv nor a photo");
+}
+
+const CalibrationResult& CalibrationCache::Get(const std::string& id) {
+  if (const auto it = done_.find(id); it != done_.end()) return *it->second;
+  const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
+                                        [&](const Calibration& c) { return c.id == id; });
+  const std::string key = fmt::format("calibration \"{}\"", id);
+  if (calibration == session_.calibrations.end()) {
+    throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
+  }
+  const Trace trace = LoadTrace(session_, calibration->trace, calibration->photo, key + ".trace");
+  try {
+    auto result = std::make_shared<const CalibrationResult>(CalibratePhotocell(
+        trace, pendulum_, calibration->initial_displacement, CalibrationOptions{}));
+    return *done_.emplace(id, std::move(result)).first->second;
+  } catch (const std::exception& e) {
+    throw InputError(
+        {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
+         std::nullopt},
+        e.what());
+  }
+}
+
+void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
+                     CalibrationCache& calibrations, RunResult& out) {
+  out.source = run.photo ? "photo" : "csv";
+  std::map<std::string, DisplacementHistory> histories;
+  for (const char* cell : {"right", "left"}) {
+    const auto trace_it = run.traces.find(cell);
+    if (trace_it == run.traces.end()) continue;
+    const std::string key = fmt::format("{}.traces.{}", RunKey(run), cell);
+    const auto cal_it = run.calibration.find(cell);
+    if (cal_it == run.calibration.end()) {
+      throw InputError({session.manifest, key, std::nullopt},
+                       fmt::format("no calibration is named for the {} cell", cell));
+    }
+    const CalibrationResult& calibration = calibrations.Get(cal_it->second);
+    const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
+                                  [&](const Calibration& c) { return c.id == cal_it->second; });
+    out.calibrations.push_back(
+        Summarise(cal_it->second, cell, cal->initial_displacement, calibration));
+    const Trace trace = LoadTrace(session, trace_it->second, run.photo, key);
+    const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
+                              key, std::nullopt};
+    histories[cell] = ToDisplacement(trace, calibration, where);
+  }
+  if (histories.empty()) {
+    throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
+                     "the run has no right or left displacement trace");
+  }
+
+  const ReboundExtractionOptions options;
+  const auto extract = [&](const DisplacementHistory& h) {
+    return Renumber(ExtractRebounds(h, pendulum, options), run.first_rebound);
+  };
+  if (histories.count("right")) out.right = extract(histories["right"]);
+  if (histories.count("left")) out.left = extract(histories["left"]);
+  const DisplacementHistory average = histories.size() == 2
+                                          ? AverageHistories(histories["right"], histories["left"])
+                                          : histories.begin()->second;
+  const BarRebounds both = extract(average);
+  if (both.xmax.size() < 2) {
+    throw InputError({session.manifest, RunKey(run), std::nullopt},
+                     fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
+                                 "complete in the traces; at least 2 are needed",
+                                 both.xmax.size(), run.first_rebound));
+  }
+  out.xmax = both.xmax;
+  out.xmax_sigma = both.xmax_sigma;
+  out.t_peak = both.t_peak;
+  out.t_peak_source = "trace";
+  out.rebound_duration = both.duration;
+
+  if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
+    const std::string key = RunKey(run) + ".traces.contact";
+    const Trace trace = LoadTrace(session, contact->second, run.photo, key);
+    try {
+      const ContactPulse pulse = MeasureContactPulse(trace);
+      out.contact_time = pulse.width_s.value;
+      out.contact_time_sigma = pulse.width_s.sigma;
+      out.contact_time_source = "contact trace";
+    } catch (const std::invalid_argument& e) {
+      throw InputError(
+          {contact->second.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
+          e.what());
+    }
+  }
+}
+
+}  // namespace impactlab

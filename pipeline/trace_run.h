@@ -1,0 +1,42 @@
+// Measuring a run from its traces (CSV or photo): calibrate each photocell,
+// convert both displacement traces, average them as the thesis did, extract
+// the rebounds, and measure the contact pulse.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "calibration/photocell_calibration.h"
+#include "io/session.h"
+#include "io/trace.h"
+#include "pipeline/session_result.h"
+
+namespace impactlab {
+
+// A trace as the manifest describes it: its CSV when given, otherwise the
+// photo digitized with the trace's settings. `key` names it in messages
+// (e.g. run "0.234".traces.right).
+Trace LoadTrace(const Session& session, const TraceSettings& settings,
+                const std::optional<std::filesystem::path>& photo, const std::string& key);
+
+// Calibrations are shared by runs; each is computed once per reduce.
+class CalibrationCache {
+ public:
+  CalibrationCache(const Session& session, const Pendulum& pendulum)
+      : session_(session), pendulum_(pendulum) {}
+  // Throws InputError (file, key, reason) when the calibration cannot be made.
+  const CalibrationResult& Get(const std::string& calibration_id);
+
+ private:
+  const Session& session_;
+  const Pendulum& pendulum_;
+  std::map<std::string, std::shared_ptr<const CalibrationResult>> done_;
+};
+
+// Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
+// calibrations). Throws InputError or std::exception with the reason.
+void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
+                     CalibrationCache& calibrations, RunResult& out);
+
+}  // namespace impactlab

@@ -1,0 +1,151 @@
+// RenderOscillograph: lays out the beams, draws the flat screen, photographs
+// it through the style's camera and develops the photo.
+#include "render/oscillograph.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "render/beam.h"
+#include "render/camera.h"
+#include "render/photo.h"
+#include "render/screen.h"
+#include "render/styles.h"
+
+namespace impactlab {
+
+namespace {
+
+constexpr std::array<std::pair<PhotoStyle, std::string_view>, 5> kStyleNames = {{
+    {PhotoStyle::kClean, "clean"},
+    {PhotoStyle::kPolaroid, "polaroid"},
+    {PhotoStyle::kPhone, "phone"},
+    {PhotoStyle::kNegative, "negative"},
+    {PhotoStyle::kLowres, "lowres"},
+}};
+
+bool Fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+void CheckScene(const OscillographScene& scene) {
+  auto fail = [](const std::string& message) {
+    throw std::invalid_argument("oscillograph scene: " + message);
+  };
+  for (const int d : scene.divisions) {
+    if (d < 1 || d > 100) fail(fmt::format("divisions must be 1..100, got {}", d));
+  }
+  for (const ScreenTrace& trace : scene.traces) {
+    const TraceSettings& s = trace.settings;
+    if (trace.time_s.size() != trace.volts.size()) {
+      fail(fmt::format("trace '{}' has {} times but {} voltages", trace.name, trace.time_s.size(),
+                       trace.volts.size()));
+    }
+    if (!(s.time_per_div > 0.0) || !std::isfinite(s.time_per_div)) {
+      fail(fmt::format("trace '{}': time_per_div must be positive, got {}", trace.name,
+                       s.time_per_div));
+    }
+    if (s.volts_per_div == 0.0 || !std::isfinite(s.volts_per_div) || !std::isfinite(s.zero_div) ||
+        !std::isfinite(s.t0_div)) {
+      fail(fmt::format("trace '{}': volts_per_div must be non-zero and the settings finite",
+                       trace.name));
+    }
+    for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
+      if (!std::isfinite(trace.time_s[i]) || !std::isfinite(trace.volts[i])) {
+        fail(fmt::format("trace '{}': sample {} is not finite", trace.name, i));
+      }
+      if (i > 0 && trace.time_s[i] < trace.time_s[i - 1]) {
+        fail(fmt::format("trace '{}': time decreases at sample {} ({} s after {} s)", trace.name, i,
+                         trace.time_s[i], trace.time_s[i - 1]));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::string_view PhotoStyleName(PhotoStyle style) {
+  for (const auto& [value, name] : kStyleNames) {
+    if (value == style) return name;
+  }
+  return "unknown";
+}
+
+std::optional<PhotoStyle> ParsePhotoStyle(std::string_view name) {
+  for (const auto& [value, style_name] : kStyleNames) {
+    if (style_name == name) return value;
+  }
+  return std::nullopt;
+}
+
+bool RenderOptions::Check(std::string* error) const {
+  if (width_px != 0 && (width_px < 200 || width_px > 8000)) {
+    return Fail(error, fmt::format("width_px must be 0 or 200..8000, got {}", width_px));
+  }
+  if (rotation_deg && !(std::abs(*rotation_deg) <= 15.0)) {
+    return Fail(error, fmt::format("rotation_deg must lie in [-15, 15], got {}", *rotation_deg));
+  }
+  if (tilt_deg && !(*tilt_deg >= 0.0 && *tilt_deg <= 35.0)) {
+    return Fail(error, fmt::format("tilt_deg must lie in [0, 35], got {}", *tilt_deg));
+  }
+  if (barrel_k1 && !(std::abs(*barrel_k1) <= 0.3)) {
+    return Fail(error, fmt::format("barrel_k1 must lie in [-0.3, 0.3], got {}", *barrel_k1));
+  }
+  if (blur_px && !(*blur_px >= 0.0 && *blur_px <= 20.0)) {
+    return Fail(error, fmt::format("blur_px must lie in [0, 20], got {}", *blur_px));
+  }
+  if (jpeg_quality && (*jpeg_quality < 0 || *jpeg_quality > 100)) {
+    return Fail(error, fmt::format("jpeg_quality must lie in [0, 100], got {}", *jpeg_quality));
+  }
+  if (!(beam_fwhm_div > 0.0 && beam_fwhm_div <= 0.5)) {
+    return Fail(error, fmt::format("beam_fwhm_div must lie in (0, 0.5], got {}", beam_fwhm_div));
+  }
+  if (!(chop_dash_div > 0.0 && chop_dash_div <= 10.0)) {
+    return Fail(error, fmt::format("chop_dash_div must lie in (0, 10], got {}", chop_dash_div));
+  }
+  if (!(chop_duty > 0.0 && chop_duty <= 1.0)) {
+    return Fail(error, fmt::format("chop_duty must lie in (0, 1], got {}", chop_duty));
+  }
+  return true;
+}
+
+RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("render options: " + error);
+  }
+  CheckScene(scene);
+
+  std::mt19937_64 random(options.seed);
+  const render::ScreenLayout layout = render::LayOutScreen(scene.divisions);
+  const render::StyleLook look = render::DrawStyleLook(options, layout, random);
+  const cv::Size size = render::PhotoSize(look);
+
+  RenderedPhoto photo;
+  photo.mapping = render::FrameCamera(look.pose, look.framed_outline_div, layout.centre_div, size);
+
+  std::vector<render::TraceBeam> beams = render::LayOutBeams(
+      scene, {options.chop_dash_div, options.chop_duty}, layout.graticule_div, layout.face_div);
+  for (render::TraceBeam& beam : beams) {
+    for (const cv::Point2d& p : beam.truth.screen_div) {
+      beam.truth.centre_px.push_back(photo.mapping.ImageFromScreen(p));
+    }
+    photo.traces.push_back(std::move(beam.truth));
+  }
+
+  // The flat screen at the photo's finest scale, so that looking it up from
+  // the photo only ever shrinks it; the camera's blur goes with it.
+  const double canvas_px_per_div = render::MaxPixelsPerDivision(photo.mapping, layout.face_div);
+  const double canvas_blur_px = look.blur_px * canvas_px_per_div /
+                                render::PixelsPerDivisionAt(photo.mapping, layout.centre_div);
+  const render::PhosphorCanvas phosphor =
+      render::RenderPhosphor(layout, beams, look.screen, canvas_px_per_div, canvas_blur_px);
+  const render::Dirt dirt = render::DrawDirt(look, size, random);
+  photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, options, random);
+  render::FinishPhoto(look, options, photo.image);
+  return photo;
+}
+
+}  // namespace impactlab

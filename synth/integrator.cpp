@@ -1,0 +1,110 @@
+#include "synth/integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <boost/math/tools/roots.hpp>
+#include <boost/numeric/odeint.hpp>
+
+namespace impactlab::synth_detail {
+
+namespace odeint = boost::numeric::odeint;
+using Dopri = odeint::runge_kutta_dopri5<State>;
+using Controlled = odeint::controlled_runge_kutta<Dopri>;
+
+struct Integrator::Impl {
+  explicit Impl(const IntegratorTolerances& tol)
+      : controlled(Controlled::error_checker_type(tol.absolute, tol.relative),
+                   Controlled::step_adjuster_type(tol.max_step_s), Dopri()) {}
+
+  // Odeint copies the system: a thin wrapper around the current dynamics.
+  auto System() const {
+    return [d = dynamics](const State& y, State& dydt, double t) { (*d)(y, dydt, t); };
+  }
+
+  Controlled controlled;
+  mutable Dopri exact;  // separate stages, so Exact() leaves the dense output intact
+  const Dynamics* dynamics = nullptr;
+  State dydt_prev{};
+  State dydt{};
+  double step_s = 0.0;
+};
+
+Integrator::Integrator(const IntegratorTolerances& tolerances)
+    : impl_(std::make_unique<Impl>(tolerances)) {}
+
+Integrator::~Integrator() = default;
+
+void Integrator::Reset(const Dynamics& dynamics, const State& y, double t_s, double first_step_s) {
+  impl_->dynamics = &dynamics;
+  impl_->controlled.reset();
+  t_prev_ = t_ = t_s;
+  y_prev_ = y_ = y;
+  dynamics(y_, impl_->dydt, t_);
+  impl_->dydt_prev = impl_->dydt;
+  impl_->step_s = first_step_s;
+}
+
+void Integrator::Step(double limit_s) {
+  if (!(limit_s > t_)) {
+    throw std::logic_error(fmt::format("integrator asked to step from {} s to {} s", t_, limit_s));
+  }
+  const auto system = impl_->System();
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    const bool clipped = impl_->step_s >= limit_s - t_;
+    double dt = clipped ? limit_s - t_ : impl_->step_s;
+    double t = t_;
+    State y_out;
+    State dydt_out;
+    const auto result = impl_->controlled.try_step(system, y_, impl_->dydt, t, y_out, dydt_out, dt);
+    if (result == odeint::success) {
+      t_prev_ = t_;
+      y_prev_ = y_;
+      impl_->dydt_prev = impl_->dydt;
+      t_ = clipped ? limit_s : t;  // land on the limit exactly, not one ulp off
+      y_ = y_out;
+      impl_->dydt = dydt_out;
+      impl_->step_s = dt;  // the size odeint suggests for the next step
+      ++accepted_steps_;
+      return;
+    }
+    impl_->step_s = dt;  // the reduced size odeint suggests
+    if (!(dt > 1e-15 * std::max(1.0, std::abs(t_)))) break;
+  }
+  throw std::runtime_error(
+      fmt::format("ODE step size collapsed at t = {} s (last trial {} s)", t_, impl_->step_s));
+}
+
+State Integrator::Interpolate(double t_s) const {
+  if (t_s == t_) return y_;
+  State y;
+  impl_->controlled.stepper().calc_state(t_s, y, y_prev_, impl_->dydt_prev, t_prev_, y_,
+                                         impl_->dydt, t_);
+  return y;
+}
+
+State Integrator::Exact(double t_s) const {
+  if (t_s == t_prev_) return y_prev_;
+  State y;
+  State dydt;
+  impl_->exact.do_step(impl_->System(), y_prev_, impl_->dydt_prev, t_prev_, y, dydt, t_s - t_prev_);
+  return y;
+}
+
+double Integrator::RefineRoot(const std::function<double(const State&)>& g, double g_prev,
+                              double t_hi_s, double g_hi) const {
+  if (g_prev == 0.0) return t_prev_;
+  if (g_hi == 0.0) return t_hi_s;
+  auto f = [&](double t) { return g(Exact(t)); };
+  std::uintmax_t iterations = 100;
+  const auto [lo, hi] = boost::math::tools::toms748_solve(
+      f, t_prev_, t_hi_s, g_prev, g_hi, boost::math::tools::eps_tolerance<double>(50), iterations);
+  return 0.5 * (lo + hi);
+}
+
+double Integrator::suggested_step() const { return impl_->step_s; }
+
+}  // namespace impactlab::synth_detail
