@@ -32,9 +32,9 @@ struct PeakCandidate {
   bool refined = false;
 };
 
-class Run {
+class SimulatedRun {
  public:
-  explicit Run(const ExperimentOptions& options);
+  explicit SimulatedRun(const ExperimentOptions& options);
   ExperimentResult Finish() &&;
   void Simulate();
 
@@ -68,7 +68,7 @@ class Run {
   bool finished_ = false;
 };
 
-Run::Run(const ExperimentOptions& o)
+SimulatedRun::SimulatedRun(const ExperimentOptions& o)
     : o_(o),
       wall_(o.arrangement == Arrangement::kWall),
       integrator_({o.integration.relative_tolerance, o.integration.absolute_tolerance,
@@ -92,19 +92,19 @@ Run::Run(const ExperimentOptions& o)
   release_time_s_ = {0.0, wall_ ? kInf : o.left_release_delay_s};
 }
 
-double Run::TraceX(const State& y, int trace) const {
+double SimulatedRun::TraceX(const State& y, int trace) const {
   if (trace == kTraceAverage) {
     return 0.5 * (dyn_.Displacement(y, kRight) + dyn_.Displacement(y, kLeft));
   }
   return dyn_.Displacement(y, trace);
 }
 
-double Run::TraceRate(const State& y, int trace) const {
+double SimulatedRun::TraceRate(const State& y, int trace) const {
   if (trace == kTraceAverage) return 0.5 * (dyn_.Velocity(y, kRight) + dyn_.Velocity(y, kLeft));
   return dyn_.Velocity(y, trace);
 }
 
-double Run::ContactTimescale() const {
+double SimulatedRun::ContactTimescale() const {
   // 1 / omega of the relative motion on the stiffest path (K1 + K2 per face).
   const double k = (dyn_.element.k1 + dyn_.element.k2) / dyn_.elements;
   const double mr = dyn_.bars[kRight].mass;
@@ -113,7 +113,7 @@ double Run::ContactTimescale() const {
   return std::sqrt(reduced_mass / k);
 }
 
-double Run::NextBoundary(double t) const {
+double SimulatedRun::NextBoundary(double t) const {
   double next = kInf;
   for (double release : release_time_s_) {
     if (release > t) next = std::min(next, release);
@@ -122,7 +122,7 @@ double Run::NextBoundary(double t) const {
   return next;
 }
 
-void Run::CrossBoundary(double t) {
+void SimulatedRun::CrossBoundary(double t) {
   for (int bar : {kRight, kLeft}) {
     if (release_time_s_[bar] <= t) dyn_.held[bar] = false;
   }
@@ -134,7 +134,7 @@ void Run::CrossBoundary(double t) {
                 [t](const Sawtooth& s) { return s.decay_rate * (t - s.start_s) > 40.0; });
 }
 
-void Run::EmitSamples(double t_stop) {
+void SimulatedRun::EmitSamples(double t_stop) {
   SampledRun& out = result_.samples;
   for (;;) {
     const double t = static_cast<double>(next_sample_) / o_.sample_rate_hz;  // no drift
@@ -149,7 +149,7 @@ void Run::EmitSamples(double t_stop) {
 }
 
 // Maxima of each trace inside [previous_time, t_hi]: the rate falls through 0.
-void Run::TrackPeaks(double t_hi, const State& y_hi) {
+void SimulatedRun::TrackPeaks(double t_hi, const State& y_hi) {
   const State& y_lo = integrator_.previous_state();
   for (int trace = 0; trace < TraceCount(); ++trace) {
     const double rate_lo = TraceRate(y_lo, trace);
@@ -166,7 +166,7 @@ void Run::TrackPeaks(double t_hi, const State& y_hi) {
   }
 }
 
-void Run::CloseRebound(double end_time_s) {
+void SimulatedRun::CloseRebound(double end_time_s) {
   std::array<std::vector<ReboundTruth>*, 3> lists = {
       &result_.rebounds_right, &result_.rebounds_left, &result_.rebounds_average};
   for (int trace = 0; trace < TraceCount(); ++trace) {
@@ -197,7 +197,7 @@ void Run::CloseRebound(double end_time_s) {
   best_ = {};
 }
 
-State Run::StartContact(double t, State y) {
+State SimulatedRun::StartContact(double t, State y) {
   CloseRebound(t);
   if (rebound_ == o_.impact_count) {  // impact impact_count + 1 begins: the run is complete
     finished_ = true;
@@ -242,7 +242,7 @@ State Run::StartContact(double t, State y) {
   return y;
 }
 
-State Run::EndContact(double t, State y) {
+State SimulatedRun::EndContact(double t, State y) {
   ImpactTruth& impact = result_.impacts.back();
   impact.end_time_s = t;
   impact.duration_s = t - impact.start_time_s;
@@ -261,7 +261,7 @@ State Run::EndContact(double t, State y) {
   return y;
 }
 
-void Run::Simulate() {
+void SimulatedRun::Simulate() {
   const double t_first = std::min(release_time_s_[kRight], release_time_s_[kLeft]);
   State y{};
   for (int bar : {kRight, kLeft}) {
@@ -356,13 +356,13 @@ void Run::Simulate() {
   result_.integrator_steps = integrator_.accepted_steps();
 }
 
-ExperimentResult Run::Finish() && { return std::move(result_); }
+ExperimentResult SimulatedRun::Finish() && { return std::move(result_); }
 
 }  // namespace
 
 ExperimentResult SimulateExperiment(const ExperimentOptions& options) {
   options.Check();
-  Run run(options);
+  SimulatedRun run(options);
   run.Simulate();
   return std::move(run).Finish();
 }

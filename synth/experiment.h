@@ -28,11 +28,11 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "io/session.h"  // Arrangement
 #include "model/contact.h"
 
 namespace impactlab {
 
-enum class Arrangement { kPair, kWall };
 enum class ContactModelKind { kKelvinVoigt, kPoyntingThomson };
 
 const char* ArrangementName(Arrangement arrangement);  // "pair" or "wall"
