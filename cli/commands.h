@@ -24,5 +24,6 @@ void AddReduceCommand(CLI::App& app, Action& action);
 void AddReportCommand(CLI::App& app, Action& action);
 void AddModelCommand(CLI::App& app, Action& action);
 void AddPendulCommand(CLI::App& app, Action& action);
+void AddSynthCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

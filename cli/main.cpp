@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   AddReportCommand(app, action);
   AddModelCommand(app, action);
   AddPendulCommand(app, action);
+  AddSynthCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,52 @@
+// `impactlab synth`: a whole lab session, simulated and photographed, with its
+// ground truth (docs/synth.md).
+//
+// Each run is a simulated experiment (synth/experiment.h) seen through two
+// photocells (synth/photocell.h) on a dual-beam oscilloscope: the right and
+// left displacement traces chopped on one beam over a slow sweep, the contact
+// circuit's step on the second beam's fast delayed sweep at a chosen impact.
+// Each cell is calibrated per run by a photo of one bar swinging alone from
+// X0 (thesis Chapter III). The folder follows session-format.md; the truth
+// file is written outside it.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "render/oscillograph.h"
+
+namespace impactlab {
+
+struct SynthOptions {
+  std::string preset = "thesis";  // "thesis" (8 runs, the thesis's X0) or "quick" (2 small runs)
+  PhotoStyle style = PhotoStyle::kPolaroid;
+  std::uint64_t seed = 1;  // every random choice follows from it
+  int width_px = 0;        // photo width; 0: the preset's (thesis 2000, quick 1000)
+  // Support-wire forcing with the non-physical heavy wire that reproduces the
+  // thesis's anomalies (rebounds exceeding their predecessor, durations a few
+  // % short); see SupportWireOptions::kThesisAnomalyMassPerLength.
+  bool wire_anomalies = false;
+  bool csv_run = false;        // add a run (with its calibrations) given as CSV traces
+  bool typed_run = false;      // add a run with typed-in maxima (rounded to 0.001)
+  double trace_noise = 0.002;  // electronic noise on each trace, fraction of its span
+
+  bool Check(std::string* error) const;
+};
+
+struct SynthSummary {
+  int runs = 0;
+  int photos = 0;
+  double simulate_seconds = 0.0;
+  double render_seconds = 0.0;  // all photos, encoding included
+  nlohmann::json truth;         // what --truth writes (schema in docs/synth.md)
+};
+
+// Writes the session into `folder` (created; it must not exist or be empty).
+// Throws std::invalid_argument for bad options and InputError for a folder
+// that cannot be written.
+SynthSummary GenerateSession(const std::filesystem::path& folder, const SynthOptions& options);
+
+}  // namespace impactlab
