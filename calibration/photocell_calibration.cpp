@@ -81,17 +81,29 @@ PhotocellCurve::PhotocellCurve(double x_max, std::vector<double> chebyshev,
 }
 
 double PhotocellCurve::VoltsAt(double x) const {
-  const int n = order();
-  Eigen::VectorXd t(n + 1);
-  Chebyshev(ToUnit(x, x_max_), n, t);
-  return t.dot(Eigen::Map<const Eigen::VectorXd>(chebyshev_.data(), n + 1));
+  // Clenshaw's recurrence: sum c_k T_k(u) without forming T_k (hot path: every
+  // sample of every trace goes through a root search on this).
+  const double u = ToUnit(x, x_max_);
+  double b1 = 0.0, b2 = 0.0;
+  for (std::size_t k = chebyshev_.size(); k-- > 1;) {
+    const double b0 = 2.0 * u * b1 - b2 + chebyshev_[k];
+    b2 = b1;
+    b1 = b0;
+  }
+  return u * b1 - b2 + chebyshev_[0];
 }
 
 double PhotocellCurve::SlopeAt(double x) const {
-  const int n = order();
-  Eigen::VectorXd t(n + 1), dt;
-  Chebyshev(ToUnit(x, x_max_), n, t, &dt);
-  return 2.0 / x_max_ * dt.dot(Eigen::Map<const Eigen::VectorXd>(chebyshev_.data(), n + 1));
+  // dV/dX = (2 / x_max) sum c_k k U_{k-1}(u), with U by its recurrence.
+  const double u = ToUnit(x, x_max_);
+  double sum = 0.0, u_prev = 0.0, u_cur = 1.0;  // U_{-1}, U_0
+  for (std::size_t k = 1; k < chebyshev_.size(); ++k) {
+    sum += chebyshev_[k] * static_cast<double>(k) * u_cur;
+    const double u_next = 2.0 * u * u_cur - u_prev;
+    u_prev = u_cur;
+    u_cur = u_next;
+  }
+  return 2.0 / x_max_ * sum;
 }
 
 bool PhotocellCurve::Covers(double volts) const {

@@ -1,5 +1,10 @@
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include <fmt/core.h>
 
@@ -10,13 +15,28 @@
 #include "pipeline/results_file.h"
 
 namespace impactlab::cli {
+namespace {
+
+// An earlier results file of the same session, if there is a readable one.
+std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, bool quiet) {
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  try {
+    return ReadResults(path);
+  } catch (const std::exception& e) {
+    if (!quiet) fmt::print(stderr, "note: not reusing {}: {}\n", path.string(), e.what());
+    return std::nullopt;
+  }
+}
+
+}  // namespace
 
 void AddReduceCommand(CLI::App& app, Action& action) {
   struct Args {
     std::filesystem::path session;
     std::filesystem::path output = "results.h5";
-    std::string convention, separation;
-    bool quiet = false;
+    std::string convention, separation, only = "fit";
+    int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    bool quiet = false, fresh = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd =
@@ -30,14 +50,40 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   cmd->add_option("--separation", args->separation,
                   "Kelvin-Voigt contact end: kinematic or force (overrides the manifest)")
       ->check(CLI::IsMember({"kinematic", "force"}));
+  cmd->add_option("--only", args->only,
+                  "Products: calibration, rebounds (and calibration) or fit (everything)")
+      ->check(CLI::IsMember({"calibration", "rebounds", "fit"}))
+      ->capture_default_str();
+  cmd->add_option("-j,--jobs", args->jobs, "Runs reduced in parallel")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_flag("--fresh", args->fresh,
+                "Measure every run again instead of reusing unchanged runs from the output file");
   cmd->add_flag("-q,--quiet", args->quiet, "Print only errors");
   cmd->callback([&action, args] {
     action = [args] {
+      const auto start = std::chrono::steady_clock::now();
       const ManifestReadResult manifest = ReadManifest(args->session);
       ReduceOptions options;
       if (!args->convention.empty()) options.convention = ParseConvention(args->convention);
       if (!args->separation.empty()) options.separation = ParseSeparation(args->separation);
       options.producer = std::string("impactlab ") + kVersion;
+      options.products = args->only == "calibration" ? Products::kCalibration
+                         : args->only == "rebounds"  ? Products::kRebounds
+                                                     : Products::kFit;
+      options.jobs = args->jobs;
+      const std::optional<SessionResult> previous =
+          args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet);
+      if (previous) options.previous = &*previous;
+      // Progress on a terminal only: logs and pipes get the summary alone.
+      const bool show_progress = !args->quiet && isatty(fileno(stderr)) != 0;
+      if (show_progress) {
+        options.on_run_done = [](const RunResult& run, std::size_t done, std::size_t total) {
+          fmt::print(stderr, "\r\033[K[{}/{}] run {}: {}{}", done, total, run.id,
+                     run.ok ? "ok" : "failed", run.reused ? " (reused)" : "");
+          if (done == total) fmt::print(stderr, "\r\033[K");
+        };
+      }
       SessionResult result = ReduceSession(manifest.session, options);
       for (const ManifestWarning& w : manifest.warnings) {
         result.warnings.insert(result.warnings.begin(),
@@ -49,9 +95,19 @@ void AddReduceCommand(CLI::App& app, Action& action) {
         if (!run.ok) fmt::print(stderr, "run {} failed: {}\n", run.id, run.failure);
       }
       const int failed = result.FailedRuns();
+      const auto reused = std::count_if(result.runs.begin(), result.runs.end(),
+                                        [](const RunResult& r) { return r.reused; });
       if (!args->quiet) {
-        fmt::print(stderr, "{} run(s): {} ok, {} failed; results in {}\n", result.runs.size(),
-                   result.runs.size() - failed, failed, args->output.string());
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (options.products == Products::kCalibration) {
+          fmt::print(stderr, "{} calibration(s); results in {} ({:.2f} s)\n",
+                     result.calibrations.size(), args->output.string(), seconds);
+        } else {
+          fmt::print(stderr, "{} run(s): {} ok ({} reused), {} failed; results in {} ({:.2f} s)\n",
+                     result.runs.size(), result.runs.size() - failed, reused, failed,
+                     args->output.string(), seconds);
+        }
       }
       return failed > 0 ? kExitRunsFailed : kExitOk;
     };

@@ -1,14 +1,18 @@
 #include "pipeline/reduce.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include "io/errors.h"
 #include "model/kelvin_voigt.h"
+#include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 
 namespace impactlab {
@@ -94,19 +98,83 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
   out.ok = true;
 }
 
+// A previous result's measurement, when the run's inputs are unchanged.
+const RunResult* Reusable(const ReduceOptions& options, const std::string& id,
+                          const std::string& fingerprint) {
+  if (options.previous == nullptr) return nullptr;
+  const RunResult* old = options.previous->FindRun(id);
+  return old != nullptr && old->fingerprint == fingerprint && !old->xmax.empty() ? old : nullptr;
+}
+
+void CopyMeasurement(const RunResult& from, RunResult& to) {
+  to.source = from.source;
+  to.xmax = from.xmax;
+  to.xmax_sigma = from.xmax_sigma;
+  to.t_peak = from.t_peak;
+  to.t_peak_source = from.t_peak_source;
+  to.contact_time = from.contact_time;
+  to.contact_time_sigma = from.contact_time_sigma;
+  to.contact_time_source = from.contact_time_source;
+  to.right = from.right;
+  to.left = from.left;
+  to.rebound_duration = from.rebound_duration;
+  to.calibrations = from.calibrations;
+}
+
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                    Separation separation, CalibrationCache& calibrations) {
+                    Separation separation, CalibrationCache& calibrations,
+                    const ReduceOptions& options) {
   RunResult out;
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
-  if (run.HasTypedRebounds()) {
+  out.fingerprint = RunFingerprint(run, session, options.producer);
+  if (const RunResult* old = Reusable(options, run.id, out.fingerprint)) {
+    CopyMeasurement(*old, out);
+    out.reused = true;
+  } else if (run.HasTypedRebounds()) {
     MeasureTypedRun(run, out);
   } else {
     MeasureTraceRun(run, session, pendulum, calibrations, out);
   }
-  FitRun(run, session, pendulum, separation, out);
+  if (options.products == Products::kFit) {
+    FitRun(run, session, pendulum, separation, out);
+  } else {
+    out.ok = true;
+  }
   return out;
+}
+
+// One run, never throwing: a failure becomes the run's status.
+RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum& pendulum,
+                          Separation separation, CalibrationCache& calibrations,
+                          const ReduceOptions& options) {
+  try {
+    return ReduceRun(run, session, pendulum, separation, calibrations, options);
+  } catch (const std::exception& error) {
+    RunResult failed;
+    failed.id = run.id;
+    failed.initial_displacement = run.initial_displacement;
+    failed.first_rebound = run.first_rebound;
+    // An InputError names its own file and key; anything else gets the run's.
+    failed.failure =
+        dynamic_cast<const InputError*>(&error) != nullptr
+            ? error.what()
+            : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
+    return failed;
+  }
+}
+
+// Calls `work(i)` for i in [0, count) on `jobs` threads.
+void ForEachInParallel(std::size_t count, int jobs, const std::function<void(std::size_t)>& work) {
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) work(i);
+  };
+  std::vector<std::jthread> threads;
+  for (int k = 1; k < std::min<int>(jobs, static_cast<int>(count)); ++k)
+    threads.emplace_back(worker);
+  worker();
 }
 
 // The thesis's design expedient: one K (the runs' mean) for every run, C from it.
@@ -173,7 +241,9 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
   result.convention = options.convention.value_or(ParseConvention(session.reduction.convention));
   result.separation = options.separation.value_or(ParseSeparation(session.reduction.separation));
   result.session_contact_time = session.reduction.contact_time;
-  if (session.runs.empty()) return result;
+  if (options.jobs < 1) throw std::invalid_argument("jobs must be at least 1");
+  std::mutex warnings_mutex;
+  if (session.runs.empty() && options.products != Products::kCalibration) return result;
   if (!session.apparatus) {
     throw std::invalid_argument(fmt::format("{}: [apparatus] is required when the session has runs",
                                             session.manifest.string()));
@@ -183,22 +253,37 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
                           result.convention};
 
   CalibrationCache calibrations(session, pendulum);
-  for (const Run& run : session.runs) {
-    try {
-      result.runs.push_back(ReduceRun(run, session, pendulum, result.separation, calibrations));
-    } catch (const std::exception& error) {
-      RunResult failed;
-      failed.id = run.id;
-      failed.initial_displacement = run.initial_displacement;
-      failed.first_rebound = run.first_rebound;
-      // An InputError names its own file and key; anything else gets the run's.
-      failed.failure =
-          dynamic_cast<const InputError*>(&error) != nullptr
-              ? error.what()
-              : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
-      result.runs.push_back(std::move(failed));
+  if (options.products == Products::kCalibration) {
+    std::vector<std::optional<CellCalibration>> done(session.calibrations.size());
+    ForEachInParallel(done.size(), options.jobs, [&](std::size_t i) {
+      const Calibration& c = session.calibrations[i];
+      try {
+        done[i] =
+            SummariseCalibration(c.id, c.cell, c.initial_displacement, calibrations.Get(c.id));
+      } catch (const std::exception& error) {
+        std::lock_guard lock(warnings_mutex);
+        result.warnings.push_back(error.what());
+      }
+    });
+    for (auto& c : done) {
+      if (c) result.calibrations.push_back(std::move(*c));
     }
+    return result;
   }
+
+  std::vector<RunResult> runs(session.runs.size());
+  std::mutex progress_mutex;
+  std::size_t finished = 0;
+  ForEachInParallel(runs.size(), options.jobs, [&](std::size_t i) {
+    runs[i] = ReduceRunOrFail(session.runs[i], session, pendulum, result.separation, calibrations,
+                              options);
+    if (options.on_run_done) {
+      std::lock_guard lock(progress_mutex);
+      options.on_run_done(runs[i], ++finished, runs.size());
+    }
+  });
+  result.runs = std::move(runs);
+  if (options.products != Products::kFit) return result;
 
   std::vector<double> own_stiffness;
   for (const RunResult& run : result.runs) {

@@ -5,6 +5,8 @@
 // cross-run analysis and predictions follow from the runs that succeeded.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -13,11 +15,25 @@
 
 namespace impactlab {
 
+// What to produce; each product includes the ones before it.
+enum class Products {
+  kCalibration,  // the photocell calibrations only
+  kRebounds,     // and each run's measured maxima, times and contact time
+  kFit,          // and the Kelvin-Voigt fits and the cross-run tables (everything)
+};
+
 struct ReduceOptions {
   // Overrides of the manifest's [reduction] settings (nullopt: the manifest's).
   std::optional<PendulumConvention> convention;
   std::optional<Separation> separation;
-  std::string producer = "impactlab";  // recorded in the results
+  std::string producer = "impactlab";  // recorded in the results and in every fingerprint
+  Products products = Products::kFit;
+  int jobs = 1;  // runs reduced in parallel (threads), >= 1
+  // An earlier results file of this session: a run whose fingerprint is
+  // unchanged reuses its measurement from there instead of measuring again.
+  const SessionResult* previous = nullptr;
+  // Called after each run, from the thread that reduced it (serialised).
+  std::function<void(const RunResult& run, std::size_t done, std::size_t total)> on_run_done;
 };
 
 SessionResult ReduceSession(const Session& session, const ReduceOptions& options);

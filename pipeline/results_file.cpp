@@ -51,6 +51,7 @@ void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& 
                       const UnitLabels& u) {
   f.CreateGroup(g);
   f.SetAttribute(g, "calibration_id", c.calibration_id);
+  f.SetAttribute(g, "cell", c.cell);
   f.SetAttribute(g, "model", "V(X) = sum c_k T_k(2X/X0 - 1), Chebyshev, order by BIC");
   f.WriteScalar(g + "/release_x", c.release_x, u.length);
   f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
@@ -65,7 +66,7 @@ void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& 
 
 CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const std::string& cell) {
   CellCalibration c;
-  c.cell = cell;
+  c.cell = cell.empty() ? f.ReadStringAttribute(g, "cell") : cell;
   c.calibration_id = f.ReadStringAttribute(g, "calibration_id");
   c.release_x = f.ReadScalar(g + "/release_x");
   c.chebyshev = f.ReadVector(g + "/chebyshev");
@@ -116,6 +117,7 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   f.CreateGroup(g);
   f.SetAttribute(g, "status", run.Status());
   f.SetAttribute(g, "first_rebound", static_cast<long long>(run.first_rebound));
+  if (!run.fingerprint.empty()) f.SetAttribute(g, "input_fingerprint", run.fingerprint);
   if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
   f.WriteScalar(g + "/initial_displacement", run.initial_displacement, u.length);
   if (!run.xmax.empty()) {
@@ -195,6 +197,9 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   f.WriteStrings("/session/warnings", r.warnings);
   f.CreateGroup("/runs");
   for (const RunResult& run : r.runs) WriteRun(f, run, u);
+  for (const CellCalibration& c : r.calibrations) {
+    WriteCalibration(f, JoinPath({"calibrations", c.calibration_id}), c, u);
+  }
   if (r.kelvin_voigt) WriteSessionKelvinVoigt(f, *r.kelvin_voigt, u);
   for (const RunPrediction& p : r.predictions) WritePrediction(f, p, u);
 }
@@ -216,6 +221,9 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
   if (!run.ok) run.failure = status.rfind("failed: ", 0) == 0 ? status.substr(8) : status;
   run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
   if (f.HasAttribute(g, "source")) run.source = f.ReadStringAttribute(g, "source");
+  if (f.HasAttribute(g, "input_fingerprint")) {
+    run.fingerprint = f.ReadStringAttribute(g, "input_fingerprint");
+  }
   run.initial_displacement = f.ReadScalar(g + "/initial_displacement");
   if (f.Exists(g + "/rebounds/xmax")) {
     run.xmax = f.ReadVector(g + "/rebounds/xmax");
@@ -332,6 +340,12 @@ SessionResult ReadResults(const std::filesystem::path& path) {
   r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
   r.warnings = f.ReadStrings("/session/warnings");
   for (const std::string& id : f.Children("/runs")) r.runs.push_back(ReadRun(f, id));
+  if (f.Exists("/calibrations")) {
+    for (const std::string& id : f.Children("/calibrations")) {
+      const std::string g = JoinPath({"calibrations", id});
+      r.calibrations.push_back(ReadCalibration(f, g, ""));
+    }
+  }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
   if (f.Exists("/predictions")) {
     for (const std::string& name : f.Children("/predictions")) {

@@ -37,6 +37,8 @@ struct CellCalibration {
 
 struct RunResult {
   std::string id;
+  std::string fingerprint;  // hash of the run's inputs (run_fingerprint.h)
+  bool reused = false;      // measurement taken from the previous results file
   bool ok = false;
   std::string failure;  // why, when !ok (file, key and reason where they apply)
   std::string source;   // where the maxima came from: "typed-in", "csv" or "photo"
@@ -90,6 +92,7 @@ struct SessionResult {
   std::optional<double> session_contact_time;  // [reduction] contact_time, s
 
   std::vector<RunResult> runs;
+  std::vector<CellCalibration> calibrations;  // --only calibration: every calibration
   std::optional<SessionKelvinVoigt> kelvin_voigt;
   std::vector<RunPrediction> predictions;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings

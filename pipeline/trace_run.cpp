@@ -49,8 +49,10 @@ DisplacementHistory ToDisplacement(const Trace& trace, const CalibrationResult& 
   return h;
 }
 
-CellCalibration Summarise(const std::string& id, const std::string& cell, double release_x,
-                          const CalibrationResult& c) {
+}  // namespace
+
+CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
+                                     double release_x, const CalibrationResult& c) {
   CellCalibration out;
   out.calibration_id = id;
   out.cell = cell;
@@ -69,6 +71,8 @@ CellCalibration Summarise(const std::string& id, const std::string& cell, double
   }
   return out;
 }
+
+namespace {
 
 // Session numbering: PENDUL rebound N is session rebound N - first_rebound.
 BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
@@ -101,7 +105,25 @@ Trace LoadTrace(const Session& session, const TraceSettings& settings,
 }
 
 const CalibrationResult& CalibrationCache::Get(const std::string& id) {
-  if (const auto it = done_.find(id); it != done_.end()) return *it->second;
+  std::unique_lock lock(mutex_);
+  if (const auto it = entries_.find(id); it != entries_.end()) {
+    const Entry entry = it->second;
+    lock.unlock();
+    return *entry.get();  // rethrows the calibration's error, if it had one
+  }
+  std::promise<std::shared_ptr<const CalibrationResult>> promise;
+  const Entry entry = promise.get_future().share();
+  entries_.emplace(id, entry);
+  lock.unlock();
+  try {
+    promise.set_value(Compute(id));
+  } catch (...) {
+    promise.set_exception(std::current_exception());
+  }
+  return *entry.get();
+}
+
+std::shared_ptr<const CalibrationResult> CalibrationCache::Compute(const std::string& id) const {
   const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
                                         [&](const Calibration& c) { return c.id == id; });
   const std::string key = fmt::format("calibration \"{}\"", id);
@@ -110,9 +132,8 @@ const CalibrationResult& CalibrationCache::Get(const std::string& id) {
   }
   const Trace trace = LoadTrace(session_, calibration->trace, calibration->photo, key + ".trace");
   try {
-    auto result = std::make_shared<const CalibrationResult>(CalibratePhotocell(
+    return std::make_shared<const CalibrationResult>(CalibratePhotocell(
         trace, pendulum_, calibration->initial_displacement, CalibrationOptions{}));
-    return *done_.emplace(id, std::move(result)).first->second;
   } catch (const std::exception& e) {
     throw InputError(
         {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
@@ -138,7 +159,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
     const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
     out.calibrations.push_back(
-        Summarise(cal_it->second, cell, cal->initial_displacement, calibration));
+        SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibration));
     const Trace trace = LoadTrace(session, trace_it->second, run.photo, key);
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};

@@ -3,8 +3,10 @@
 // the rebounds, and measure the contact pulse.
 #pragma once
 
+#include <future>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "calibration/photocell_calibration.h"
@@ -20,7 +22,8 @@ namespace impactlab {
 Trace LoadTrace(const Session& session, const TraceSettings& settings,
                 const std::optional<std::filesystem::path>& photo, const std::string& key);
 
-// Calibrations are shared by runs; each is computed once per reduce.
+// Calibrations are shared by runs; each is computed once per reduce, by the
+// first run that needs it, while runs on other threads wait for it.
 class CalibrationCache {
  public:
   CalibrationCache(const Session& session, const Pendulum& pendulum)
@@ -29,10 +32,18 @@ class CalibrationCache {
   const CalibrationResult& Get(const std::string& calibration_id);
 
  private:
+  using Entry = std::shared_future<std::shared_ptr<const CalibrationResult>>;
+  std::shared_ptr<const CalibrationResult> Compute(const std::string& calibration_id) const;
+
   const Session& session_;
   const Pendulum& pendulum_;
-  std::map<std::string, std::shared_ptr<const CalibrationResult>> done_;
+  std::mutex mutex_;
+  std::map<std::string, Entry> entries_;
 };
+
+// The calibration as the results file keeps it (points decimated to <= 500).
+CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
+                                     double release_x, const CalibrationResult& calibration);
 
 // Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
 // calibrations). Throws InputError or std::exception with the reason.

@@ -32,7 +32,7 @@ Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
                "Deviation % of peak",
                "Deviation % of X0"};
   for (const RunResult& run : r.runs) {
-    if (!run.ok) continue;
+    if (!run.ok || !run.kelvin_voigt) continue;  // failed, or reduced --only rebounds
     const auto& fit = *run.kelvin_voigt;
     for (std::size_t n = 0; n < run.xmax.size(); ++n) {
       const bool used = static_cast<int>(n) == fit.rebounds_used[0] ||

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <random>
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
+#include <catch2/catch.hpp>
 
 #include "io/manifest.h"
 #include "io/trace.h"
@@ -23,7 +23,7 @@ const double kMass = 2.23 / kG;
 const Pendulum kPendulum{kL, kG, PendulumConvention::kExact};
 
 double RightCell(double x) { return 2.4 - 3.1 * x + 0.9 * x * x; }  // falls with X (x < 1.5)
-double LeftCell(double x) { return 0.2 + 2.2 * x - 0.35 * x * x; }   // inverted amplifier
+double LeftCell(double x) { return 0.2 + 2.2 * x - 0.35 * x * x; }  // inverted amplifier
 
 struct Written {
   ReboundSequence truth;
@@ -44,7 +44,8 @@ Written WriteSession(const std::filesystem::path& dir, double x0, double noise_v
   std::normal_distribution<double> noise(0.0, noise_volts);
   const double quarter = 0.5 * HalfPeriod(kPendulum, x0);
   using Cell = double (*)(double);
-  for (const auto& [name, cell] : {std::pair<const char*, Cell>{"R", RightCell}, std::pair<const char*, Cell>{"L", LeftCell}}) {
+  for (const auto& [name, cell] : {std::pair<const char*, Cell>{"R", RightCell},
+                                   std::pair<const char*, Cell>{"L", LeftCell}}) {
     std::vector<double> t, v;
     for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
       const double x = s < 0 ? x0 : ReleaseSwingDisplacement(kPendulum, x0, std::min(s, quarter));
@@ -163,6 +164,88 @@ TEST_CASE("trace_session: a calibration that does not cover the run is refused")
   const SessionResult result = ReduceSession(session, {});
   CHECK_FALSE(result.runs[0].ok);
   CHECK_THAT(result.runs[0].failure, Catch::Contains("does not cover"));
+}
+
+// Two runs sharing nothing: the trace session's run and a second, typed-in one.
+Session TwoRunSession(const std::filesystem::path& dir) {
+  WriteSession(dir, 0.6, 0.001);
+  std::ofstream(dir / "session.toml", std::ios::app) << R"(
+[[run]]
+id = "typed"
+initial_displacement = 0.405
+rebounds = [0.293, 0.195, 0.129]
+contact_time = 353e-6
+)";
+  return ReadManifest(dir).session;
+}
+
+TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is measured again") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  const SessionResult first = ReduceSession(session, {});
+  REQUIRE(first.FailedRuns() == 0);
+  ReduceOptions again;
+  again.previous = &first;
+  const SessionResult second = ReduceSession(session, again);
+  CHECK(second.runs[0].reused);
+  CHECK(second.runs[1].reused);
+  CHECK(second.runs[0].xmax == first.runs[0].xmax);
+  CHECK(second.runs[0].kelvin_voigt->stiffness->value ==
+        first.runs[0].kelvin_voigt->stiffness->value);
+
+  // Edit the typed-in run only: the trace run is still reused.
+  Session edited = session;
+  edited.runs[1].rebounds[2] = 0.128;
+  const SessionResult third = ReduceSession(edited, again);
+  CHECK(third.runs[0].reused);
+  CHECK_FALSE(third.runs[1].reused);
+  CHECK(third.runs[1].xmax[2] == 0.128);
+
+  // A changed input file (a calibration's bytes) invalidates the runs using it.
+  WriteSession(dir.path() / "other", 0.6, 0.002);
+  std::filesystem::copy_file(dir.path() / "other" / "traces" / "R.csv",
+                             dir.path() / "traces" / "R.csv",
+                             std::filesystem::copy_options::overwrite_existing);
+  const SessionResult fourth = ReduceSession(session, again);
+  CHECK_FALSE(fourth.runs[0].reused);
+  CHECK(fourth.runs[1].reused);
+}
+
+TEST_CASE("parallel: two jobs give exactly the results of one") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  ReduceOptions two;
+  two.jobs = 2;
+  std::size_t calls = 0;
+  two.on_run_done = [&](const RunResult&, std::size_t done, std::size_t total) {
+    ++calls;
+    CHECK(done <= total);
+  };
+  const SessionResult serial = ReduceSession(session, {});
+  const SessionResult parallel = ReduceSession(session, two);
+  CHECK(calls == 2);
+  for (std::size_t i = 0; i < serial.runs.size(); ++i) {
+    CHECK(parallel.runs[i].id == serial.runs[i].id);
+    CHECK(parallel.runs[i].xmax == serial.runs[i].xmax);
+  }
+}
+
+TEST_CASE("products: --only calibration and --only rebounds stop where asked") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  ReduceOptions calibration_only;
+  calibration_only.products = Products::kCalibration;
+  const SessionResult c = ReduceSession(session, calibration_only);
+  CHECK(c.runs.empty());
+  REQUIRE(c.calibrations.size() == 2);
+  CHECK(c.calibrations[0].residual_rms_volts < 0.01);
+  ReduceOptions rebounds_only;
+  rebounds_only.products = Products::kRebounds;
+  const SessionResult r = ReduceSession(session, rebounds_only);
+  REQUIRE(r.runs.size() == 2);
+  CHECK(r.runs[0].ok);
+  CHECK_FALSE(r.runs[0].kelvin_voigt.has_value());
+  CHECK_FALSE(r.kelvin_voigt.has_value());
 }
 
 }  // namespace
