@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "io/errors.h"
 #include "pipeline/results_file.h"
+#include "report/html_report.h"
 #include "report/tables.h"
 
 namespace impactlab::cli {
@@ -30,8 +31,8 @@ void AddReportCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("report", "Write the report tables of a results file");
   cmd->add_option("results", args->results, "Results file written by `impactlab reduce`")
       ->required();
-  cmd->add_option("-f,--format", args->format, "md, csv or tex")
-      ->check(CLI::IsMember({"md", "csv", "tex"}))
+  cmd->add_option("-f,--format", args->format, "md, csv, tex or html (a self-contained page)")
+      ->check(CLI::IsMember({"md", "csv", "tex", "html"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", args->output,
                   "Output file (default: standard output); with csv, an existing folder gets "
@@ -48,7 +49,9 @@ void AddReportCommand(CLI::App& app, Action& action) {
         }
         return kExitOk;
       }
-      const std::string text = RenderTables(result.title, tables, format);
+      const std::string text = format == ReportFormat::kHtml
+                                   ? RenderHtmlReport(result)
+                                   : RenderTables(result.title, tables, format);
       if (args->output.empty()) {
         fmt::print("{}", text);
       } else {

@@ -12,6 +12,7 @@
 
 #include "io/errors.h"
 #include "model/kelvin_voigt.h"
+#include "model/rebound_history.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 
@@ -44,6 +45,21 @@ std::vector<double> ModelPeakTimes(const Pendulum& pendulum, const RunResult& ru
     t += duration;
   }
   return peaks;
+}
+
+// The fitted model's displacement history (PENDUL option 2 with the fitted K, C),
+// released from the amplitude the fit extrapolates back to, for the figures.
+Curve ModelResponse(const Pendulum& pendulum, double mass, const RunResult& run,
+                    const KelvinVoigtTwoPointFit& fit) {
+  const int a = fit.rebounds_used[0];
+  const double release =
+      PredictMaximum(pendulum, run.xmax[a], a, -run.first_rebound, fit.log_restitution.value);
+  const KelvinVoigtContactLaw law({mass, fit.stiffness->value, fit.damping->value}, fit.separation);
+  const int rebounds = static_cast<int>(run.xmax.size()) + run.first_rebound - 1;
+  const ReboundSequence sequence = SimulateRebounds(pendulum, law, release, rebounds);
+  const double end = sequence.start_time.back() + sequence.duration.back();
+  const SampledHistory h = SampleHistory(sequence, pendulum, law, end / 3000.0);
+  return Curve{h.time, h.displacement};
 }
 
 void MeasureTypedRun(const Run& run, RunResult& out) {
@@ -93,6 +109,8 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
     out.t_peak = ModelPeakTimes(pendulum, out, fit);
     out.t_peak_source = "model";
   }
+  if (fit.stiffness)
+    out.model_response = ModelResponse(pendulum, session.apparatus->mass, out, fit);
   out.stiffness_source = "run";
   out.kelvin_voigt = std::move(fit);
   out.ok = true;
@@ -119,6 +137,7 @@ void CopyMeasurement(const RunResult& from, RunResult& to) {
   to.left = from.left;
   to.rebound_duration = from.rebound_duration;
   to.calibrations = from.calibrations;
+  to.measured_displacement = from.measured_displacement;
 }
 
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,

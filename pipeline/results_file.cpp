@@ -129,6 +129,15 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   if (!run.rebound_duration.empty()) {
     f.WriteVector(g + "/rebounds/duration", run.rebound_duration, "s");
   }
+  if (!run.measured_displacement.time_s.empty()) {
+    f.WriteVector(g + "/displacement/time", run.measured_displacement.time_s, "s");
+    f.WriteVector(g + "/displacement/average", run.measured_displacement.value, u.length);
+  }
+  if (!run.model_response.time_s.empty()) {
+    f.WriteVector(g + "/fit/kelvin_voigt/response/time", run.model_response.time_s, "s");
+    f.WriteVector(g + "/fit/kelvin_voigt/response/displacement", run.model_response.value,
+                  u.length);
+  }
   if (run.right) WriteBar(f, g + "/rebounds/right", *run.right, u);
   if (run.left) WriteBar(f, g + "/rebounds/left", *run.left, u);
   for (const CellCalibration& c : run.calibrations) {
@@ -233,6 +242,14 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
   }
   if (f.Exists(g + "/rebounds/duration"))
     run.rebound_duration = f.ReadVector(g + "/rebounds/duration");
+  if (f.Exists(g + "/displacement/time")) {
+    run.measured_displacement = {f.ReadVector(g + "/displacement/time"),
+                                 f.ReadVector(g + "/displacement/average")};
+  }
+  if (f.Exists(g + "/fit/kelvin_voigt/response/time")) {
+    run.model_response = {f.ReadVector(g + "/fit/kelvin_voigt/response/time"),
+                          f.ReadVector(g + "/fit/kelvin_voigt/response/displacement")};
+  }
   if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
   if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
   if (f.Exists(g + "/calibration")) {

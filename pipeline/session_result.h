@@ -22,6 +22,12 @@ struct BarRebounds {
   std::vector<double> duration;              // s, between the flank's zero crossings
 };
 
+// A sampled curve for the report's figures (decimated to a few thousand points).
+struct Curve {
+  std::vector<double> time_s;
+  std::vector<double> value;
+};
+
 // A photocell calibration as used by a run (Figures 13-14).
 struct CellCalibration {
   std::string calibration_id;
@@ -60,6 +66,10 @@ struct RunResult {
   std::optional<BarRebounds> right, left;
   std::vector<double> rebound_duration;  // s, of the average, session numbering
   std::vector<CellCalibration> calibrations;
+  // Figures 16-18: the measured displacement (trace runs; the average of the
+  // bars) and the fitted Kelvin-Voigt model's response, length units.
+  Curve measured_displacement;
+  Curve model_response;
 
   std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
   // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.

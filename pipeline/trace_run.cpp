@@ -186,6 +186,11 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                                  "complete in the traces; at least 2 are needed",
                                  both.xmax.size(), run.first_rebound));
   }
+  const std::size_t stride = std::max<std::size_t>(1, average.time_s.size() / 4000);
+  for (std::size_t i = 0; i < average.time_s.size(); i += stride) {
+    out.measured_displacement.time_s.push_back(average.time_s[i]);
+    out.measured_displacement.value.push_back(average.displacement[i]);
+  }
   out.xmax = both.xmax;
   out.xmax_sigma = both.xmax_sigma;
   out.t_peak = both.t_peak;

@@ -174,6 +174,26 @@ std::string EscapeLatex(const std::string& text) {
   return out;
 }
 
+std::string EscapeHtml(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
 std::string Join(const std::vector<std::string>& cells, const std::string& separator,
                  std::string (*escape)(const std::string&)) {
   std::string out;
@@ -201,6 +221,7 @@ std::optional<ReportFormat> ParseReportFormat(const std::string& name) {
   if (name == "md") return ReportFormat::kMarkdown;
   if (name == "csv") return ReportFormat::kCsv;
   if (name == "tex") return ReportFormat::kLatex;
+  if (name == "html") return ReportFormat::kHtml;
   return std::nullopt;
 }
 
@@ -218,6 +239,18 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       for (const auto& row : t.rows) out += fmt::format("| {} |\n", Join(row, " | ", nullptr));
       for (const auto& note : t.notes) out += fmt::format("\n{}\n", note);
       return out + "\n";
+    case ReportFormat::kHtml:
+      out += fmt::format(
+          "<table>\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n<tbody>\n",
+          EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
+      for (const auto& row : t.rows) {
+        out += fmt::format("<tr><td>{}</td></tr>\n", Join(row, "</td><td>", EscapeHtml));
+      }
+      out += "</tbody>\n</table>\n";
+      for (const auto& note : t.notes) {
+        out += fmt::format("<p class=\"note\">{}</p>\n", EscapeHtml(note));
+      }
+      return out;
     case ReportFormat::kLatex:
       out += fmt::format(
           "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\begin{{tabular}}{{l{}}}"

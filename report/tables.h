@@ -21,14 +21,15 @@ struct Table {
 
 std::vector<Table> BuildTables(const SessionResult& result);
 
-enum class ReportFormat { kMarkdown, kCsv, kLatex };
-std::optional<ReportFormat> ParseReportFormat(const std::string& name);  // "md", "csv", "tex"
+enum class ReportFormat { kMarkdown, kCsv, kLatex, kHtml };
+std::optional<ReportFormat> ParseReportFormat(
+    const std::string& name);  // "md", "csv", "tex", "html"
 
 // One document with every table. CSV: each table as its own block, introduced
 // by a "# name: caption" line and separated by a blank line.
 std::string RenderTables(const std::string& title, const std::vector<Table>& tables,
                          ReportFormat format);
-// One table alone (CSV files written one per table).
+// One table alone (CSV files written one per table; an HTML <table> element).
 std::string RenderTable(const Table& table, ReportFormat format);
 
 }  // namespace impactlab

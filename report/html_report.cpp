@@ -1,0 +1,187 @@
+#include "report/html_report.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "report/svg_plot.h"
+#include "report/tables.h"
+
+namespace impactlab {
+namespace {
+
+constexpr const char* kBlue = "#1f77b4";
+constexpr const char* kOrange = "#ff7f0e";
+constexpr const char* kGreen = "#2ca02c";
+constexpr const char* kRed = "#d62728";
+
+std::string Escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    out += c == '<'   ? std::string("&lt;")
+           : c == '>' ? std::string("&gt;")
+           : c == '&' ? std::string("&amp;")
+                      : std::string(1, c);
+  }
+  return out;
+}
+
+constexpr const char* kStyle = R"(
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }
+h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
+caption { text-align: left; font-weight: bold; padding: 0.3em 0; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+.note { font-size: 0.85em; color: #555; margin: 0.2em 0; }
+.ok { color: #2a7; } .failed { color: #c33; }
+figure { margin: 1em 0; } figcaption { font-size: 0.85em; color: #555; }
+)";
+
+// Evaluates a stored Chebyshev series V(X) (the calibration as fitted) for display.
+double ChebyshevAt(const std::vector<double>& c, double x, double x_max) {
+  const double u = 2.0 * x / x_max - 1.0;
+  double b1 = 0.0, b2 = 0.0;
+  for (std::size_t k = c.size(); k-- > 1;) {
+    const double b0 = 2.0 * u * b1 - b2 + c[k];
+    b2 = b1;
+    b1 = b0;
+  }
+  return u * b1 - b2 + c[0];
+}
+
+std::string Figure(const Plot& plot, const std::string& caption) {
+  return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderSvg(plot),
+                     Escape(caption));
+}
+
+std::string RunFigure(const RunResult& run, const UnitLabels& u) {
+  Plot plot;
+  plot.title = fmt::format("Run {}: displacement", run.id);
+  plot.x_label = "time since release (s)";
+  plot.y_label = fmt::format("displacement X ({})", u.length);
+  if (!run.measured_displacement.time_s.empty()) {
+    plot.series.push_back({"measured (average of bars)", run.measured_displacement.time_s,
+                           run.measured_displacement.value, PlotSeries::Style::kLine, kBlue});
+  }
+  if (!run.model_response.time_s.empty()) {
+    plot.series.push_back({"Kelvin-Voigt fit", run.model_response.time_s, run.model_response.value,
+                           PlotSeries::Style::kLine, kOrange});
+  }
+  plot.series.push_back(
+      {"measured maxima", run.t_peak, run.xmax, PlotSeries::Style::kMarkers, kRed});
+  return Figure(plot, fmt::format("Measured and theoretical response of run {} (thesis Figures "
+                                  "16-18); maxima from {}, times from the {}.",
+                                  run.id, run.source, run.t_peak_source));
+}
+
+std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
+  Plot plot;
+  plot.title = fmt::format("Run {}: photocell calibrations", run.id);
+  plot.x_label = fmt::format("ideal pendulum displacement X ({})", u.length);
+  plot.y_label = "photocell output (V)";
+  const char* colours[] = {kBlue, kGreen};
+  std::string notes;
+  for (std::size_t k = 0; k < run.calibrations.size(); ++k) {
+    const CellCalibration& c = run.calibrations[k];
+    PlotSeries curve{fmt::format("{} cell: fitted curve (order {})", c.cell, c.order),
+                     {},
+                     {},
+                     PlotSeries::Style::kLine,
+                     kOrange};
+    for (int i = 0; i <= 200; ++i) {
+      const double x = c.release_x * i / 200.0;
+      curve.x.push_back(x);
+      curve.y.push_back(ChebyshevAt(c.chebyshev, x, c.release_x));
+    }
+    plot.series.push_back({fmt::format("{} cell ({})", c.cell, c.calibration_id), c.points_x,
+                           c.points_volts, PlotSeries::Style::kMarkers, colours[k % 2]});
+    plot.series.push_back(curve);
+    notes += fmt::format("{} cell: {} samples, residual {:.3g} V rms ({:.3g} {} rms). ", c.cell,
+                         c.samples_used, c.residual_rms_volts, c.residual_rms_length, u.length);
+  }
+  return Figure(plot,
+                "Dynamic calibration (thesis Figures 13-14): the cell's voltage against the "
+                "free pendulum's displacement over the first swing. " +
+                    notes);
+}
+
+std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
+  std::string out;
+  Plot contact;
+  contact.title = "Contact time against initial displacement";
+  contact.x_label = fmt::format("initial displacement X0 ({})", u.length);
+  contact.y_label = "contact time (us)";
+  PlotSeries points{"runs", {}, {}, PlotSeries::Style::kMarkers, kBlue};
+  for (const RunResult& run : r.runs) {
+    if (run.contact_time && run.contact_time_source != "session") {
+      points.x.push_back(run.initial_displacement);
+      points.y.push_back(*run.contact_time * 1e6);
+    }
+  }
+  if (!points.x.empty()) {
+    contact.series.push_back(points);
+    out +=
+        Figure(contact, "Measured contact time against initial displacement (thesis Figure 19).");
+  }
+  if (r.kelvin_voigt && r.kelvin_voigt->damping_line) {
+    const SessionKelvinVoigt& s = *r.kelvin_voigt;
+    const DampingLine& line = *s.damping_line;
+    Plot damping;
+    damping.title = "C against sqrt(xi)";
+    damping.x_label = "sqrt(xi), xi = restitution";
+    damping.y_label = fmt::format("C ({})", u.damping);
+    damping.series.push_back(
+        {"runs", s.sqrt_restitution, s.damping, PlotSeries::Style::kMarkers, kBlue});
+    const auto [lo, hi] = std::minmax_element(s.sqrt_restitution.begin(), s.sqrt_restitution.end());
+    PlotSeries fit{fmt::format("C = {:.4g} (1 - {:.4g} sqrt(xi))", line.a.value, line.b.value),
+                   {*lo, *hi},
+                   {},
+                   PlotSeries::Style::kLine,
+                   kOrange};
+    for (double x : fit.x) fit.y.push_back(line.a.value * (1.0 - line.b.value * x));
+    damping.series.push_back(fit);
+    out += Figure(damping,
+                  "Damping coefficient against the square root of the restitution, with "
+                  "its least-squares line (thesis Figure 20, eq. 40).");
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string RenderHtmlReport(const SessionResult& r) {
+  const UnitLabels u = LabelsFor(r.units);
+  std::string html = fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{0}</title>\n"
+      "<style>{1}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
+      Escape(r.title), kStyle);
+  html += fmt::format(
+      "<p>Reduced by {} on {} from <code>{}</code>. Units {}; pendulum convention {}; "
+      "Kelvin-Voigt separation {}.</p>\n",
+      Escape(r.producer), Escape(r.created), Escape(r.session_folder), UnitSystemName(r.units),
+      ConventionName(r.convention), SeparationName(r.separation));
+  html += "<h2>Runs</h2>\n<ul>\n";
+  for (const RunResult& run : r.runs) {
+    html +=
+        fmt::format("<li><a href=\"#run-{0}\">{0}</a>: <span class=\"{1}\">{2}</span>{3}</li>\n",
+                    Escape(run.id), run.ok ? "ok" : "failed", Escape(run.Status()),
+                    run.reused ? " (reused)" : "");
+  }
+  html += "</ul>\n";
+  for (const std::string& w : r.warnings)
+    html += fmt::format("<p class=\"note\">warning: {}</p>\n", Escape(w));
+
+  html += "<h2>Tables</h2>\n";
+  for (const Table& t : BuildTables(r)) html += RenderTable(t, ReportFormat::kHtml);
+  html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
+  for (const RunResult& run : r.runs) {
+    if (run.xmax.empty()) continue;
+    html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", Escape(run.id));
+    html += RunFigure(run, u);
+    if (!run.calibrations.empty()) html += CalibrationFigure(run, u);
+  }
+  return html + "</body>\n</html>\n";
+}
+
+}  // namespace impactlab
