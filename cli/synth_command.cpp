@@ -33,6 +33,10 @@ void AddSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--width", args->options.width_px, "Photo width in pixels (default: preset's)");
   cmd->add_flag("--wire-anomalies", args->options.wire_anomalies,
                 "Heavy support-wire forcing: rebounds that exceed their predecessor");
+  cmd->add_option("--nonlinearity", args->options.photocell_nonlinearity,
+                  "Photocell curves: 0 linear .. 1 strongly nonlinear")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_flag("--csv-run", args->options.csv_run, "Add a run given as CSV traces");
   cmd->add_flag("--typed-run", args->options.typed_run, "Add a run with typed-in maxima");
   cmd->callback([&action, args] {

@@ -157,7 +157,10 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     MeasureTraceRun(run, session, pendulum, calibrations, out);
   }
   if (options.products == Products::kFit) {
+    const auto start = std::chrono::steady_clock::now();
     FitRun(run, session, pendulum, separation, out);
+    out.seconds.fit =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } else {
     out.ok = true;
   }

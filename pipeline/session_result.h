@@ -41,8 +41,17 @@ struct CellCalibration {
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
 };
 
+// Wall time spent per stage of one run, s (for benchmarks; not in the results file).
+struct StageSeconds {
+  double load = 0.0;       // reading traces: CSV parsing, or photo decoding and digitizing
+  double calibrate = 0.0;  // photocell calibrations first computed by this run
+  double extract = 0.0;    // conversion to displacement and rebound extraction
+  double fit = 0.0;        // the closed-form fit and the model response
+};
+
 struct RunResult {
   std::string id;
+  StageSeconds seconds;
   std::string fingerprint;  // hash of the run's inputs (run_fingerprint.h)
   bool reused = false;      // measurement taken from the previous results file
   bool ok = false;

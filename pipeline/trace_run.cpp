@@ -1,6 +1,7 @@
 #include "pipeline/trace_run.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -142,6 +143,20 @@ std::shared_ptr<const CalibrationResult> CalibrationCache::Compute(const std::st
   }
 }
 
+// Adds the seconds `work` takes to `total`.
+template <class Work>
+auto Timed(double& total, Work&& work) {
+  const auto start = std::chrono::steady_clock::now();
+  struct Add {
+    double& total;
+    std::chrono::steady_clock::time_point start;
+    ~Add() {
+      total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  } add{total, start};
+  return work();
+}
+
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                      CalibrationCache& calibrations, RunResult& out) {
   out.source = run.photo ? "photo" : "csv";
@@ -155,15 +170,19 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       throw InputError({session.manifest, key, std::nullopt},
                        fmt::format("no calibration is named for the {} cell", cell));
     }
-    const CalibrationResult& calibration = calibrations.Get(cal_it->second);
+    const CalibrationResult& calibration =
+        Timed(out.seconds.calibrate,
+              [&]() -> const CalibrationResult& { return calibrations.Get(cal_it->second); });
     const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
     out.calibrations.push_back(
         SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibration));
-    const Trace trace = LoadTrace(session, trace_it->second, run.photo, key);
+    const Trace trace = Timed(out.seconds.load,
+                              [&] { return LoadTrace(session, trace_it->second, run.photo, key); });
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};
-    histories[cell] = ToDisplacement(trace, calibration, where);
+    histories[cell] =
+        Timed(out.seconds.extract, [&] { return ToDisplacement(trace, calibration, where); });
   }
   if (histories.empty()) {
     throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
@@ -172,7 +191,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
 
   const ReboundExtractionOptions options;
   const auto extract = [&](const DisplacementHistory& h) {
-    return Renumber(ExtractRebounds(h, pendulum, options), run.first_rebound);
+    return Timed(out.seconds.extract, [&] {
+      return Renumber(ExtractRebounds(h, pendulum, options), run.first_rebound);
+    });
   };
   if (histories.count("right")) out.right = extract(histories["right"]);
   if (histories.count("left")) out.left = extract(histories["left"]);
@@ -199,7 +220,8 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
     const std::string key = RunKey(run) + ".traces.contact";
-    const Trace trace = LoadTrace(session, contact->second, run.photo, key);
+    const Trace trace = Timed(out.seconds.load,
+                              [&] { return LoadTrace(session, contact->second, run.photo, key); });
     try {
       const ContactPulse pulse = MeasureContactPulse(trace);
       out.contact_time = pulse.width_s.value;

@@ -217,7 +217,7 @@ void Generator::WriteRun(const RunPlan& plan) {
   PhotocellOptions cell_options;
   cell_options.x_lo = -1.1 * plan.x0;  // the calibration swing passes to -X0
   cell_options.x_hi = 1.1 * plan.x0;
-  cell_options.nonlinearity = 0.6;
+  cell_options.nonlinearity = options_.photocell_nonlinearity;
   cell_options.polarity = PhotocellPolarity::kRandom;
   const PhotocellCurve right = PhotocellCurve::FromSeed(NextSeed(), cell_options);
   const PhotocellCurve left = PhotocellCurve::FromSeed(NextSeed(), cell_options);
@@ -419,6 +419,11 @@ bool SynthOptions::Check(std::string* error) const {
   }
   if (width_px != 0 && (width_px < 400 || width_px > 8000)) {
     *error = fmt::format("width must be 400..8000 px, got {}", width_px);
+    return false;
+  }
+  if (!(photocell_nonlinearity >= 0.0 && photocell_nonlinearity <= 1.0)) {
+    *error =
+        fmt::format("photocell nonlinearity must be in [0, 1], got {}", photocell_nonlinearity);
     return false;
   }
   if (!(trace_noise >= 0.0 && trace_noise < 0.1)) {

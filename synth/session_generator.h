@@ -32,6 +32,8 @@ struct SynthOptions {
   bool csv_run = false;        // add a run (with its calibrations) given as CSV traces
   bool typed_run = false;      // add a run with typed-in maxima (rounded to 0.001)
   double trace_noise = 0.002;  // electronic noise on each trace, fraction of its span
+  // Photocell curves: 0 linear, 1 strongly nonlinear (slope varying ~7x), 1.
+  double photocell_nonlinearity = 0.6;
 
   bool Check(std::string* error) const;
 };

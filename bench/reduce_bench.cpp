@@ -1,0 +1,130 @@
+// End-to-end benchmark of `reduce` against the generator's truth: rebound
+// maxima (% of X0) and contact time (%) errors, and run time per stage, over
+// generated sessions of every photo style (docs/benchmarks.md).
+//
+//   bench_reduce [--styles clean,polaroid,phone,negative,lowres] [--seeds 2]
+//                [--preset thesis|quick] [--nonlinearity 0.6] [--jobs 2] [--csv-run]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "io/manifest.h"
+#include "pipeline/reduce.h"
+#include "synth/session_generator.h"
+
+namespace impactlab {
+namespace {
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double rank = p * static_cast<double>(v.size() - 1);
+  const auto i = static_cast<std::size_t>(rank);
+  const double f = rank - static_cast<double>(i);
+  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// Decoding every photo of the session alone: the floor any reducer pays.
+double DecodeSeconds(const std::filesystem::path& session) {
+  const auto start = std::chrono::steady_clock::now();
+  for (const char* sub : {"runs", "calibration"}) {
+    if (!std::filesystem::exists(session / sub)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(session / sub)) {
+      const cv::Mat image = cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED);
+      if (image.empty()) fmt::print(stderr, "cannot decode {}\n", entry.path().string());
+    }
+  }
+  return Seconds(start);
+}
+
+struct StyleFigures {
+  int runs = 0, ok = 0;
+  std::vector<double> xmax_error_pct, contact_error_pct;
+  double decode_s = 0, reduce_s = 0;
+  StageSeconds stages;
+};
+
+}  // namespace
+}  // namespace impactlab
+
+int main(int argc, char** argv) {
+  using namespace impactlab;
+  CLI::App app{"End-to-end reduce benchmark against generator truth"};
+  std::vector<std::string> styles = {"clean", "polaroid", "phone", "negative", "lowres"};
+  int seeds = 2, jobs = 2;
+  SynthOptions synth;
+  synth.preset = "thesis";
+  app.add_option("--styles", styles)->delimiter(',');
+  app.add_option("--seeds", seeds);
+  app.add_option("--preset", synth.preset);
+  app.add_option("--nonlinearity", synth.photocell_nonlinearity);
+  app.add_option("--jobs", jobs);
+  app.add_flag("--csv-run", synth.csv_run);
+  CLI11_PARSE(app, argc, argv);
+
+  const auto scratch = std::filesystem::temp_directory_path() / "impactlab-bench-reduce";
+  fmt::print(
+      "| style | runs ok | Xmax err median (% X0) | p95 | max | contact err median (%) | worst "
+      "| decode s | reduce s | reduce/decode | load s | calibrate s | extract s | fit s |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& style : styles) {
+    StyleFigures f;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      std::filesystem::remove_all(scratch);
+      synth.style = *ParsePhotoStyle(style);
+      synth.seed = 1000 + seed;
+      const SynthSummary summary = GenerateSession(scratch / "s", synth);
+      f.decode_s += DecodeSeconds(scratch / "s");
+      ReduceOptions options;
+      options.jobs = jobs;
+      const auto start = std::chrono::steady_clock::now();
+      const SessionResult result = ReduceSession(ReadManifest(scratch / "s").session, options);
+      f.reduce_s += Seconds(start);
+      for (const auto& truth : summary.truth["runs"]) {
+        const RunResult* run = result.FindRun(truth["id"]);
+        if (run == nullptr || truth["form"] == "typed-in") continue;
+        ++f.runs;
+        f.stages.load += run->seconds.load;
+        f.stages.calibrate += run->seconds.calibrate;
+        f.stages.extract += run->seconds.extract;
+        f.stages.fit += run->seconds.fit;
+        if (!run->ok) {
+          fmt::print(stderr, "{} seed {} run {}: {}\n", style, seed, run->id, run->failure);
+          continue;
+        }
+        ++f.ok;
+        const double x0 = truth["initial_displacement"];
+        const auto& xmax = truth["rebounds"]["xmax"];
+        for (std::size_t n = 0; n < run->xmax.size() && n < xmax.size(); ++n) {
+          f.xmax_error_pct.push_back(100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0);
+        }
+        if (run->contact_time) {
+          const double tau = truth["contact"]["duration_s"];
+          f.contact_error_pct.push_back(100.0 * std::abs(*run->contact_time - tau) / tau);
+        }
+      }
+    }
+    fmt::print(
+        "| {} | {}/{} | {:.4f} | {:.4f} | {:.4f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | {:.2f} | "
+        "{:.2f} | {:.2f} | {:.2f} | {:.3f} |\n",
+        style, f.ok, f.runs, Percentile(f.xmax_error_pct, 0.5), Percentile(f.xmax_error_pct, 0.95),
+        Percentile(f.xmax_error_pct, 1.0), Percentile(f.contact_error_pct, 0.5),
+        Percentile(f.contact_error_pct, 1.0), f.decode_s / seeds, f.reduce_s / seeds,
+        f.reduce_s / std::max(f.decode_s, 1e-9), f.stages.load / seeds, f.stages.calibrate / seeds,
+        f.stages.extract / seeds, f.stages.fit / seeds);
+    std::fflush(stdout);
+  }
+  std::filesystem::remove_all(scratch);
+  return 0;
+}
