@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "calibration/photocell_calibration.h"
+#include "report/html_escape.h"
 #include "report/svg_plot.h"
 #include "report/tables.h"
 
@@ -14,17 +16,6 @@ constexpr const char* kBlue = "#1f77b4";
 constexpr const char* kOrange = "#ff7f0e";
 constexpr const char* kGreen = "#2ca02c";
 constexpr const char* kRed = "#d62728";
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    out += c == '<'   ? std::string("&lt;")
-           : c == '>' ? std::string("&gt;")
-           : c == '&' ? std::string("&amp;")
-                      : std::string(1, c);
-  }
-  return out;
-}
 
 constexpr const char* kStyle = R"(
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }
@@ -38,21 +29,9 @@ th:first-child, td:first-child { text-align: left; }
 figure { margin: 1em 0; } figcaption { font-size: 0.85em; color: #555; }
 )";
 
-// Evaluates a stored Chebyshev series V(X) (the calibration as fitted) for display.
-double ChebyshevAt(const std::vector<double>& c, double x, double x_max) {
-  const double u = 2.0 * x / x_max - 1.0;
-  double b1 = 0.0, b2 = 0.0;
-  for (std::size_t k = c.size(); k-- > 1;) {
-    const double b0 = 2.0 * u * b1 - b2 + c[k];
-    b2 = b1;
-    b1 = b0;
-  }
-  return u * b1 - b2 + c[0];
-}
-
 std::string Figure(const Plot& plot, const std::string& caption) {
   return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderSvg(plot),
-                     Escape(caption));
+                     EscapeHtml(caption));
 }
 
 std::string RunFigure(const RunResult& run, const UnitLabels& u) {
@@ -84,6 +63,8 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
   std::string notes;
   for (std::size_t k = 0; k < run.calibrations.size(); ++k) {
     const CellCalibration& c = run.calibrations[k];
+    // The curve as fitted (its stored coefficients), evaluated for display.
+    const PhotocellCurve stored(c.release_x, c.chebyshev, {}, 0.0);
     PlotSeries curve{fmt::format("{} cell: fitted curve (order {})", c.cell, c.order),
                      {},
                      {},
@@ -92,7 +73,7 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
     for (int i = 0; i <= 200; ++i) {
       const double x = c.release_x * i / 200.0;
       curve.x.push_back(x);
-      curve.y.push_back(ChebyshevAt(c.chebyshev, x, c.release_x));
+      curve.y.push_back(stored.VoltsAt(x));
     }
     plot.series.push_back({fmt::format("{} cell ({})", c.cell, c.calibration_id), c.points_x,
                            c.points_volts, PlotSeries::Style::kMarkers, colours[k % 2]});
@@ -155,29 +136,29 @@ std::string RenderHtmlReport(const SessionResult& r) {
   std::string html = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{0}</title>\n"
       "<style>{1}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
-      Escape(r.title), kStyle);
+      EscapeHtml(r.title), kStyle);
   html += fmt::format(
       "<p>Reduced by {} on {} from <code>{}</code>. Units {}; pendulum convention {}; "
       "Kelvin-Voigt separation {}.</p>\n",
-      Escape(r.producer), Escape(r.created), Escape(r.session_folder), UnitSystemName(r.units),
-      ConventionName(r.convention), SeparationName(r.separation));
+      EscapeHtml(r.producer), EscapeHtml(r.created), EscapeHtml(r.session_folder),
+      UnitSystemName(r.units), ConventionName(r.convention), SeparationName(r.separation));
   html += "<h2>Runs</h2>\n<ul>\n";
   for (const RunResult& run : r.runs) {
     html +=
         fmt::format("<li><a href=\"#run-{0}\">{0}</a>: <span class=\"{1}\">{2}</span>{3}</li>\n",
-                    Escape(run.id), run.ok ? "ok" : "failed", Escape(run.Status()),
+                    EscapeHtml(run.id), run.ok ? "ok" : "failed", EscapeHtml(run.Status()),
                     run.reused ? " (reused)" : "");
   }
   html += "</ul>\n";
   for (const std::string& w : r.warnings)
-    html += fmt::format("<p class=\"note\">warning: {}</p>\n", Escape(w));
+    html += fmt::format("<p class=\"note\">warning: {}</p>\n", EscapeHtml(w));
 
   html += "<h2>Tables</h2>\n";
   for (const Table& t : BuildTables(r)) html += RenderTable(t, ReportFormat::kHtml);
   html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
   for (const RunResult& run : r.runs) {
     if (run.xmax.empty()) continue;
-    html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", Escape(run.id));
+    html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", EscapeHtml(run.id));
     html += RunFigure(run, u);
     if (!run.calibrations.empty()) html += CalibrationFigure(run, u);
   }

@@ -7,31 +7,10 @@
 
 #include <fmt/format.h>
 
+#include "report/html_escape.h"
+
 namespace impactlab {
 namespace {
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 struct Axis {
   double lo = 0.0, hi = 1.0, step = 0.1;
@@ -90,7 +69,7 @@ std::string RenderSvg(const Plot& plot) {
       R"svg(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {0} {1}" width="{0}" height="{1}" font-family="sans-serif" font-size="12">)svg",
       plot.width_px, plot.height_px);
   svg += fmt::format(R"svg(<text x="{}" y="20" font-size="14" font-weight="bold">{}</text>)svg",
-                     left, Escape(plot.title));
+                     left, EscapeHtml(plot.title));
   // Grid and ticks.
   for (double x = ax.lo; x <= ax.hi + 0.5 * ax.step; x += ax.step) {
     svg += fmt::format(
@@ -110,10 +89,10 @@ std::string RenderSvg(const Plot& plot) {
       fmt::format(R"svg(<rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#333"/>)svg",
                   left, top, w, h);
   svg += fmt::format(R"svg(<text x="{:.1f}" y="{}" text-anchor="middle">{}</text>)svg",
-                     left + 0.5 * w, plot.height_px - 10, Escape(plot.x_label));
+                     left + 0.5 * w, plot.height_px - 10, EscapeHtml(plot.x_label));
   svg += fmt::format(
       R"svg(<text x="16" y="{0:.1f}" text-anchor="middle" transform="rotate(-90 16 {0:.1f})">{1}</text>)svg",
-      top + 0.5 * h, Escape(plot.y_label));
+      top + 0.5 * h, EscapeHtml(plot.y_label));
   // Series, clipped to the frame.
   // Ids are document-wide in HTML: one per plot, from its title and labels.
   const std::size_t id = std::hash<std::string>{}(plot.title + plot.x_label + plot.y_label);
@@ -150,8 +129,8 @@ std::string RenderSvg(const Plot& plot) {
     const double lx = left + w - 190;
     svg += fmt::format(R"svg(<rect x="{:.1f}" y="{:.1f}" width="14" height="4" fill="{}"/>)svg", lx,
                        ly - 6, s.colour);
-    svg +=
-        fmt::format(R"svg(<text x="{:.1f}" y="{:.1f}">{}</text>)svg", lx + 20, ly, Escape(s.name));
+    svg += fmt::format(R"svg(<text x="{:.1f}" y="{:.1f}">{}</text>)svg", lx + 20, ly,
+                       EscapeHtml(s.name));
     ly += 16;
   }
   return svg + "</svg>";

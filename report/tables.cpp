@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "report/html_escape.h"
+
 namespace impactlab {
 namespace {
 
@@ -171,26 +173,6 @@ std::string EscapeLatex(const std::string& text) {
   std::size_t pos = 0;
   while ((pos = out.find("±", pos)) != std::string::npos)
     out.replace(pos, std::string("±").size(), "$\\pm$");
-  return out;
-}
-
-std::string EscapeHtml(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      default:
-        out += c;
-    }
-  }
   return out;
 }
 

@@ -31,6 +31,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/precision.h"
+#include "tests/support/references.h"
 
 #include "fit/kelvin_voigt_two_point.h"
 #include "model/contact.h"
@@ -51,26 +52,6 @@ double LogDerivative(F f, LD x) {
   return static_cast<double>(x * (f(x + step) - f(x - step)) / (2.0L * step * f(x)));
 }
 
-LD CentralBinomialOver4n(int n) {
-  LD a = 1.0L;
-  for (int i = 0; i < n; ++i) a *= static_cast<LD>(2 * i + 1) / static_cast<LD>(2 * i + 2);
-  return a;
-}
-
-// sin(asin(u)/2) without trigonometry.
-LD RefHalfAngleSine(LD u) { return u / sqrtl(2.0L * (1.0L + sqrtl((1.0L - u) * (1.0L + u)))); }
-
-LD RefAsin(LD u) {
-  if (fabsl(u) <= 1e-3L) {
-    LD sum = 0.0L, power = u;
-    for (int n = 0; n < 9; ++n, power *= u * u) {
-      sum += CentralBinomialOver4n(n) * power / (2 * n + 1);
-    }
-    return sum;
-  }
-  return atan2l(u, sqrtl((1.0L - u) * (1.0L + u)));
-}
-
 // sin(y)/y - 1 by its series for small y.
 LD SincMinusOne(LD y) {
   if (fabsl(y) <= 1e-2L) {
@@ -78,28 +59,6 @@ LD SincMinusOne(LD y) {
     return -y2 / 6.0L * (1.0L - y2 / 20.0L * (1.0L - y2 / 42.0L * (1.0L - y2 / 72.0L)));
   }
   return sinl(y) / y - 1.0L;
-}
-
-// h(zeta) = acos(zeta)/sqrt(1 - zeta^2), series in 1 - zeta near 1 (see
-// tests/model/stability_test.cpp for the derivation).
-LD RefH(LD zeta) {
-  const LD u = 1.0L - zeta;
-  if (fabsl(u) <= 1.0L / 16.0L) {
-    const LD x = u / 2.0L;
-    LD asin_part = 0.0L, root_part = 0.0L, power = 1.0L;
-    for (int n = 0; n < 40; ++n, power *= x) {
-      const LD a = CentralBinomialOver4n(n);
-      asin_part += a / (2 * n + 1) * power;
-      root_part += a * power;
-    }
-    return asin_part * root_part;
-  }
-  if (zeta < 1.0L) {
-    const LD s = sqrtl(u * (1.0L + zeta));
-    return atan2l(s, zeta) / s;
-  }
-  const LD s = sqrtl((zeta - 1.0L) * (zeta + 1.0L));
-  return asinhl(s) / s;
 }
 
 LD RefForceDampingRatio(LD log_e) {
