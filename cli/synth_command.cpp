@@ -37,6 +37,10 @@ void AddSynthCommand(CLI::App& app, Action& action) {
                   "Photocell curves: 0 linear .. 1 strongly nonlinear")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  cmd->add_option("--contact-model", args->options.contact_model,
+                  "kelvin-voigt or poynting-thomson (docs/synth.md)")
+      ->check(CLI::IsMember({"kelvin-voigt", "poynting-thomson"}))
+      ->capture_default_str();
   cmd->add_flag("--csv-run", args->options.csv_run, "Add a run given as CSV traces");
   cmd->add_flag("--typed-run", args->options.typed_run, "Add a run with typed-in maxima");
   cmd->callback([&action, args] {

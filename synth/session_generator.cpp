@@ -202,6 +202,14 @@ void Generator::WriteRun(const RunPlan& plan) {
   o.left_release_delay_s = Uniform(-0.0005, 0.0005);
   o.kelvin_voigt.stiffness = kStiffness * (1.0 + Uniform(-0.01, 0.01));
   o.kelvin_voigt.damping = 2.0 * plan.zeta * std::sqrt(o.kelvin_voigt.stiffness * mass);
+  const bool poynting_thomson = options_.contact_model == "poynting-thomson";
+  if (poynting_thomson) {
+    // A standard linear solid of about the same stiffness and restitution range.
+    o.contact_model = ContactModelKind::kPoyntingThomson;
+    o.poynting_thomson.stiffness_1 = 0.75 * o.kelvin_voigt.stiffness;
+    o.poynting_thomson.stiffness_2 = 0.5 * o.kelvin_voigt.stiffness;
+    o.poynting_thomson.damping = 2.0 * o.kelvin_voigt.damping;
+  }
   o.impact_count = 7;
   o.sample_rate_hz = 2000.0;
   if (options_.wire_anomalies) {
@@ -228,12 +236,7 @@ void Generator::WriteRun(const RunPlan& plan) {
                                                             : "typed-in"},
                 {"initial_displacement", x0},
                 {"first_rebound", 1},
-                {"kelvin_voigt",
-                 {{"mass", mass},
-                  {"stiffness", o.kelvin_voigt.stiffness},
-                  {"damping", o.kelvin_voigt.damping},
-                  {"zeta", plan.zeta},
-                  {"separation", "kinematic"}}},
+                {"contact_model", ContactModelName(o.contact_model)},
                 {"experiment", TruthJson(r)},
                 {"photocells", {{"right", right}, {"left", left}}}};
   // Session numbering: first_rebound = 1, so rebound n is the experiment's n + 1.
@@ -246,7 +249,21 @@ void Generator::WriteRun(const RunPlan& plan) {
     t_peak.push_back(r.rebounds_average[n].peak_time_s);
     duration.push_back(r.rebounds_average[n].duration_s);
   }
+  if (poynting_thomson) {
+    truth["poynting_thomson"] = {{"mass", mass},
+                                 {"stiffness_1", o.poynting_thomson.stiffness_1},
+                                 {"stiffness_2", o.poynting_thomson.stiffness_2},
+                                 {"damping", o.poynting_thomson.damping},
+                                 {"separation", "kinematic"}};
+  } else {
+    truth["kelvin_voigt"] = {{"mass", mass},
+                             {"stiffness", o.kelvin_voigt.stiffness},
+                             {"damping", o.kelvin_voigt.damping},
+                             {"zeta", plan.zeta},
+                             {"separation", "kinematic"}};
+  }
   const ImpactTruth& shown = r.impacts.at(kContactImpact - 1);
+  truth["restitution"] = shown.restitution;
   truth["rebounds"] = {{"xmax", xmax},
                        {"xmax_right", xmax_right},
                        {"xmax_left", xmax_left},
@@ -424,6 +441,11 @@ bool SynthOptions::Check(std::string* error) const {
   if (!(photocell_nonlinearity >= 0.0 && photocell_nonlinearity <= 1.0)) {
     *error =
         fmt::format("photocell nonlinearity must be in [0, 1], got {}", photocell_nonlinearity);
+    return false;
+  }
+  if (contact_model != "kelvin-voigt" && contact_model != "poynting-thomson") {
+    *error = fmt::format("contact model must be kelvin-voigt or poynting-thomson, got \"{}\"",
+                         contact_model);
     return false;
   }
   if (!(trace_noise >= 0.0 && trace_noise < 0.1)) {

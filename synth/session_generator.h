@@ -29,6 +29,9 @@ struct SynthOptions {
   // thesis's anomalies (rebounds exceeding their predecessor, durations a few
   // % short); see SupportWireOptions::kThesisAnomalyMassPerLength.
   bool wire_anomalies = false;
+  // The bars' contact element: "kelvin-voigt" (K, C from the preset's zeta) or
+  // "poynting-thomson" (K1 = 0.75 K, K2 = 0.5 K, C = 4 zeta sqrt(K M)).
+  std::string contact_model = "kelvin-voigt";
   bool csv_run = false;        // add a run (with its calibrations) given as CSV traces
   bool typed_run = false;      // add a run with typed-in maxima (rounded to 0.001)
   double trace_noise = 0.002;  // electronic noise on each trace, fraction of its span

@@ -19,6 +19,11 @@ std::string Slurp(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// Typed-in maxima are rounded to 0.001 in, which limits what e they give.
+double form_tolerance(const nlohmann::json& truth) {
+  return truth["form"] == "typed-in" ? 1e-2 : 2e-3;
+}
+
 SynthOptions Quick(PhotoStyle style, std::uint64_t seed) {
   SynthOptions o;
   o.preset = "quick";
@@ -79,6 +84,24 @@ TEST_CASE("synth: CSV and typed-in runs reduce to the simulated maxima and conta
     // The fitted K against the simulated element: eq. 37 from tau_c and zeta.
     CHECK(run->kelvin_voigt->stiffness->value ==
           Approx(truth["kelvin_voigt"]["stiffness"].get<double>()).epsilon(0.02));
+  }
+}
+
+TEST_CASE("synth: a Poynting-Thomson session's rebounds keep the simulated restitution") {
+  testing::TempDir dir;
+  SynthOptions o = Quick(PhotoStyle::kClean, 4);
+  o.contact_model = "poynting-thomson";
+  const SynthSummary summary = GenerateSession(dir.path() / "s", o);
+  const SessionResult result = ReduceSession(ReadManifest(dir.path() / "s").session, {});
+  for (const auto& truth : summary.truth["runs"]) {
+    if (truth["form"] == "photo") continue;
+    CHECK(truth.contains("poynting_thomson"));
+    const RunResult* run = result.FindRun(truth["id"]);
+    REQUIRE(run != nullptr);
+    REQUIRE(run->ok);
+    // Every impact of a linear contact keeps the same fraction of the speed.
+    CHECK(run->kelvin_voigt->restitution.value ==
+          Approx(truth["restitution"].get<double>()).epsilon(form_tolerance(truth)));
   }
 }
 
