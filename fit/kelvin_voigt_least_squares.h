@@ -1,0 +1,88 @@
+// Kelvin-Voigt by least squares: every rebound maximum of a run at once,
+// weighted by its uncertainty, with an optional robust loss for outlier
+// rebounds. The closed-form two-point fit (fit/kelvin_voigt_two_point.h, thesis
+// eq. 34-38) uses two maxima; this uses them all.
+//
+// Model (docs/fitting.md): the maximum of rebound n (session numbering) is the
+// amplitude of a swing through equilibrium at v0 e^n,
+//   X_n = A(v0 exp(n ln e)),   A = AmplitudeFromSpeed (model/pendulum.h),
+// with two parameters, ln e and ln v0 (v0: the speed at rebound 0, i.e. the
+// effective release). Fitting ln e rather than zeta keeps the problem nearly
+// linear and unconstrained; zeta follows from the restitution equivalence of
+// the chosen separation (thesis eq. 44, model/kelvin_voigt.h), and its
+// uncertainty by the derivative of that map. Residuals (X_n - X_n,measured)/sigma_n
+// with analytic derivatives (dA/dv in closed form; no templated pendulum
+// needed). K follows from the measured contact time (eq. 37 for kinematic
+// separation, K = M (2 h(zeta)/tau_c)^2 for force), C = 2 zeta sqrt(K M)
+// (eq. 38), with the uncertainties of zeta and tau_c propagated (independent).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_two_point.h"
+#include "fit/least_squares.h"
+#include "model/contact.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+struct KelvinVoigtLeastSquaresOptions {
+  Separation separation = Separation::kKinematic;
+  LossOptions loss;  // robust loss on whitened residuals (scale in sigmas)
+  SolverControl solver;
+  // Directions whose singular value is below this times the largest are
+  // reported as not determined (two parameters from two or more distinct
+  // rebounds are always determined; the check guards degenerate input).
+  double min_relative_singular_value = 1e-8;
+  // Throws std::invalid_argument naming the bad field.
+  void Check() const;
+};
+
+// One maximum's fit residual.
+struct MaximumResidual {
+  int rebound = 0;          // session numbering
+  double measured = 0.0;    // length units
+  double model = 0.0;       // length units
+  double sigma = 0.0;       // the uncertainty used (1 when unweighted)
+  double normalized = 0.0;  // (measured - model)/sigma
+};
+
+struct KelvinVoigtLeastSquaresFit {
+  FitStatus status;
+  // True when the solve is usable, the data show dissipation (ln e < 0) and
+  // the parameters are identifiable; otherwise `diagnostic` says why and the
+  // physical parameters are not meaningful.
+  bool ok = false;
+  std::string diagnostic;
+  Separation separation = Separation::kKinematic;
+
+  Estimate log_restitution;            // ln e
+  Estimate restitution;                // e
+  Estimate damping_ratio;              // zeta
+  Estimate rebound0_speed;             // v0, speed through equilibrium at rebound 0, length/s
+  Estimate rebound0_xmax;              // A(v0): the model's maximum of rebound 0, length units
+  std::optional<double> contact_time;  // s, the measured value used
+  std::optional<Estimate> stiffness;   // K, force/length
+  std::optional<Estimate> damping;     // C, force*time/length
+
+  // Of (zeta, v0) and of the fitted (ln e, ln v0).
+  ParameterCovariance covariance;
+  ParameterCovariance fitted_covariance;
+  std::vector<MaximumResidual> residuals;
+  double chi2 = 0.0;                     // sum of squared normalized residuals (no robust loss)
+  int dof = 0;                           // maxima - 2
+  Identifiability identifiability;       // over (ln e, ln v0)
+  std::vector<Estimate> predicted_xmax;  // the model's maxima of rebounds 0, 1, ...
+};
+
+// Throws std::invalid_argument for fewer than two usable maxima (NaN entries
+// are skipped as unread), non-positive maxima, a mixture of zero and non-zero
+// sigmas, bad options or mass. Returns a result with status and diagnostic in
+// every other case.
+KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
+    const Pendulum& pendulum, double mass, const ReboundMeasurements& measured,
+    const KelvinVoigtLeastSquaresOptions& options);
+
+}  // namespace impactlab

@@ -1,0 +1,80 @@
+// What the least-squares fits (Kelvin-Voigt and Poynting-Thomson, with Ceres)
+// share: solver controls, the robust loss, and the parts of a result that
+// report on the fit itself: convergence, covariance, identifiability.
+// Ceres stays out of this header (fit/least_squares_internal.h has it).
+//
+// Conventions (docs/fitting.md):
+//  - Residuals are whitened, (model - measured)/sigma, so the covariance is
+//    (J^T J)^-1 at the solution (Ceres, DENSE_SVD). Without uncertainties
+//    every maximum weighs 1 (length units) and the covariance is scaled by
+//    s^2 = chi^2/(N - p): `scaled_by_residuals` says which.
+//  - Identifiability is judged on the whitened Jacobian in log-parameter space:
+//    its singular values are the inverse standard errors along principal
+//    directions; a direction whose singular value is below
+//    `min_relative_singular_value` times the largest is not determined, and the
+//    result names it instead of printing confident numbers.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace impactlab {
+
+// A robust loss for outlier rebounds, applied to whitened residuals.
+enum class RobustLoss { kNone, kHuber, kCauchy };
+const char* RobustLossName(RobustLoss loss);          // "none", "huber", "cauchy"
+RobustLoss ParseRobustLoss(const std::string& name);  // throws std::invalid_argument
+
+struct LossOptions {
+  RobustLoss kind = RobustLoss::kNone;
+  double scale_sigmas = 2.0;  // where the loss turns from quadratic, in sigmas (> 0)
+};
+
+struct SolverControl {
+  int max_iterations = 200;           // Levenberg-Marquardt iterations (> 0)
+  double function_tolerance = 1e-12;  // stop when |d cost|/cost below (Ceres default 1e-6 is loose)
+  double gradient_tolerance = 1e-14;  // stop when the max-norm of the projected gradient is below
+  double parameter_tolerance = 1e-12;  // stop when |dx| < tol (|x| + tol)
+};
+
+// How the solve went. A fit that does not converge is a result with
+// `converged` false and the reason in `message`, not an exception.
+struct FitStatus {
+  bool converged = false;  // Ceres reported CONVERGENCE
+  bool usable = false;     // the parameters are the solver's best point (also after NO_CONVERGENCE)
+  std::string message;     // Ceres's termination message, or why the fit did not run
+  int iterations = 0;      // successful + unsuccessful steps
+  double initial_cost = 0;  // (1/2) sum of squared (robustified) whitened residuals
+  double final_cost = 0;
+  double seconds = 0;  // wall time of the whole fit (solve, covariance, checks)
+};
+
+// A covariance over named parameters, row-major n x n.
+struct ParameterCovariance {
+  std::vector<std::string> names;
+  std::vector<double> matrix;        // in the parameters' own units
+  std::vector<double> correlation;   // matrix_ij / sqrt(matrix_ii matrix_jj); 0 where undefined
+  bool scaled_by_residuals = false;  // multiplied by s^2 = chi^2/(N - p) (no uncertainties given)
+  double At(std::size_t i, std::size_t j) const { return matrix[i * names.size() + j]; }
+  double Correlation(std::size_t i, std::size_t j) const {
+    return correlation[i * names.size() + j];
+  }
+};
+
+// Which combinations of the parameters the data determine.
+struct Identifiability {
+  bool identifiable = false;
+  int rank = 0;                              // directions determined
+  std::vector<std::string> parameter_names;  // e.g. "log K1", "log K2", "log C"
+  std::vector<double> singular_values;       // whitened Jacobian (after profiling out nuisance
+                                        // parameters), descending: 1/sigma along each direction
+  std::vector<std::vector<double>> directions;  // unit right singular vectors, same order
+  double relative_smallest = 0;                 // smallest / largest singular value
+  std::string message;  // the verdict in words (which combination is undetermined)
+};
+
+// "0.577 log K1 - 0.707 log K2 + 0.408 log C" (terms below 0.005 dropped).
+std::string FormatCombination(const std::vector<double>& direction,
+                              const std::vector<std::string>& names);
+
+}  // namespace impactlab
