@@ -44,6 +44,14 @@ struct Estimate {
   double sigma = 0.0;
 };
 
+// An estimate with its name and units, as fits report their parameters.
+struct NamedEstimate {
+  std::string name;   // e.g. "zeta", "stiffness_1", "log_restitution"
+  std::string units;  // "1", "s", "1/(in/s)", or a kind the results file resolves per unit
+                      // system: "length", "stiffness", "damping", "speed"
+  Estimate estimate;  // sigma = +inf along a direction the data do not determine
+};
+
 struct KelvinVoigtTwoPointFit {
   // False when the pair shows no dissipation (X_b > X_a): `diagnostic` says
   // why, and no parameter below is meaningful.

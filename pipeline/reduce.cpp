@@ -13,6 +13,7 @@
 #include "io/errors.h"
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
+#include "pipeline/least_squares_runs.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 
@@ -114,6 +115,7 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
   out.stiffness_source = "run";
   out.kelvin_voigt = std::move(fit);
   out.ok = true;
+  FitRunLeastSquares(pendulum, session.apparatus->mass, separation, out);
 }
 
 // A previous result's measurement, when the run's inputs are unchanged.
@@ -313,6 +315,11 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
         run.ok && run.kelvin_voigt->stiffness ? run.kelvin_voigt->stiffness->value : 0.0);
   }
   if (session.reduction.average_stiffness) ApplyAverageStiffness(result, session.apparatus->mass);
+  result.joint_fits =
+      FitSessionJointly(pendulum, session.apparatus->mass, result.separation, result.runs);
+  std::string why;
+  result.model_comparison = CompareModels(pendulum, result.runs, &why);
+  if (!result.model_comparison) result.warnings.push_back(why);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result, session.reduction.average_stiffness, own_stiffness);
 

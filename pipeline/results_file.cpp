@@ -81,6 +81,132 @@ CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const s
   return c;
 }
 
+// A unit kind of NamedEstimate ("length", "stiffness", ...) in the session's system.
+std::string UnitsOf(const std::string& kind, const UnitLabels& u) {
+  if (kind == "length") return u.length;
+  if (kind == "stiffness") return u.stiffness;
+  if (kind == "damping") return u.damping;
+  if (kind == "speed") return u.speed;
+  if (kind == "inverse_speed") return "s/" + u.length;
+  return kind;  // "1", "s"
+}
+
+void WriteLeastSquares(Hdf5File& f, const std::string& g, const LeastSquaresSummary& fit,
+                       const UnitLabels& u) {
+  f.CreateGroup(g);
+  f.SetAttribute(g, "method", "least-squares");
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.message);
+  f.SetAttribute(g, "solver_message", fit.message);
+  f.SetAttribute(g, "converged", static_cast<long long>(fit.converged));
+  f.SetAttribute(g, "identifiable", static_cast<long long>(fit.identifiable));
+  f.SetAttribute(g, "rank", static_cast<long long>(fit.rank));
+  f.SetAttribute(g, "identifiability", fit.identifiability);
+  f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
+  std::vector<std::string> names, kinds;
+  for (const NamedEstimate& p : fit.parameters) {
+    names.push_back(p.name);
+    kinds.push_back(p.units);
+    WriteEstimate(f, g + "/" + p.name, p.estimate, UnitsOf(p.units, u));
+  }
+  f.WriteStrings(g + "/parameter_names", names);
+  f.WriteStrings(g + "/parameter_unit_kinds", kinds);
+  f.WriteScalar(g + "/chi2", fit.chi2, "1");
+  f.WriteScalar(g + "/seconds", fit.seconds, "s");
+  if (!fit.predicted_xmax.empty())
+    f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, u.length);
+  f.WriteVector(g + "/normalized_residuals", fit.normalized_residuals, "1");
+  f.WriteStrings(g + "/covariance_names", fit.covariance_names);
+  f.WriteVector(g + "/correlation", fit.correlation, "1");
+}
+
+LeastSquaresSummary ReadLeastSquares(const Hdf5File& f, const std::string& g,
+                                     const std::string& model) {
+  LeastSquaresSummary fit;
+  fit.model = model;
+  fit.ok = f.ReadStringAttribute(g, "status") == "ok";
+  fit.message = f.ReadStringAttribute(g, "solver_message");
+  fit.converged = f.ReadIntegerAttribute(g, "converged") != 0;
+  fit.identifiable = f.ReadIntegerAttribute(g, "identifiable") != 0;
+  fit.rank = static_cast<int>(f.ReadIntegerAttribute(g, "rank"));
+  fit.identifiability = f.ReadStringAttribute(g, "identifiability");
+  fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
+  const auto names = f.ReadStrings(g + "/parameter_names");
+  const auto kinds = f.ReadStrings(g + "/parameter_unit_kinds");
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    fit.parameters.push_back({names[i], kinds.at(i), ReadEstimate(f, g + "/" + names[i])});
+  }
+  fit.chi2 = f.ReadScalar(g + "/chi2");
+  fit.seconds = f.ReadScalar(g + "/seconds");
+  if (f.Exists(g + "/predicted_xmax")) fit.predicted_xmax = f.ReadVector(g + "/predicted_xmax");
+  fit.normalized_residuals = f.ReadVector(g + "/normalized_residuals");
+  fit.covariance_names = f.ReadStrings(g + "/covariance_names");
+  fit.correlation = f.ReadVector(g + "/correlation");
+  return fit;
+}
+
+void WriteModelComparison(Hdf5File& f, const ModelComparison& c, const UnitLabels& u) {
+  const std::string g = "/session/model_comparison";
+  f.CreateGroup(g);
+  f.SetAttribute(g, "best_by_leave_one_out", c.best_by_leave_one_out);
+  f.SetAttribute(g, "best_by_bic", c.best_by_bic);
+  f.WriteStrings(g + "/run_ids", c.run_ids);
+  for (const ModelComparisonRow& m : c.models) {
+    const std::string h = g + "/" + m.model;
+    f.CreateGroup(h);
+    f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.diagnostic);
+    f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
+    f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
+    f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
+    std::vector<std::string> names, kinds;
+    for (const NamedEstimate& p : m.parameters) {
+      names.push_back(p.name);
+      kinds.push_back(p.units);
+      WriteEstimate(f, h + "/" + p.name, p.estimate, UnitsOf(p.units, u));
+    }
+    f.WriteStrings(h + "/parameter_names", names);
+    f.WriteStrings(h + "/parameter_unit_kinds", kinds);
+    f.WriteScalar(h + "/chi2", m.chi2, "1");
+    f.WriteScalar(h + "/aic", m.aic, "1");
+    f.WriteScalar(h + "/bic", m.bic, "1");
+    f.WriteScalar(h + "/log_restitution_spread", m.log_restitution_spread, "1");
+    f.WriteScalar(h + "/leave_one_out_rms_normalized", m.loo_rms_normalized, "1");
+    f.WriteScalar(h + "/leave_one_out_rms", m.loo_rms_length, u.length);
+  }
+}
+
+ModelComparison ReadModelComparison(const Hdf5File& f) {
+  const std::string g = "/session/model_comparison";
+  ModelComparison c;
+  c.best_by_leave_one_out = f.ReadStringAttribute(g, "best_by_leave_one_out");
+  c.best_by_bic = f.ReadStringAttribute(g, "best_by_bic");
+  c.run_ids = f.ReadStrings(g + "/run_ids");
+  for (const std::string& model : f.Children(g)) {
+    const std::string h = g + "/" + model;
+    if (!f.IsGroup(h)) continue;
+    ModelComparisonRow m;
+    m.model = model;
+    const std::string status = f.ReadStringAttribute(h, "status");
+    m.ok = status == "ok";
+    if (!m.ok) m.diagnostic = status;
+    m.maxima = static_cast<int>(f.ReadIntegerAttribute(h, "maxima"));
+    m.parameter_count = static_cast<int>(f.ReadIntegerAttribute(h, "parameter_count"));
+    m.dof = static_cast<int>(f.ReadIntegerAttribute(h, "dof"));
+    const auto names = f.ReadStrings(h + "/parameter_names");
+    const auto kinds = f.ReadStrings(h + "/parameter_unit_kinds");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      m.parameters.push_back({names[i], kinds.at(i), ReadEstimate(f, h + "/" + names[i])});
+    }
+    m.chi2 = f.ReadScalar(h + "/chi2");
+    m.aic = f.ReadScalar(h + "/aic");
+    m.bic = f.ReadScalar(h + "/bic");
+    m.log_restitution_spread = f.ReadScalar(h + "/log_restitution_spread");
+    m.loo_rms_normalized = f.ReadScalar(h + "/leave_one_out_rms_normalized");
+    m.loo_rms_length = f.ReadScalar(h + "/leave_one_out_rms");
+    c.models.push_back(std::move(m));
+  }
+  return c;
+}
+
 void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
   const std::string g = KelvinVoigtPath(run.id);
@@ -149,6 +275,9 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
     f.SetAttribute(g + "/contact_time", "source", run.contact_time_source);
   }
   if (run.kelvin_voigt) WriteKelvinVoigt(f, run, u);
+  for (const LeastSquaresSummary& fit : run.least_squares) {
+    WriteLeastSquares(f, g + "/fit/" + fit.model, fit, u);
+  }
 }
 
 void WriteSessionKelvinVoigt(Hdf5File& f, const SessionKelvinVoigt& s, const UnitLabels& u) {
@@ -210,6 +339,10 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     WriteCalibration(f, JoinPath({"calibrations", c.calibration_id}), c, u);
   }
   if (r.kelvin_voigt) WriteSessionKelvinVoigt(f, *r.kelvin_voigt, u);
+  for (const LeastSquaresSummary& fit : r.joint_fits) {
+    WriteLeastSquares(f, "/session/joint_fits/" + fit.model, fit, u);
+  }
+  if (r.model_comparison) WriteModelComparison(f, *r.model_comparison, u);
   for (const RunPrediction& p : r.predictions) WritePrediction(f, p, u);
 }
 
@@ -261,6 +394,10 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
     run.contact_time = f.ReadScalar(g + "/contact_time");
     run.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
     run.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
+  }
+  for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
+    const std::string g_fit = g + "/fit/" + model;
+    if (f.Exists(g_fit)) run.least_squares.push_back(ReadLeastSquares(f, g_fit, model));
   }
   const std::string k = KelvinVoigtPath(id);
   if (!f.Exists(k)) return run;
@@ -364,6 +501,12 @@ SessionResult ReadResults(const std::filesystem::path& path) {
     }
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
+  if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
+  if (f.Exists("/session/joint_fits")) {
+    for (const std::string& model : f.Children("/session/joint_fits")) {
+      r.joint_fits.push_back(ReadLeastSquares(f, "/session/joint_fits/" + model, model));
+    }
+  }
   if (f.Exists("/predictions")) {
     for (const std::string& name : f.Children("/predictions")) {
       r.predictions.push_back(ReadPrediction(f, name));

@@ -22,6 +22,26 @@ struct BarRebounds {
   std::vector<double> duration;              // s, between the flank's zero crossings
 };
 
+// A least-squares fit as the results file keeps it (fit/least_squares.h has
+// the full result): named estimates, fit quality and what the data determine.
+struct LeastSquaresSummary {
+  std::string model;  // group name: "kelvin_voigt_least_squares" or "poynting_thomson"
+  bool converged = false;
+  bool ok = false;      // usable, dissipative and identifiable
+  std::string message;  // the solver's termination, or the diagnostic when !ok
+  bool identifiable = false;
+  int rank = 0;
+  std::string identifiability;  // in words: which combination is not determined
+  std::vector<NamedEstimate> parameters;
+  double chi2 = 0.0;
+  int dof = 0;
+  double seconds = 0.0;
+  std::vector<double> predicted_xmax;        // rebound 0, 1, ... (when the model predicts them)
+  std::vector<double> normalized_residuals;  // (measured - model)/sigma per maximum
+  std::vector<std::string> covariance_names;
+  std::vector<double> correlation;  // row-major
+};
+
 // A sampled curve for the report's figures (decimated to a few thousand points).
 struct Curve {
   std::vector<double> time_s;
@@ -81,6 +101,7 @@ struct RunResult {
   Curve model_response;
 
   std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
+  std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
   // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.
   std::vector<double> deviation, deviation_pct_peak, deviation_pct_x0;
   std::string stiffness_source;  // "run" or "session average"
@@ -99,6 +120,26 @@ struct SessionKelvinVoigt {
   bool average_stiffness = false;
 };
 
+// Which restitution model predicts unseen runs best (fit/joint_fits.h).
+struct ModelComparisonRow {
+  std::string model;  // "per-run", "common", "linear-in-speed"
+  bool ok = false;
+  std::string diagnostic;
+  std::vector<NamedEstimate> parameters;  // per-run speeds excluded
+  int maxima = 0, parameter_count = 0, dof = 0;
+  double chi2 = 0.0, aic = 0.0, bic = 0.0;
+  double log_restitution_spread = 0.0;  // weighted std of the runs' ln e
+  double loo_rms_normalized = 0.0;      // leave-one-run-out, RMS (predicted - measured)/sigma
+  double loo_rms_length = 0.0;          // the same in length units
+};
+
+struct ModelComparison {
+  std::vector<std::string> run_ids;
+  std::vector<ModelComparisonRow> models;
+  std::string best_by_leave_one_out;
+  std::string best_by_bic;
+};
+
 struct SessionResult {
   std::string title;
   UnitSystem units = UnitSystem::kInLbfS;
@@ -113,6 +154,8 @@ struct SessionResult {
   std::vector<RunResult> runs;
   std::vector<CellCalibration> calibrations;  // --only calibration: every calibration
   std::optional<SessionKelvinVoigt> kelvin_voigt;
+  std::vector<LeastSquaresSummary> joint_fits;  // one parameter set for all runs
+  std::optional<ModelComparison> model_comparison;
   std::vector<RunPrediction> predictions;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings
 

@@ -1,6 +1,7 @@
 #include "report/tables.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -77,6 +78,115 @@ Table ParameterTable(const SessionResult& r, const UnitLabels& u) {
   t.notes = {"± one standard error, propagated from the stated reading uncertainties.",
              fmt::format("Pendulum convention: {}; separation: {}.", ConventionName(r.convention),
                          SeparationName(r.separation))};
+  return t;
+}
+
+const LeastSquaresSummary* FindFit(const std::vector<LeastSquaresSummary>& fits,
+                                   const std::string& model) {
+  for (const LeastSquaresSummary& f : fits) {
+    if (f.model == model) return &f;
+  }
+  return nullptr;
+}
+
+const Estimate* FindParameter(const LeastSquaresSummary& fit, const std::string& name) {
+  for (const NamedEstimate& p : fit.parameters) {
+    if (p.name == name) return &p.estimate;
+  }
+  return nullptr;
+}
+
+// A value with its standard error, "undetermined" where the data do not fix it.
+std::string Determined(const LeastSquaresSummary& fit, const std::string& name, int digits) {
+  const Estimate* e = FindParameter(fit, name);
+  if (e == nullptr) return "-";
+  if (!std::isfinite(e->sigma)) return "undetermined";
+  return WithSigma(*e, digits);
+}
+
+Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) {
+  Table t;
+  t.name = "kelvin_voigt_least_squares";
+  t.caption = "Kelvin-Voigt by least squares over every rebound maximum of each run";
+  t.columns = {"Run",
+               "zeta",
+               "e",
+               fmt::format("K ({})", u.stiffness),
+               fmt::format("C ({})", u.damping),
+               "chi2 / dof",
+               "Status"};
+  for (const RunResult& run : r.runs) {
+    const LeastSquaresSummary* fit = FindFit(run.least_squares, "kelvin_voigt_least_squares");
+    if (fit == nullptr) continue;
+    t.rows.push_back({run.id, Determined(*fit, "zeta", 5), Determined(*fit, "restitution", 4),
+                      Determined(*fit, "stiffness", 0), Determined(*fit, "damping", 3),
+                      fmt::format("{:.3g} / {}", fit->chi2, fit->dof),
+                      fit->ok ? "ok" : fit->message});
+  }
+  t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37)."};
+  return t;
+}
+
+Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
+  Table t;
+  t.name = "poynting_thomson";
+  t.caption = "Poynting-Thomson by least squares: what the data determine";
+  t.columns = {"Runs",
+               fmt::format("K1 ({})", u.stiffness),
+               fmt::format("K2 ({})", u.stiffness),
+               fmt::format("C ({})", u.damping),
+               "e",
+               "tau_c (s)",
+               "Identifiability"};
+  const auto row = [&](const std::string& name, const LeastSquaresSummary& fit) {
+    t.rows.push_back({name, Determined(fit, "stiffness_1", 0), Determined(fit, "stiffness_2", 0),
+                      Determined(fit, "damping", 3), Determined(fit, "restitution", 4),
+                      Determined(fit, "contact_time", 7),
+                      fit.identifiability.empty() ? fit.message : fit.identifiability});
+  };
+  for (const RunResult& run : r.runs) {
+    if (const LeastSquaresSummary* fit = FindFit(run.least_squares, "poynting_thomson")) {
+      row(run.id, *fit);
+    }
+  }
+  if (const LeastSquaresSummary* fit = FindFit(r.joint_fits, "poynting_thomson")) {
+    row("all runs (joint)", *fit);
+  }
+  t.notes = {
+      "\"undetermined\": the data fix only the combinations named; K1, K2, C are not "
+      "reported as confident numbers there."};
+  return t;
+}
+
+Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
+  Table t;
+  t.name = "model_comparison";
+  t.caption = "Restitution models fitted jointly over the runs, compared (leave-one-run-out)";
+  t.columns = {"Model",
+               "Parameters",
+               "k",
+               "chi2 / dof",
+               "AIC",
+               "BIC",
+               "spread of ln e",
+               "LOO rms / sigma",
+               fmt::format("LOO rms ({})", u.length)};
+  for (const ModelComparisonRow& m : c.models) {
+    std::string parameters;
+    for (const NamedEstimate& p : m.parameters) {
+      if (p.name.rfind("log_restitution_", 0) == 0) continue;  // per-run values: too many
+      parameters += fmt::format("{}{} = {:.5g} ± {:.2g}", parameters.empty() ? "" : "; ", p.name,
+                                p.estimate.value, p.estimate.sigma);
+    }
+    if (parameters.empty()) parameters = "one ln e per run";
+    t.rows.push_back(
+        {m.model + (m.ok ? "" : " (failed)"), parameters, fmt::format("{}", m.parameter_count),
+         fmt::format("{:.4g} / {}", m.chi2, m.dof), Sig(m.aic, 5), Sig(m.bic, 5),
+         Sig(m.log_restitution_spread, 3), Sig(m.loo_rms_normalized, 4), Sig(m.loo_rms_length, 4)});
+  }
+  t.notes = {fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
+                         c.best_by_leave_one_out, c.best_by_bic),
+             "chi2 / dof far above 1 means the stated uncertainties understate the scatter."};
   return t;
 }
 
@@ -191,10 +301,18 @@ std::string Join(const std::vector<std::string>& cells, const std::string& separ
 std::vector<Table> BuildTables(const SessionResult& r) {
   const UnitLabels u = LabelsFor(r.units);
   std::vector<Table> tables = {DeviationTable(r, u), ParameterTable(r, u)};
+  const bool any_least_squares =
+      std::any_of(r.runs.begin(), r.runs.end(),
+                  [](const RunResult& run) { return !run.least_squares.empty(); });
+  if (any_least_squares) {
+    tables.push_back(KelvinVoigtLeastSquaresTable(r, u));
+    tables.push_back(PoyntingThomsonTable(r, u));
+  }
   if (r.kelvin_voigt) {
     tables.push_back(StiffnessTable(*r.kelvin_voigt, u));
     if (r.kelvin_voigt->damping_line) tables.push_back(DampingLineTable(*r.kelvin_voigt, u));
   }
+  if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
   return tables;
 }

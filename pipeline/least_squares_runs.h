@@ -1,0 +1,28 @@
+// The least-squares fits of `reduce` (fit/kelvin_voigt_least_squares.h,
+// fit/poynting_thomson_least_squares.h): per run, and Poynting-Thomson jointly
+// over the session's runs, summarised for the results file.
+#pragma once
+
+#include <vector>
+
+#include "pipeline/session_result.h"
+
+namespace impactlab {
+
+// Kelvin-Voigt over all maxima of the run and Poynting-Thomson from its maxima
+// (and contact time when it has an uncertainty); appends to run.least_squares.
+// A fit that cannot run is summarised with its reason, never thrown.
+void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
+                        RunResult& run);
+
+// Poynting-Thomson with one parameter set for every successful run.
+std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
+                                                   Separation separation,
+                                                   const std::vector<RunResult>& runs);
+
+// The restitution models compared over the runs whose maxima all carry an
+// uncertainty (at least three runs); nullopt otherwise, with `why`.
+std::optional<ModelComparison> CompareModels(const Pendulum& pendulum,
+                                             const std::vector<RunResult>& runs, std::string* why);
+
+}  // namespace impactlab
