@@ -24,6 +24,8 @@ void AddReduceCommand(CLI::App& app, Action& action);
 void AddReportCommand(CLI::App& app, Action& action);
 void AddModelCommand(CLI::App& app, Action& action);
 void AddPendulCommand(CLI::App& app, Action& action);
+void AddDigitizeCommand(CLI::App& app, Action& action);
 void AddSynthCommand(CLI::App& app, Action& action);
+void AddSynthLogsCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

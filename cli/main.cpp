@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
   AddReportCommand(app, action);
   AddModelCommand(app, action);
   AddPendulCommand(app, action);
+  AddDigitizeCommand(app, action);
   AddSynthCommand(app, action);
+  AddSynthLogsCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -94,6 +94,9 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       for (const RunResult& run : result.runs) {
         if (!run.ok) fmt::print(stderr, "run {} failed: {}\n", run.id, run.failure);
       }
+      for (const LogResult& log : result.logs) {
+        if (!log.ok) fmt::print(stderr, "log {} {}\n", log.id, log.status);
+      }
       const int failed = result.FailedRuns();
       const auto reused = std::count_if(result.runs.begin(), result.runs.end(),
                                         [](const RunResult& r) { return r.reused; });
@@ -104,9 +107,14 @@ void AddReduceCommand(CLI::App& app, Action& action) {
           fmt::print(stderr, "{} calibration(s); results in {} ({:.2f} s)\n",
                      result.calibrations.size(), args->output.string(), seconds);
         } else {
-          fmt::print(stderr, "{} run(s): {} ok ({} reused), {} failed; results in {} ({:.2f} s)\n",
-                     result.runs.size(), result.runs.size() - failed, reused, failed,
-                     args->output.string(), seconds);
+          const auto failed_logs = std::count_if(result.logs.begin(), result.logs.end(),
+                                                 [](const LogResult& l) { return !l.ok; });
+          const auto failed_runs = failed - failed_logs;
+          fmt::print(stderr,
+                     "{} run(s): {} ok ({} reused), {} failed; {} log(s): {} failed; results in "
+                     "{} ({:.2f} s)\n",
+                     result.runs.size(), result.runs.size() - failed_runs, reused, failed_runs,
+                     result.logs.size(), failed_logs, args->output.string(), seconds);
         }
       }
       return failed > 0 ? kExitRunsFailed : kExitOk;

@@ -228,6 +228,25 @@ void Hdf5File::WriteStrings(const std::string& name, const std::vector<std::stri
   }
 }
 
+void Hdf5File::WriteBytes(const std::string& name, const std::vector<unsigned char>& bytes) {
+  const Handle dset = impl_->CreateDataset(name, H5T_STD_U8LE, {bytes.size()});
+  if (!bytes.empty()) {
+    impl_->Check(
+        H5Dwrite(dset.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()), name,
+        "write the dataset");
+  }
+}
+
+std::vector<unsigned char> Hdf5File::ReadBytes(const std::string& name) const {
+  const Handle dset = impl_->OpenDataset(name);
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(impl_->ElementCount(dset)));
+  if (!bytes.empty()) {
+    impl_->Check(H5Dread(dset.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()),
+                 name, "read the dataset");
+  }
+  return bytes;
+}
+
 void Hdf5File::CreateGroup(const std::string& group) {
   if (Exists(group)) return;
   impl_->EnsureParentGroups(group + "/");

@@ -32,6 +32,8 @@ class Hdf5File {
                    std::string_view units);
   void WriteIntegers(const std::string& dataset, const std::vector<long long>& values);
   void WriteStrings(const std::string& dataset, const std::vector<std::string>& values);
+  // Raw bytes (an encoded image, say) as a 1-D uint8 dataset.
+  void WriteBytes(const std::string& dataset, const std::vector<unsigned char>& bytes);
   void CreateGroup(const std::string& group);
   void SetAttribute(const std::string& object, const std::string& name, const std::string& value);
   void SetAttribute(const std::string& object, const std::string& name, long long value);
@@ -45,6 +47,7 @@ class Hdf5File {
   std::vector<double> ReadVector(const std::string& dataset) const;
   std::vector<long long> ReadIntegers(const std::string& dataset) const;
   std::vector<std::string> ReadStrings(const std::string& dataset) const;
+  std::vector<unsigned char> ReadBytes(const std::string& dataset) const;
   std::string ReadStringAttribute(const std::string& object, const std::string& name) const;
   long long ReadIntegerAttribute(const std::string& object, const std::string& name) const;
   std::vector<long long> ReadIntegerArrayAttribute(const std::string& object,

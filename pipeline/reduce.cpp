@@ -14,6 +14,7 @@
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
 #include "pipeline/least_squares_runs.h"
+#include "pipeline/log_results.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 
@@ -96,7 +97,8 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
   KelvinVoigtTwoPointFit fit =
       FitKelvinVoigtTwoPoint(pendulum, session.apparatus->mass, measured, options);
   if (!fit.ok) {
-    out.failure = fit.diagnostic;
+    out.failure = fmt::format("{}: run \"{}\".fit_rebounds: {}", session.manifest.string(), run.id,
+                              fit.diagnostic);
     out.kelvin_voigt = std::move(fit);
     return;
   }
@@ -140,6 +142,7 @@ void CopyMeasurement(const RunResult& from, RunResult& to) {
   to.rebound_duration = from.rebound_duration;
   to.calibrations = from.calibrations;
   to.measured_displacement = from.measured_displacement;
+  to.overlays = from.overlays;
 }
 
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
@@ -267,6 +270,10 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
   result.session_contact_time = session.reduction.contact_time;
   if (options.jobs < 1) throw std::invalid_argument("jobs must be at least 1");
   std::mutex warnings_mutex;
+  // Logs are independent of the runs: each is analysed whatever else the session has.
+  if (options.products == Products::kFit) {
+    for (const Log& log : session.logs) result.logs.push_back(ReduceLog(log));
+  }
   if (session.runs.empty() && options.products != Products::kCalibration) return result;
   if (!session.apparatus) {
     throw std::invalid_argument(fmt::format("{}: [apparatus] is required when the session has runs",

@@ -207,6 +207,104 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
   return c;
 }
 
+void WriteOptionalEstimate(Hdf5File& f, const std::string& name, const std::optional<Estimate>& e,
+                           std::string_view units) {
+  if (e) WriteEstimate(f, name, *e, units);
+}
+
+std::optional<Estimate> ReadOptionalEstimate(const Hdf5File& f, const std::string& name) {
+  if (!f.Exists(name)) return std::nullopt;
+  return ReadEstimate(f, name);
+}
+
+void WriteLog(Hdf5File& f, const LogResult& log) {
+  const std::string g = JoinPath({"logs", log.id});
+  f.CreateGroup(g);
+  f.SetAttribute(g, "status", log.status);
+  for (const LogSourceResult& s : log.sources) {
+    const std::string h = g + "/" + s.source;
+    f.CreateGroup(h);
+    f.SetAttribute(h, "impact_method", s.impact_method);
+    WriteOptionalEstimate(f, h + "/impact_time", s.impact_time_s, "s");
+    for (const LogChannelResult& c : s.channels) {
+      const std::string k = h + "/" + c.channel;
+      f.CreateGroup(k);
+      f.SetAttribute(k, "channel_units", c.units);
+      f.SetAttribute(k, "frequency_source", c.frequency_source);
+      f.SetAttribute(k, "frequency_mismatch", static_cast<long long>(c.frequency_mismatch));
+      WriteOptionalEstimate(f, k + "/dominant_frequency", c.dominant_frequency_hz, "Hz");
+      WriteOptionalEstimate(f, k + "/damping_ratio", c.damping_ratio, "1");
+      f.WriteVector(k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz");
+      f.WriteVector(k + "/spectrum/psd", c.spectrum_psd, "(" + c.units + ")^2/Hz");
+      f.WriteStrings(k + "/notes", c.notes);
+    }
+  }
+  if (log.sources.size() < 2) return;
+  const std::string h = g + "/comparison";
+  f.CreateGroup(h);
+  WriteOptionalEstimate(f, h + "/impact_offset", log.impact_offset_s, "s");
+  for (const LogComparisonRow& c : log.comparison) {
+    const std::string k = h + "/" + c.channel;
+    f.CreateGroup(k);
+    WriteEstimate(f, k + "/experiment_frequency", c.experiment_frequency_hz, "Hz");
+    WriteEstimate(f, k + "/simulation_frequency", c.simulation_frequency_hz, "Hz");
+    f.WriteScalar(k + "/frequency_difference", c.difference_hz, "Hz");
+    f.WriteScalar(k + "/frequency_difference_percent", c.difference_percent, "%");
+    f.WriteScalar(k + "/rms_difference", c.rms_difference, c.units);
+    f.WriteScalar(k + "/rms_difference_unaligned", c.rms_difference_unaligned, c.units);
+  }
+}
+
+LogResult ReadLog(const Hdf5File& f, const std::string& id) {
+  const std::string g = JoinPath({"logs", id});
+  LogResult log;
+  log.id = id;
+  log.status = f.ReadStringAttribute(g, "status");
+  log.ok = log.status == "ok";
+  for (const std::string& source : f.Children(g)) {
+    const std::string h = g + "/" + source;
+    if (source == "comparison" || !f.IsGroup(h)) continue;
+    LogSourceResult s;
+    s.source = source;
+    s.impact_method = f.ReadStringAttribute(h, "impact_method");
+    s.impact_time_s = ReadOptionalEstimate(f, h + "/impact_time");
+    for (const std::string& channel : f.Children(h)) {
+      const std::string k = h + "/" + channel;
+      if (!f.IsGroup(k)) continue;
+      LogChannelResult c;
+      c.channel = channel;
+      c.units = f.ReadStringAttribute(k, "channel_units");
+      c.frequency_source = f.ReadStringAttribute(k, "frequency_source");
+      c.frequency_mismatch = f.ReadIntegerAttribute(k, "frequency_mismatch") != 0;
+      c.dominant_frequency_hz = ReadOptionalEstimate(f, k + "/dominant_frequency");
+      c.damping_ratio = ReadOptionalEstimate(f, k + "/damping_ratio");
+      c.spectrum_frequency_hz = f.ReadVector(k + "/spectrum/frequency");
+      c.spectrum_psd = f.ReadVector(k + "/spectrum/psd");
+      c.notes = f.ReadStrings(k + "/notes");
+      s.channels.push_back(std::move(c));
+    }
+    log.sources.push_back(std::move(s));
+  }
+  const std::string h = g + "/comparison";
+  if (f.Exists(h)) {
+    log.impact_offset_s = ReadOptionalEstimate(f, h + "/impact_offset");
+    for (const std::string& channel : f.Children(h)) {
+      const std::string k = h + "/" + channel;
+      if (!f.IsGroup(k)) continue;
+      LogComparisonRow c;
+      c.channel = channel;
+      c.experiment_frequency_hz = ReadEstimate(f, k + "/experiment_frequency");
+      c.simulation_frequency_hz = ReadEstimate(f, k + "/simulation_frequency");
+      c.difference_hz = f.ReadScalar(k + "/frequency_difference");
+      c.difference_percent = f.ReadScalar(k + "/frequency_difference_percent");
+      c.rms_difference = f.ReadScalar(k + "/rms_difference");
+      c.rms_difference_unaligned = f.ReadScalar(k + "/rms_difference_unaligned");
+      log.comparison.push_back(std::move(c));
+    }
+  }
+  return log;
+}
+
 void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
   const std::string g = KelvinVoigtPath(run.id);
@@ -263,6 +361,17 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
     f.WriteVector(g + "/fit/kelvin_voigt/response/time", run.model_response.time_s, "s");
     f.WriteVector(g + "/fit/kelvin_voigt/response/displacement", run.model_response.value,
                   u.length);
+  }
+  for (std::size_t i = 0; i < run.overlays.size(); ++i) {
+    const PhotoOverlay& o = run.overlays[i];
+    const std::string h = fmt::format("{}/digitized/{}", g, i);
+    f.CreateGroup(h);
+    f.SetAttribute(h, "photo", o.photo);
+    f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
+    f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
+    f.WriteStrings(h + "/trace_names", o.trace_names);
+    f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
+    f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
   }
   if (run.right) WriteBar(f, g + "/rebounds/right", *run.right, u);
   if (run.left) WriteBar(f, g + "/rebounds/left", *run.left, u);
@@ -343,6 +452,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     WriteLeastSquares(f, "/session/joint_fits/" + fit.model, fit, u);
   }
   if (r.model_comparison) WriteModelComparison(f, *r.model_comparison, u);
+  for (const LogResult& log : r.logs) WriteLog(f, log);
   for (const RunPrediction& p : r.predictions) WritePrediction(f, p, u);
 }
 
@@ -382,6 +492,19 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
   if (f.Exists(g + "/fit/kelvin_voigt/response/time")) {
     run.model_response = {f.ReadVector(g + "/fit/kelvin_voigt/response/time"),
                           f.ReadVector(g + "/fit/kelvin_voigt/response/displacement")};
+  }
+  if (f.Exists(g + "/digitized")) {
+    for (const std::string& i : f.Children(g + "/digitized")) {
+      const std::string h = g + "/digitized/" + i;
+      PhotoOverlay o;
+      o.photo = f.ReadStringAttribute(h, "photo");
+      o.jpeg = f.ReadBytes(h + "/overlay_jpeg");
+      o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
+      o.trace_names = f.ReadStrings(h + "/trace_names");
+      o.trace_coverage = f.ReadVector(h + "/trace_coverage");
+      o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
+      run.overlays.push_back(std::move(o));
+    }
   }
   if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
   if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
@@ -502,6 +625,9 @@ SessionResult ReadResults(const std::filesystem::path& path) {
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
   if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
+  if (f.Exists("/logs")) {
+    for (const std::string& id : f.Children("/logs")) r.logs.push_back(ReadLog(f, id));
+  }
   if (f.Exists("/session/joint_fits")) {
     for (const std::string& model : f.Children("/session/joint_fits")) {
       r.joint_fits.push_back(ReadLeastSquares(f, "/session/joint_fits/" + model, model));

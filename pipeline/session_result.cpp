@@ -6,8 +6,10 @@
 namespace impactlab {
 
 int SessionResult::FailedRuns() const {
+  // A log that cannot be analysed counts as a failed run: the exit status says so.
   return static_cast<int>(
-      std::count_if(runs.begin(), runs.end(), [](const RunResult& r) { return !r.ok; }));
+      std::count_if(runs.begin(), runs.end(), [](const RunResult& r) { return !r.ok; }) +
+      std::count_if(logs.begin(), logs.end(), [](const LogResult& l) { return !l.ok; }));
 }
 
 const RunResult* SessionResult::FindRun(const std::string& id) const {

@@ -42,6 +42,17 @@ struct LeastSquaresSummary {
   std::vector<double> correlation;  // row-major
 };
 
+// A digitized photo as the report shows it: the photo with the grid and
+// traces found drawn on it (a downscaled JPEG) and how well they were found.
+struct PhotoOverlay {
+  std::string photo;                 // the file, relative to the session
+  std::vector<unsigned char> jpeg;   // the overlay image, encoded
+  double graticule_residual_px = 0;  // RMS residual of the grid fit, photo pixels
+  std::vector<std::string> trace_names;
+  std::vector<double> trace_coverage;  // fraction of the sweep with samples, per trace
+  double processing_ms = 0;            // digitizing beyond decoding
+};
+
 // A sampled curve for the report's figures (decimated to a few thousand points).
 struct Curve {
   std::vector<double> time_s;
@@ -99,6 +110,7 @@ struct RunResult {
   // bars) and the fitted Kelvin-Voigt model's response, length units.
   Curve measured_displacement;
   Curve model_response;
+  std::vector<PhotoOverlay> overlays;  // photo runs: the run photo, digitized
 
   std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
   std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
@@ -118,6 +130,42 @@ struct SessionKelvinVoigt {
   StiffnessSpread spread;
   std::optional<DampingLine> damping_line;
   bool average_stiffness = false;
+};
+
+// An encoder/accelerometer log (signal/log_analysis.h), as the results file keeps it.
+struct LogChannelResult {
+  std::string channel;  // the manifest's name, e.g. "a1"
+  std::string units;    // of the channel's values: "rad", "m/s^2" or "SI"
+  std::optional<Estimate> dominant_frequency_hz;
+  std::optional<Estimate> damping_ratio;
+  std::string frequency_source;     // "fit", "fft post_impact" or "fft whole"
+  bool frequency_mismatch = false;  // the FFT peak and the fitted frequency disagree
+  std::vector<double> spectrum_frequency_hz, spectrum_psd;  // post-impact (or whole), for plots
+  std::vector<std::string> notes;
+};
+
+struct LogSourceResult {
+  std::string source;  // "experiment" or "simulation"
+  std::optional<Estimate> impact_time_s;
+  std::string impact_method;  // or why no impact was found
+  std::vector<LogChannelResult> channels;
+};
+
+struct LogComparisonRow {
+  std::string channel, units;
+  Estimate experiment_frequency_hz, simulation_frequency_hz;
+  double difference_hz = 0.0, difference_percent = 0.0;  // simulation - experiment
+  double rms_difference = 0.0;            // after aligning the impacts, channel units
+  double rms_difference_unaligned = 0.0;  // channel units
+};
+
+struct LogResult {
+  std::string id;
+  bool ok = false;
+  std::string status;  // "ok" or "failed: <file, line and reason>"
+  std::vector<LogSourceResult> sources;
+  std::optional<Estimate> impact_offset_s;  // simulation - experiment
+  std::vector<LogComparisonRow> comparison;
 };
 
 // Which restitution model predicts unseen runs best (fit/joint_fits.h).
@@ -157,6 +205,7 @@ struct SessionResult {
   std::vector<LeastSquaresSummary> joint_fits;  // one parameter set for all runs
   std::optional<ModelComparison> model_comparison;
   std::vector<RunPrediction> predictions;
+  std::vector<LogResult> logs;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings
 
   int FailedRuns() const;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "io/errors.h"
+#include "pipeline/photo_traces.h"
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
@@ -97,9 +98,8 @@ Trace LoadTrace(const Session& session, const TraceSettings& settings,
                 const std::optional<std::filesystem::path>& photo, const std::string& key) {
   if (settings.csv) return ReadTraceCsv(*settings.csv);
   if (photo) {
-    throw InputError({*photo, key, std::nullopt},
-                     "digitizing photos is not available in this build; give the trace as "
-                     "`csv = ...` instead");
+    const DigitizedPhoto digitized = DigitizeSessionPhoto(*photo, session, {{"trace", settings}});
+    return digitized.traces.at("trace");
   }
   throw InputError({session.manifest, key, std::nullopt},
                    "the trace has neither a csv nor a photo");
@@ -160,6 +160,27 @@ auto Timed(double& total, Work&& work) {
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                      CalibrationCache& calibrations, RunResult& out) {
   out.source = run.photo ? "photo" : "csv";
+  // Every trace the run reads from its photo, in one pass over the photo.
+  std::map<std::string, TraceSettings> from_photo;
+  for (const auto& [name, settings] : run.traces) {
+    if (!settings.csv) from_photo[name] = settings;
+  }
+  std::optional<DigitizedPhoto> photo;
+  if (!from_photo.empty()) {
+    if (!run.photo) {
+      throw InputError({session.manifest, RunKey(run) + ".photo", std::nullopt},
+                       "traces without `csv` are read from the run's photo, and it has none");
+    }
+    photo = Timed(out.seconds.load,
+                  [&] { return DigitizeSessionPhoto(*run.photo, session, from_photo); });
+    out.overlays.push_back(photo->overlay);
+  }
+  const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
+    if (settings.csv) {
+      return Timed(out.seconds.load, [&] { return ReadTraceCsv(*settings.csv); });
+    }
+    return photo->traces.at(name);
+  };
   std::map<std::string, DisplacementHistory> histories;
   for (const char* cell : {"right", "left"}) {
     const auto trace_it = run.traces.find(cell);
@@ -177,8 +198,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
     out.calibrations.push_back(
         SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibration));
-    const Trace trace = Timed(out.seconds.load,
-                              [&] { return LoadTrace(session, trace_it->second, run.photo, key); });
+    const Trace trace = trace_of(cell, trace_it->second);
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};
     histories[cell] =
@@ -220,10 +240,12 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
     const std::string key = RunKey(run) + ".traces.contact";
-    const Trace trace = Timed(out.seconds.load,
-                              [&] { return LoadTrace(session, contact->second, run.photo, key); });
     try {
-      const ContactPulse pulse = MeasureContactPulse(trace);
+      // On a photo the edges are measured on the image itself; a CSV step by
+      // its samples.
+      const ContactPulse pulse = !contact->second.csv && photo && photo->pulse
+                                     ? *photo->pulse
+                                     : MeasureContactPulse(trace_of("contact", contact->second));
       out.contact_time = pulse.width_s.value;
       out.contact_time_sigma = pulse.width_s.sigma;
       out.contact_time_source = "contact trace";

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -18,11 +20,20 @@ struct Segment {
 };
 
 // Stretches with X above `threshold`; a stretch ends only where X falls to a
-// quarter of it, so noise around the threshold does not split a rebound.
-std::vector<Segment> FindSegments(const std::vector<double>& x, double threshold) {
+// quarter of it, so noise around the threshold does not split a rebound. A
+// digitized photo may have no samples at all near an impact (the beam moves
+// fast there and is faint): a gap longer than `max_gap_s` with X below half
+// the stretch's own maximum on both sides also ends a stretch.
+std::vector<Segment> FindSegments(const std::vector<double>& t, const std::vector<double>& x,
+                                  double threshold, double max_gap_s) {
   std::vector<Segment> segments;
   bool inside = false;
+  double stretch_max = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {
+    const bool gap = inside && t[i] - t[i - 1] > max_gap_s && x[i - 1] < 0.5 * stretch_max &&
+                     x[i] < 0.5 * stretch_max;
+    if (gap) inside = false;
+    stretch_max = inside ? std::max(stretch_max, x[i]) : x[i];
     if (!inside && x[i] > threshold) {
       segments.push_back({i, i, i == 0, false});
       inside = true;
@@ -158,8 +169,10 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   }
   const double largest = *std::max_element(h.displacement.begin(), h.displacement.end());
   if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");
+  // A gap of 2 % of a swing cannot hide a rebound's peak, but can hide an impact.
+  const double max_gap_s = 0.02 * HalfPeriod(pendulum, largest);
   const std::vector<Segment> segments =
-      FindSegments(h.displacement, options.threshold_fraction * largest);
+      FindSegments(h.time_s, h.displacement, options.threshold_fraction * largest, max_gap_s);
 
   ReboundExtraction out;
   // Where a flank crosses 0, or the model's half period from the peak when the
@@ -211,22 +224,49 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   return out;
 }
 
+namespace {
+
+// x of history h at time t by linear interpolation, if t lies between two of
+// its samples no further apart than `max_span_s` (never across a gap).
+std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& h, double t,
+                                                     double max_span_s) {
+  const auto it = std::lower_bound(h.time_s.begin(), h.time_s.end(), t);
+  if (it == h.time_s.end()) return std::nullopt;
+  const auto k = static_cast<std::size_t>(it - h.time_s.begin());
+  const double sigma_k = h.sigma.empty() ? 0.0 : h.sigma[k];
+  if (*it == t) return std::pair{h.displacement[k], sigma_k};
+  if (k == 0 || h.time_s[k] - h.time_s[k - 1] > max_span_s) return std::nullopt;
+  const double f = (t - h.time_s[k - 1]) / (h.time_s[k] - h.time_s[k - 1]);
+  const double sigma = h.sigma.empty() ? 0.0 : std::max(h.sigma[k - 1], sigma_k);
+  return std::pair{h.displacement[k - 1] + f * (h.displacement[k] - h.displacement[k - 1]), sigma};
+}
+
+double MedianStep(const std::vector<double>& t) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < t.size(); ++i) steps.push_back(t[i] - t[i - 1]);
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+}  // namespace
+
 DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b) {
+  // On the union of both sample times: where one bar's trace has a gap (a
+  // digitized photo may), the other still counts wherever both can be read.
+  std::vector<double> times = a.time_s;
+  times.insert(times.end(), b.time_s.begin(), b.time_s.end());
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  const double span_a = 4.0 * MedianStep(a.time_s), span_b = 4.0 * MedianStep(b.time_s);
   DisplacementHistory out;
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < a.time_s.size(); ++i) {
-    const double t = a.time_s[i];
-    if (t < b.time_s.front() || t > b.time_s.back()) continue;
-    while (j + 1 < b.time_s.size() && b.time_s[j + 1] < t) ++j;
-    const std::size_t k = std::min(j + 1, b.time_s.size() - 1);
-    const double span = b.time_s[k] - b.time_s[j];
-    const double f = span > 0.0 ? (t - b.time_s[j]) / span : 0.0;
-    const double xb = b.displacement[j] + f * (b.displacement[k] - b.displacement[j]);
+  for (double t : times) {
+    const auto xa = Interpolate(a, t, span_a), xb = Interpolate(b, t, span_b);
+    if (!xa || !xb) continue;
     out.time_s.push_back(t);
-    out.displacement.push_back(0.5 * (a.displacement[i] + xb));
-    if (!a.sigma.empty() && !b.sigma.empty()) {
-      out.sigma.push_back(0.5 * std::hypot(a.sigma[i], b.sigma[j]));
-    }
+    out.displacement.push_back(0.5 * (xa->first + xb->first));
+    if (!a.sigma.empty() && !b.sigma.empty())
+      out.sigma.push_back(0.5 * std::hypot(xa->second, xb->second));
   }
   return out;
 }

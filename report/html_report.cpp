@@ -29,6 +29,37 @@ th:first-child, td:first-child { text-align: left; }
 figure { margin: 1em 0; } figcaption { font-size: 0.85em; color: #555; }
 )";
 
+// Standard base64 (RFC 4648), for images embedded in the page.
+std::string Base64(const std::vector<unsigned char>& bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const unsigned n = bytes[i] << 16 | (i + 1 < bytes.size() ? bytes[i + 1] << 8 : 0) |
+                       (i + 2 < bytes.size() ? bytes[i + 2] : 0);
+    out += kAlphabet[n >> 18 & 63];
+    out += kAlphabet[n >> 12 & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[n >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
+  }
+  return out;
+}
+
+std::string OverlayFigure(const PhotoOverlay& o) {
+  std::string coverage;
+  for (std::size_t i = 0; i < o.trace_names.size(); ++i) {
+    coverage +=
+        fmt::format("{}{} {:.0f} %", i ? ", " : "", o.trace_names[i], 100.0 * o.trace_coverage[i]);
+  }
+  return fmt::format(
+      "<figure><img alt=\"digitized {0}\" style=\"max-width:100%\" "
+      "src=\"data:image/jpeg;base64,{1}\"><figcaption>{0}: the graticule found (residual {2:.3f} "
+      "px RMS) and the traces followed; coverage of the sweep: {3}; {4:.0f} ms of digitizing "
+      "beyond decoding.</figcaption></figure>\n",
+      EscapeHtml(o.photo), Base64(o.jpeg), o.graticule_residual_px, coverage, o.processing_ms);
+}
+
 std::string Figure(const Plot& plot, const std::string& caption) {
   return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderSvg(plot),
                      EscapeHtml(caption));
@@ -161,6 +192,7 @@ std::string RenderHtmlReport(const SessionResult& r) {
     html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", EscapeHtml(run.id));
     html += RunFigure(run, u);
     if (!run.calibrations.empty()) html += CalibrationFigure(run, u);
+    for (const PhotoOverlay& o : run.overlays) html += OverlayFigure(o);
   }
   return html + "</body>\n</html>\n";
 }

@@ -190,6 +190,59 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
   return t;
 }
 
+std::string OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
+  return e ? WithSigma(*e, digits) : "-";
+}
+
+Table LogTable(const LogResult& log) {
+  Table t;
+  t.name = "log_" + log.id;
+  t.caption = fmt::format(
+      "Log {}: dominant frequencies and damping, experiment against "
+      "simulation",
+      log.id);
+  t.columns = {"Channel",         "Experiment f (Hz)",       "Simulation f (Hz)",
+               "Difference (Hz)", "Difference (%)",          "Experiment zeta",
+               "Simulation zeta", "RMS difference (aligned)"};
+  const auto channel_of = [&](const std::string& source,
+                              const std::string& name) -> const LogChannelResult* {
+    for (const LogSourceResult& s : log.sources) {
+      if (s.source != source) continue;
+      for (const LogChannelResult& c : s.channels) {
+        if (c.channel == name) return &c;
+      }
+    }
+    return nullptr;
+  };
+  for (const LogSourceResult& s : log.sources) {
+    if (s.source != "experiment") continue;
+    for (const LogChannelResult& c : s.channels) {
+      const LogChannelResult* sim = channel_of("simulation", c.channel);
+      const auto row =
+          std::find_if(log.comparison.begin(), log.comparison.end(),
+                       [&](const LogComparisonRow& r) { return r.channel == c.channel; });
+      const bool compared = row != log.comparison.end();
+      t.rows.push_back({c.channel, OptionalWithSigma(c.dominant_frequency_hz, 4),
+                        sim ? OptionalWithSigma(sim->dominant_frequency_hz, 4) : "-",
+                        compared ? Signed(row->difference_hz, 3) : "-",
+                        compared ? Signed(row->difference_percent, 2) : "-",
+                        OptionalWithSigma(c.damping_ratio, 4),
+                        sim ? OptionalWithSigma(sim->damping_ratio, 4) : "-",
+                        compared ? fmt::format("{:.4g} {}", row->rms_difference, c.units) : "-"});
+    }
+  }
+  for (const LogSourceResult& s : log.sources) {
+    t.notes.push_back(fmt::format(
+        "{} impact: {} ({})", s.source,
+        s.impact_time_s ? WithSigma(*s.impact_time_s, 5) + " s" : "not found", s.impact_method));
+  }
+  if (log.impact_offset_s) {
+    t.notes.push_back(fmt::format("impact offset, simulation - experiment: {} s",
+                                  WithSigma(*log.impact_offset_s, 5)));
+  }
+  return t;
+}
+
 Table StiffnessTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
   Table t;
   t.name = "table3_stiffness";
@@ -314,6 +367,9 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   }
   if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
+  for (const LogResult& log : r.logs) {
+    if (log.ok) tables.push_back(LogTable(log));
+  }
   return tables;
 }
 

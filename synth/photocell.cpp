@@ -44,7 +44,7 @@ void PhotocellOptions::Check() const {
   }
 }
 
-PhotocellCurve::PhotocellCurve(double x_center, double rate, double gain, double volts_at_center,
+SimulatedPhotocell::SimulatedPhotocell(double x_center, double rate, double gain, double volts_at_center,
                                double x_lo, double x_hi)
     : x_center_(x_center),
       rate_(rate),
@@ -61,7 +61,7 @@ PhotocellCurve::PhotocellCurve(double x_center, double rate, double gain, double
   }
 }
 
-PhotocellCurve PhotocellCurve::FromSeed(std::uint64_t seed, const PhotocellOptions& o) {
+SimulatedPhotocell SimulatedPhotocell::FromSeed(std::uint64_t seed, const PhotocellOptions& o) {
   o.Check();
   std::mt19937_64 engine(seed);
   // Always draw the same number of values, so that one option does not shift
@@ -85,20 +85,20 @@ PhotocellCurve PhotocellCurve::FromSeed(std::uint64_t seed, const PhotocellOptio
   // Place V(mid) at the nominal level plus the cell's offset.
   const double volts_at_center =
       o.nominal_mid_v + mid_offset * span_v - gain * Saturate(rate, mid - x_center);
-  return PhotocellCurve(x_center, rate, gain, volts_at_center, o.x_lo, o.x_hi);
+  return SimulatedPhotocell(x_center, rate, gain, volts_at_center, o.x_lo, o.x_hi);
 }
 
-double PhotocellCurve::Volts(double x) const {
+double SimulatedPhotocell::Volts(double x) const {
   return volts_at_center_ + gain_ * Saturate(rate_, x - x_center_);
 }
 
-double PhotocellCurve::SlopeVoltsPerLength(double x) const {
+double SimulatedPhotocell::SlopeVoltsPerLength(double x) const {
   if (rate_ == 0.0) return gain_;
   const double c = std::cosh(rate_ * (x - x_center_));
   return gain_ / (c * c);
 }
 
-double PhotocellCurve::Displacement(double volts) const {
+double SimulatedPhotocell::Displacement(double volts) const {
   const double u = (volts - volts_at_center_) / gain_;  // tanh(rate s) / rate
   if (rate_ == 0.0) return x_center_ + u;
   const double t = rate_ * u;
@@ -110,14 +110,14 @@ double PhotocellCurve::Displacement(double volts) const {
   return x_center_ + std::atanh(t) / rate_;
 }
 
-std::vector<double> PhotocellCurve::Volts(std::span<const double> x) const {
+std::vector<double> SimulatedPhotocell::Volts(std::span<const double> x) const {
   std::vector<double> volts;
   volts.reserve(x.size());
   for (double xi : x) volts.push_back(Volts(xi));
   return volts;
 }
 
-void to_json(nlohmann::json& j, const PhotocellCurve& c) {
+void to_json(nlohmann::json& j, const SimulatedPhotocell& c) {
   j = {{"model", "tanh"},
        {"formula", "V = volts_at_center + gain * tanh(rate * (X - x_center)) / rate"},
        {"x_center", c.x_center()},
@@ -128,12 +128,12 @@ void to_json(nlohmann::json& j, const PhotocellCurve& c) {
        {"x_hi", c.x_hi()}};
 }
 
-void from_json(const nlohmann::json& j, PhotocellCurve& c) {
+void from_json(const nlohmann::json& j, SimulatedPhotocell& c) {
   if (j.at("model").get<std::string>() != "tanh") {
     throw std::invalid_argument(
         fmt::format("unknown photocell model '{}'", j.at("model").get<std::string>()));
   }
-  c = PhotocellCurve(j.at("x_center").get<double>(), j.at("rate_per_length").get<double>(),
+  c = SimulatedPhotocell(j.at("x_center").get<double>(), j.at("rate_per_length").get<double>(),
                      j.at("gain_v_per_length").get<double>(), j.at("volts_at_center").get<double>(),
                      j.at("x_lo").get<double>(), j.at("x_hi").get<double>());
 }
@@ -155,7 +155,7 @@ std::vector<double> AddGaussianNoise(std::span<const double> volts, double sigma
   return out;
 }
 
-CalibrationSweep MakeCalibrationSweep(const PhotocellCurve& curve,
+CalibrationSweep MakeCalibrationSweep(const SimulatedPhotocell& curve,
                                       const CalibrationSweepOptions& o) {
   FreeSwingOptions swing;
   swing.pendulum_length = o.pendulum_length;

@@ -39,16 +39,16 @@ struct PhotocellOptions {
   void Check() const;  // throws std::invalid_argument
 };
 
-class PhotocellCurve {
+class SimulatedPhotocell {
  public:
-  PhotocellCurve() = default;
+  SimulatedPhotocell() = default;
   // Explicit parameters (rate >= 0, gain != 0); throws std::invalid_argument.
-  PhotocellCurve(double x_center, double rate_per_length, double gain_v_per_length,
+  SimulatedPhotocell(double x_center, double rate_per_length, double gain_v_per_length,
                  double volts_at_center, double x_lo, double x_hi);
   // A cell drawn from `seed`: the same seed and options give the same curve on
   // every platform (the generator is std::mt19937_64 with its bits turned into
   // doubles here, not by the library's distributions).
-  static PhotocellCurve FromSeed(std::uint64_t seed, const PhotocellOptions& options);
+  static SimulatedPhotocell FromSeed(std::uint64_t seed, const PhotocellOptions& options);
 
   double Volts(double x) const;                // V(X), V
   double SlopeVoltsPerLength(double x) const;  // dV/dX, V per length unit
@@ -75,8 +75,8 @@ class PhotocellCurve {
 
 // {"model": "tanh", "formula": ..., parameters, "x_lo", "x_hi"}; from_json
 // reads it back (throws nlohmann::json::exception or std::invalid_argument).
-void to_json(nlohmann::json& j, const PhotocellCurve& curve);
-void from_json(const nlohmann::json& j, PhotocellCurve& curve);
+void to_json(nlohmann::json& j, const SimulatedPhotocell& curve);
+void from_json(const nlohmann::json& j, SimulatedPhotocell& curve);
 
 // `volts` plus independent Gaussian noise of standard deviation sigma_v (V),
 // reproducible from `seed` on every platform (Box-Muller on std::mt19937_64).
@@ -100,7 +100,7 @@ struct CalibrationSweep {
 
 // The bar swings freely from rest at X0 (exact pendulum, integrated by
 // SimulateFreeSwing); volts = curve(X(t)). Add noise with AddGaussianNoise.
-CalibrationSweep MakeCalibrationSweep(const PhotocellCurve& curve,
+CalibrationSweep MakeCalibrationSweep(const SimulatedPhotocell& curve,
                                       const CalibrationSweepOptions& options);
 
 }  // namespace impactlab

@@ -93,7 +93,7 @@ class Generator {
   double Uniform(double lo, double hi) { return std::uniform_real_distribution<>(lo, hi)(rng_); }
   std::uint64_t NextSeed() { return rng_(); }
 
-  std::vector<double> Noisy(const PhotocellCurve& cell, const std::vector<double>& x);
+  std::vector<double> Noisy(const SimulatedPhotocell& cell, const std::vector<double>& x);
   std::string WritePhoto(const std::string& stem, const OscillographScene& scene, json& truth);
   void WriteRun(const RunPlan& plan);
   std::string CalibrationToml(const std::string& id, const std::string& cell, double x0,
@@ -127,7 +127,7 @@ json SettingsJson(const TraceSettings& s) {
           {"t0_div", s.t0_div}};
 }
 
-std::vector<double> Generator::Noisy(const PhotocellCurve& cell, const std::vector<double>& x) {
+std::vector<double> Generator::Noisy(const SimulatedPhotocell& cell, const std::vector<double>& x) {
   const std::vector<double> v = cell.Volts(x);
   const double span = std::abs(cell.Volts(cell.x_hi()) - cell.Volts(cell.x_lo()));
   return AddGaussianNoise(v, options_.trace_noise * span, NextSeed());
@@ -142,7 +142,7 @@ std::string Generator::WritePhoto(const std::string& stem, const OscillographSce
   render.seed = NextSeed();
   // A real chopper switches at ~100 kHz, invisible at 0.5 s/div; short slots
   // keep the dashed look without hiding the rebound peaks in long gaps.
-  render.chop_dash_div = 0.05;
+  render.chop_dash_div = 0.01;
   const auto start = Clock::now();
   const RenderedPhoto photo = RenderOscillograph(scene, render);
   // Prints and phone pictures come as JPEG; the others as lossless PNG.
@@ -227,8 +227,8 @@ void Generator::WriteRun(const RunPlan& plan) {
   cell_options.x_hi = 1.1 * plan.x0;
   cell_options.nonlinearity = options_.photocell_nonlinearity;
   cell_options.polarity = PhotocellPolarity::kRandom;
-  const PhotocellCurve right = PhotocellCurve::FromSeed(NextSeed(), cell_options);
-  const PhotocellCurve left = PhotocellCurve::FromSeed(NextSeed(), cell_options);
+  const SimulatedPhotocell right = SimulatedPhotocell::FromSeed(NextSeed(), cell_options);
+  const SimulatedPhotocell left = SimulatedPhotocell::FromSeed(NextSeed(), cell_options);
 
   json truth = {{"id", plan.id},
                 {"form", plan.form == RunPlan::Form::kPhoto ? "photo"

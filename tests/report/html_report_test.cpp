@@ -34,6 +34,19 @@ TEST_CASE("html_report: one self-contained page with every table and a figure pe
   CHECK(figures == 8 + 1);  // one per run, and C against sqrt(xi)
 }
 
+TEST_CASE("html_report: a digitized photo's overlay is embedded, not linked") {
+  SessionResult r = Thesis();
+  PhotoOverlay o;
+  o.photo = "runs/a.jpg";
+  o.jpeg = {0xff, 0xd8, 0xff, 0xe0, 'M', 'a', 'n'};
+  o.trace_names = {"right"};
+  o.trace_coverage = {0.9};
+  r.runs[0].overlays.push_back(o);
+  const std::string html = RenderHtmlReport(r);
+  CHECK_THAT(html, Catch::Contains("data:image/jpeg;base64,/9j/4E1hbg=="));
+  CHECK_THAT(html, Catch::Contains("right 90 %"));
+}
+
 TEST_CASE("svg_plot: text is escaped and the axes cover the data") {
   Plot plot;
   plot.title = "a < b & c";

@@ -29,7 +29,7 @@ TEST_CASE("photocell: curves are strictly monotone over their range") {
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
       PhotocellOptions o = WithNonlinearity(nonlinearity);
       o.polarity = PhotocellPolarity::kRandom;
-      const PhotocellCurve c = PhotocellCurve::FromSeed(seed, o);
+      const SimulatedPhotocell c = SimulatedPhotocell::FromSeed(seed, o);
       const double sign = c.gain_v_per_length() > 0.0 ? 1.0 : -1.0;
       const std::vector<double> x = Grid(o.x_lo, o.x_hi, 2001);
       for (std::size_t i = 1; i < x.size(); ++i) {
@@ -46,13 +46,13 @@ TEST_CASE("photocell: curves are strictly monotone over their range") {
 
 TEST_CASE("photocell: light falls as displacement grows unless the amplifier inverts it") {
   PhotocellOptions o;
-  CHECK(PhotocellCurve::FromSeed(7, o).gain_v_per_length() < 0.0);
+  CHECK(SimulatedPhotocell::FromSeed(7, o).gain_v_per_length() < 0.0);
   o.polarity = PhotocellPolarity::kRising;
-  CHECK(PhotocellCurve::FromSeed(7, o).gain_v_per_length() > 0.0);
+  CHECK(SimulatedPhotocell::FromSeed(7, o).gain_v_per_length() > 0.0);
   o.polarity = PhotocellPolarity::kRandom;
   int rising = 0;
   for (std::uint64_t seed = 0; seed < 40; ++seed) {
-    rising += PhotocellCurve::FromSeed(seed, o).gain_v_per_length() > 0.0;
+    rising += SimulatedPhotocell::FromSeed(seed, o).gain_v_per_length() > 0.0;
   }
   CHECK(rising > 5);
   CHECK(rising < 35);
@@ -62,7 +62,7 @@ TEST_CASE("photocell: the inverse undoes the curve to 1e-12") {
   for (double nonlinearity : {0.0, 0.5, 1.0}) {
     for (std::uint64_t seed = 100; seed < 110; ++seed) {
       const PhotocellOptions o = WithNonlinearity(nonlinearity);
-      const PhotocellCurve c = PhotocellCurve::FromSeed(seed, o);
+      const SimulatedPhotocell c = SimulatedPhotocell::FromSeed(seed, o);
       for (double x : Grid(o.x_lo, o.x_hi, 501)) {
         CHECK(std::abs(c.Displacement(c.Volts(x)) - x) < /*max_inverse_error=*/1e-12);
       }
@@ -71,7 +71,7 @@ TEST_CASE("photocell: the inverse undoes the curve to 1e-12") {
 }
 
 TEST_CASE("photocell: the inverse refuses voltages no displacement gives") {
-  const PhotocellCurve c = PhotocellCurve::FromSeed(3, WithNonlinearity(1.0));
+  const SimulatedPhotocell c = SimulatedPhotocell::FromSeed(3, WithNonlinearity(1.0));
   const double saturation =
       c.volts_at_center() + std::abs(c.gain_v_per_length()) / c.rate_per_length();
   CHECK_THROWS_AS(c.Displacement(saturation + 0.1), std::domain_error);
@@ -79,11 +79,11 @@ TEST_CASE("photocell: the inverse refuses voltages no displacement gives") {
 
 TEST_CASE("photocell: nonlinearity 0 is linear and 1 is strongly curved") {
   const PhotocellOptions linear = WithNonlinearity(0.0);
-  const PhotocellCurve flat = PhotocellCurve::FromSeed(11, linear);
+  const SimulatedPhotocell flat = SimulatedPhotocell::FromSeed(11, linear);
   CHECK(flat.SlopeVoltsPerLength(linear.x_lo) == flat.SlopeVoltsPerLength(linear.x_hi));
   const PhotocellOptions strong = WithNonlinearity(1.0);
   for (std::uint64_t seed = 0; seed < 10; ++seed) {
-    const PhotocellCurve c = PhotocellCurve::FromSeed(seed, strong);
+    const SimulatedPhotocell c = SimulatedPhotocell::FromSeed(seed, strong);
     double lo = INFINITY, hi = 0.0;
     for (double x : Grid(strong.x_lo, strong.x_hi, 201)) {
       lo = std::min(lo, std::abs(c.SlopeVoltsPerLength(x)));
@@ -95,18 +95,18 @@ TEST_CASE("photocell: nonlinearity 0 is linear and 1 is strongly curved") {
 
 TEST_CASE("photocell: the same seed gives the same curve, another seed another") {
   const PhotocellOptions o;
-  const nlohmann::json a = PhotocellCurve::FromSeed(42, o);
-  const nlohmann::json b = PhotocellCurve::FromSeed(42, o);
-  const nlohmann::json c = PhotocellCurve::FromSeed(43, o);
+  const nlohmann::json a = SimulatedPhotocell::FromSeed(42, o);
+  const nlohmann::json b = SimulatedPhotocell::FromSeed(42, o);
+  const nlohmann::json c = SimulatedPhotocell::FromSeed(43, o);
   CHECK(a == b);
   CHECK(a != c);
 }
 
 TEST_CASE("photocell: JSON round trip keeps the curve exactly") {
-  const PhotocellCurve c = PhotocellCurve::FromSeed(5, WithNonlinearity(0.8));
+  const SimulatedPhotocell c = SimulatedPhotocell::FromSeed(5, WithNonlinearity(0.8));
   const nlohmann::json j = c;
   CHECK(j.at("model") == "tanh");
-  const PhotocellCurve back = nlohmann::json::parse(j.dump()).get<PhotocellCurve>();
+  const SimulatedPhotocell back = nlohmann::json::parse(j.dump()).get<SimulatedPhotocell>();
   for (double x : Grid(-0.5, 1.6, 50)) CHECK(back.Volts(x) == c.Volts(x));
 }
 
@@ -129,7 +129,7 @@ TEST_CASE("photocell: noise is reproducible and has the requested sigma") {
 }
 
 TEST_CASE("photocell: a calibration sweep is the cell reading the exact free swing") {
-  const PhotocellCurve cell = PhotocellCurve::FromSeed(21, WithNonlinearity(0.7));
+  const SimulatedPhotocell cell = SimulatedPhotocell::FromSeed(21, WithNonlinearity(0.7));
   CalibrationSweepOptions o;
   o.release_x = 0.405;
   o.duration_s = 1.6;  // past a full period: the bar swings through -X0 and back

@@ -1,0 +1,303 @@
+// Digitizing oscillograph photos (docs/digitizing.md): from a photo of an
+// oscilloscope screen and the trace settings in the manifest, recover each
+// trace as (time s, volts) samples with a per-sample confidence.
+//
+// The stages, each a function of its options:
+//   LoadPhoto        decode the file (the only step that touches the disk)
+//   PreparePhoto     a small grey working copy, the polarity (dark or bright traces)
+//   FindGraticule    the grid's lattice in the working copy, then every grid line
+//                    measured in the full photo and a homography plus a radial
+//                    term fitted to them (its residual reported)
+//   ExtractTraces    per trace: its band tracked in a rectified strip, then the
+//                    centre line measured across the trace in the full photo
+//   MeasurePulse     the contact trace's edges from the photo, sub-pixel
+//   DrawOverlay      the photo with what was found drawn on it
+// DigitizePhoto runs them all. Problems with the photo (unreadable, no
+// graticule, a trace missing from its band) throw InputError naming the photo
+// and what was not found; no sample is ever made up where the trace is not seen.
+//
+// Conventions as in session-format.md and render/oscillograph.h: screen
+// positions in graticule divisions, x from the graticule's left edge, y from its
+// centre, up positive; image positions in pixels, x right, y down, pixel
+// centres at integer coordinates.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "io/session.h"
+#include "io/trace.h"
+
+namespace impactlab {
+
+// ---------------------------------------------------------------------------
+// The photo
+
+struct Photo {
+  cv::Mat image;                 // as decoded: CV_8U or CV_16U, 1, 3 (BGR) or 4 (BGRA) channels
+  std::filesystem::path source;  // the file, named in every error message
+};
+
+// Decodes a PNG, JPEG or TIFF file, 8 or 16 bit, grey or colour. Throws
+// InputError naming the file when it is missing, unreadable, truncated, not an
+// image, or too small to hold a graticule.
+Photo LoadPhoto(const std::filesystem::path& path);
+
+enum class Polarity {
+  kAuto,          // decided from the photo: are thin features brighter or darker than the screen?
+  kBrightTraces,  // light traces on a dark screen (a print, a phone photo)
+  kDarkTraces,    // dark traces on a light ground (a negative)
+};
+
+// ---------------------------------------------------------------------------
+// The graticule
+
+// Where the screen lies in the photo: a homography takes (x_div, y_div, 1) to
+// an undistorted image point q, then one radial term moves it,
+// p = c + (q - c) (1 + k1 |q - c|^2 / r^2), c the image centre, r its half diagonal.
+struct GraticuleMapping {
+  cv::Matx33d homography = cv::Matx33d::eye();  // undistorted pixels from (x_div, y_div, 1)
+  double radial_k1 = 0.0;                       // k1 above; < 0 is barrel distortion
+  cv::Point2d distortion_centre_px;             // c above
+  double distortion_radius_px = 1.0;            // r above
+
+  cv::Point2d ImageFromScreen(cv::Point2d screen_div) const;
+  // The inverse: Newton on the radial term, then the inverse homography.
+  cv::Point2d ScreenFromImage(cv::Point2d image_px) const;
+  // The image length of one division at a screen point (square root of the
+  // local area stretch), pixels per division.
+  double PixelsPerDivisionAt(cv::Point2d screen_div) const;
+};
+
+enum class RadialModel {
+  kAuto,    // fit k1, keep it only when it lowers the residual by `radial_min_gain`
+  kNone,    // homography only
+  kAlways,  // always fit k1
+};
+
+struct GraticuleOptions {
+  // Width of the grey working copy the lattice is searched in, pixels. The
+  // photo is shrunk by the whole factor that comes nearest; smaller is faster
+  // and blinder to faint grid lines.
+  int detect_width_px = 500;
+  Polarity polarity = Polarity::kAuto;
+  RadialModel radial = RadialModel::kAuto;
+  // Relative drop of the RMS residual a radial term must bring to be kept, 1.
+  double radial_min_gain = 0.15;
+  // Measurements across each grid line per division of its length (taken
+  // clear of the crossings and of the centre axes' minor ticks).
+  int samples_per_div = 3;
+  // Length of grid line each measurement averages over (parallel profiles
+  // 1.5 px apart), divisions: longer is steadier in noise and slower.
+  double line_average_div = 0.04;
+  // The fit is refused above this RMS residual, pixels of the photo.
+  double max_residual_px = 1.0;
+  // Largest rotation of the screen in the photo searched for, degrees.
+  double max_rotation_deg = 20.0;
+
+  // True when every field is in range; otherwise `error` says which is not.
+  bool Check(std::string* error) const;
+};
+
+// The photo reduced for the search: what every later stage shares.
+struct PreparedPhoto {
+  cv::Mat image;                 // the decoded photo (shared, not copied)
+  std::filesystem::path source;  // named in errors
+  bool dark_traces = false;      // polarity used: true for dark traces on a light ground
+  int shrink = 1;                // a working pixel covers shrink x shrink photo pixels
+  cv::Mat1f working;        // grey "ink" in [0, 1]: traces and lines bright whatever the polarity
+  cv::Mat1f ridge;          // thin bright structure of `working` (white top-hat)
+  double prepare_ms = 0.0;  // time spent here, milliseconds
+
+  // Photo pixel of a working pixel's centre, and back.
+  cv::Point2d PhotoFromWorking(cv::Point2d w) const {
+    return w * shrink + cv::Point2d(0.5 * (shrink - 1), 0.5 * (shrink - 1));
+  }
+  cv::Point2d WorkingFromPhoto(cv::Point2d p) const {
+    return (p - cv::Point2d(0.5 * (shrink - 1), 0.5 * (shrink - 1))) * (1.0 / shrink);
+  }
+};
+
+// Throws InputError for a photo that cannot be used (empty, unsupported sample
+// type, too small), std::invalid_argument for bad options.
+PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options);
+
+struct GraticuleFit {
+  std::array<int, 2> divisions = {10, 8};  // horizontal x vertical
+  GraticuleMapping mapping;
+  double residual_px = 0.0;      // RMS distance of the measured line points from the fitted lines
+  double max_residual_px = 0.0;  // the largest one kept
+  int samples_used = 0;          // line measurements in the final fit
+  int samples_rejected = 0;      // dropped: washed out, crossed by a trace, outliers
+  bool radial_fitted = false;    // whether k1 was kept
+  double px_per_div = 0.0;       // at the screen's centre
+  double line_width_px = 0.0;    // a grid line's full width at half maximum, photo pixels
+  double line_contrast = 0.0;    // a grid line's height above the screen, ink units (0..1)
+  double elapsed_ms = 0.0;       // time spent finding and fitting
+};
+
+// Finds the `divisions` grid (horizontal x vertical). Throws InputError naming
+// the photo when no such lattice is found or the fit is worse than
+// max_residual_px.
+GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                           const GraticuleOptions& options);
+
+// ---------------------------------------------------------------------------
+// The traces
+
+enum class SubpixelMethod {
+  kCentroid,  // intensity-weighted centroid of the part above `centroid_level`
+  kGaussian,  // least-squares Gaussian (a parabola in log intensity) across the line
+  kParabola,  // three-point parabola through the brightest sample: fastest, coarsest
+};
+
+struct TraceOptions {
+  SubpixelMethod method = SubpixelMethod::kCentroid;
+  // Output samples per photo pixel along the sweep (1: one per pixel column of
+  // the screen), 1/pixel.
+  double samples_per_px = 1.0;
+  // Centroid: only the profile above this fraction of the peak (over the
+  // background) is weighed, 1. Higher ignores more of the glow and grid lines.
+  double centroid_level = 0.5;
+  // Half-length of the profile taken across the trace, in trace widths (FWHM)
+  // beyond the tracking's uncertainty; the region of interest around the line.
+  double profile_half_widths = 2.5;
+  // Resolution of the strip each band is tracked in, pixels per division;
+  // 0: the working copy's own.
+  double track_px_per_div = 0.0;
+  // Longest gap in a trace (a chopper's blanking, dust) bridged by the
+  // tracking without a penalty for restarting, divisions.
+  double max_gap_div = 0.8;
+  // A sample is kept when its height above the background is at least this
+  // fraction of the trace's typical height, 1.
+  double min_relative_height = 0.3;
+  // A sample dimmer than this fraction of the brightest within 0.06 division
+  // along the same unbroken stretch is dropped: it sees a dash's end (or a
+  // speck's shadow) from the side, and its centre slides off the line, 1.
+  double min_local_height = 0.75;
+  // A sample whose line is wider than this many times the trace's usual width
+  // (FWHM) is dropped: two stretches merge there (a cusp, a crossing), 1.
+  double max_relative_width = 1.4;
+  // A sample further than this many robust sigmas from its neighbours' median
+  // is an outlier (dust, glare), 1.
+  double outlier_sigmas = 4.0;
+  // Samples less confident than this (dim, pulled by a grid line, straying
+  // from their neighbours: see docs/digitizing.md) are not reported, 0..1.
+  double min_confidence = 0.25;
+  // A trace no brighter than this many times the graticule's lines (its
+  // typical height above the screen) is taken for a grid line: missing, 1.
+  double min_height_over_grid = 1.6;
+  // A trace covering less than this fraction of the sweep is reported missing, 1.
+  double min_coverage = 0.05;
+  // A grid line's light is taken to reach this many of its widths (FWHM)
+  // either side of it: the peak search discounts it there, and a profile
+  // running along a short line (a minor tick) within it is skipped; 0
+  // ignores the grid, 1.
+  double grid_reach_widths = 1.5;
+  // Where a grid line reaches a trace's core, find the centre by symmetry
+  // with the grid line's light modelled (docs/digitizing.md) instead of by
+  // `method`. Measured: no better on this project's photos (a saturated core
+  // hides a grid line under it), so off; the contact edges always use it.
+  bool grid_model = false;
+
+  bool Check(std::string* error) const;
+};
+
+// One trace the manifest names on this photo.
+struct TraceRequest {
+  std::string name;        // e.g. "right", "left", "contact"
+  TraceSettings settings;  // band_div, time base, volts/div; `impact` marks a contact step
+};
+
+struct DigitizedTrace {
+  std::string name;
+  TraceSettings settings;
+  Trace trace;                          // time_s (increasing), volts, sigma_volts
+  std::vector<double> confidence;       // per sample, 0..1
+  std::vector<cv::Point2d> centre_px;   // where each sample's centre was measured in the photo
+  std::vector<cv::Point2d> screen_div;  // and where that is on the screen
+  double coverage = 0.0;                // fraction of the sweep [0, nx] with samples
+  double width_px = 0.0;                // the trace's typical full width at half maximum
+  double height = 0.0;                  // its typical height above the screen, ink units
+  double noise_px = 0.0;                // robust scatter of the centre about its neighbours
+  int outliers = 0;                     // samples dropped as outliers
+};
+
+// Throws InputError naming the photo and the trace when a trace is not found
+// in its band (coverage below min_coverage), std::invalid_argument for bad
+// options or settings. Bands may overlap: contact (step) traces are taken
+// first and what they claim is not given to the others.
+std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                                          const std::vector<TraceRequest>& requests,
+                                          const TraceOptions& options);
+
+// ---------------------------------------------------------------------------
+// The contact pulse
+
+struct PulseEdge {
+  double time_s = 0.0;      // where the beam crosses half way between the levels, s
+  double sigma_s = 0.0;     // one standard deviation, s
+  cv::Point2d centre_px;    // the crossing in the photo
+  bool from_image = false;  // measured on the faint edge itself, else between the level ends
+};
+
+struct ContactPulseFit {
+  PulseEdge rise;
+  PulseEdge fall;
+  double width_s = 0.0;        // fall - rise: the contact time, s
+  double width_sigma_s = 0.0;  // s
+  double low_volts = 0.0, high_volts = 0.0;
+};
+
+// The first complete pulse of a contact (step) trace: its levels from the
+// digitized samples, its edges measured across the faint vertical strokes
+// the beam writes between them. Returns nullopt when the trace shows no
+// complete pulse (no two levels, or an edge off the screen).
+std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
+                                            const GraticuleFit& graticule,
+                                            const DigitizedTrace& trace);
+
+// ---------------------------------------------------------------------------
+// All stages
+
+struct DigitizeOptions {
+  GraticuleOptions graticule;
+  TraceOptions traces;
+
+  bool Check(std::string* error) const;
+};
+
+struct DigitizeResult {
+  GraticuleFit graticule;
+  std::vector<DigitizedTrace> traces;                  // in the order requested
+  std::vector<std::optional<ContactPulseFit>> pulses;  // one per trace; set for contact traces
+  double prepare_ms = 0.0, graticule_ms = 0.0, traces_ms = 0.0, pulse_ms = 0.0;
+
+  double ProcessingMs() const { return prepare_ms + graticule_ms + traces_ms + pulse_ms; }
+};
+
+// Runs PreparePhoto, FindGraticule, ExtractTraces and, for traces with an
+// `impact` (contact traces), MeasurePulse.
+DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
+                             const std::vector<TraceRequest>& requests,
+                             const DigitizeOptions& options);
+
+// The traces a manifest names on a run's or a calibration's photo: those
+// without a `csv` (which come from a digital scope instead).
+std::vector<TraceRequest> TraceRequestsOf(const Run& run);
+std::vector<TraceRequest> TraceRequestsOf(const Calibration& calibration);
+
+// The photo (8-bit BGR) with the fitted graticule, the bands, the traces'
+// samples (coloured by confidence) and the contact pulse's edges drawn on it,
+// and a legend.
+cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result);
+
+// Writes `image` (PNG, JPEG by extension); throws InputError naming the file.
+void WriteImage(const std::filesystem::path& path, const cv::Mat& image);
+
+}  // namespace impactlab

@@ -1,0 +1,509 @@
+// FindGraticule: the lattice found in the working copy, refined on the full
+// photo. Every grid line is measured across at several points per division
+// (sub-pixel centroids), and the mapping (homography plus, where it pays, one
+// radial term) is fitted to all of them by Levenberg-Marquardt, with outliers
+// (lines washed out by glare, crossed by a trace, scratched) dropped.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <Eigen/Dense>
+
+#include "digitize/digitize.h"
+#include "digitize/ink_sampler.h"
+#include "digitize/lattice.h"
+#include "digitize/line_profile.h"
+#include "io/errors.h"
+
+namespace impactlab {
+
+namespace {
+
+using digitize::CentreSettings;
+using digitize::FindLineCentre;
+using digitize::InkSampler;
+using digitize::LineCentre;
+using digitize::Profile;
+using digitize::ReadProfile;
+
+// One measurement across a grid line.
+struct LineSample {
+  int family = 0;           // 0: a vertical line x = line_div; 1: a horizontal line y = line_div
+  int index = 0;            // the line's number in its family, from the left or the bottom
+  double line_div = 0.0;    // the line's screen position
+  cv::Point2d nominal_div;  // where on the line the profile was taken
+  cv::Point2d measured_px;  // the line's centre found along the profile
+  double px_per_div = 1.0;  // image length of a division along the profile
+  double height = 0.0;      // ink above the screen
+  double fwhm_px = 0.0;
+  bool used = false;
+};
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// Positions along a line, per division, clear of the crossings and of the
+// centre axes' minor ticks (every 0.2 division): odd tenths for 5 per division.
+std::vector<double> SamplePositions(int divisions, int samples_per_div, bool centre_axis) {
+  std::vector<double> positions;
+  for (int k = 0; k < divisions * samples_per_div; ++k) {
+    const double along = (k + 0.5) / samples_per_div;
+    const double off_crossing = std::abs(along - std::round(along));
+    const double off_tick = std::abs(along / 0.2 - std::round(along / 0.2)) * 0.2;
+    if (off_crossing < 0.06 || (centre_axis && off_tick < 0.05)) continue;
+    positions.push_back(along);
+  }
+  return positions;
+}
+
+// Each measurement averages profiles taken every kParallelStepPx along the
+// line over `average_div` of it: the line is straight over that length, and
+// noise falls with the square root of the number of profiles.
+constexpr double kParallelStepPx = 1.5;
+
+// The grid's lines: (family, index), index 0 .. divisions[family].
+std::vector<std::pair<int, int>> GridLines(std::array<int, 2> divisions) {
+  std::vector<std::pair<int, int>> lines;
+  for (int family = 0; family < 2; ++family) {
+    for (int index = 0; index <= divisions[family]; ++index) lines.emplace_back(family, index);
+  }
+  return lines;
+}
+
+std::vector<LineSample> MeasureGridLines(const InkSampler& ink, const GraticuleMapping& mapping,
+                                         std::array<int, 2> divisions,
+                                         const std::vector<std::pair<int, int>>& lines,
+                                         int samples_per_div, double half_length_px,
+                                         double search_px, double average_div) {
+  const int nx = divisions[0], ny = divisions[1];
+  std::vector<LineSample> samples;
+  constexpr double kStepDiv = 0.02;
+  for (const auto& [family, index] : lines) {
+    {
+      const double line_div = family == 0 ? index : index - 0.5 * ny;
+      const bool centre_axis = family == 0 ? 2 * index == nx : 2 * index == ny;
+      for (const double along :
+           SamplePositions(divisions[1 - family], samples_per_div, centre_axis)) {
+        LineSample sample;
+        sample.family = family;
+        sample.index = index;
+        sample.line_div = line_div;
+        sample.nominal_div =
+            family == 0 ? cv::Point2d(line_div, along - 0.5 * ny) : cv::Point2d(along, line_div);
+        const cv::Point2d across =
+            family == 0 ? cv::Point2d(kStepDiv, 0) : cv::Point2d(0, kStepDiv);
+        const cv::Point2d a = mapping.ImageFromScreen(sample.nominal_div - across);
+        const cv::Point2d b = mapping.ImageFromScreen(sample.nominal_div + across);
+        const double length = cv::norm(b - a);
+        if (!(length > 0.0)) continue;
+        sample.px_per_div = length / (2.0 * kStepDiv);
+        const cv::Point2d origin = mapping.ImageFromScreen(sample.nominal_div);
+        Profile profile = ReadProfile(ink, origin, (b - a) / length, half_length_px, 0.5);
+        const cv::Point2d on_line =
+            family == 0 ? cv::Point2d(0, kStepDiv) : cv::Point2d(kStepDiv, 0);
+        const cv::Point2d along_px = mapping.ImageFromScreen(sample.nominal_div + on_line) -
+                                     mapping.ImageFromScreen(sample.nominal_div - on_line);
+        const int parallels =
+            static_cast<int>(0.5 * average_div * sample.px_per_div / kParallelStepPx);
+        if (parallels > 0) {
+          const cv::Point2d shift = along_px * (kParallelStepPx / cv::norm(along_px));
+          for (int k = -parallels; k <= parallels; ++k) {
+            if (k == 0) continue;
+            const Profile other =
+                ReadProfile(ink, origin + shift * k, profile.direction, half_length_px, 0.5);
+            for (std::size_t i = 0; i < profile.values.size(); ++i)
+              profile.values[i] += other.values[i];
+          }
+          for (float& v : profile.values) v /= 2 * parallels + 1;
+        }
+        CentreSettings settings;
+        settings.search_px = search_px;
+        const LineCentre centre = FindLineCentre(profile, settings);
+        if (!centre.found) continue;
+        sample.measured_px = profile.PointAt(centre.offset_px);
+        sample.height = centre.height;
+        sample.fwhm_px = centre.fwhm_px;
+        samples.push_back(sample);
+      }
+    }
+  }
+  return samples;
+}
+
+// The mapping in normalised coordinates, where the parameters are all of
+// order one: screen X = (x - nx/2) / s, Y = y / s with s = max(nx, ny) / 2;
+// image u = (p - c) / r. Then u = D(H (X, Y, 1)), D(q) = q (1 + k1 |q|^2).
+class NormalisedModel {
+ public:
+  NormalisedModel(std::array<int, 2> divisions, cv::Size image_size)
+      : screen_scale_(0.5 * std::max(divisions[0], divisions[1])),
+        screen_offset_x_(0.5 * divisions[0]),
+        centre_(0.5 * (image_size.width - 1), 0.5 * (image_size.height - 1)),
+        radius_(0.5 * std::hypot(image_size.width, image_size.height)) {}
+
+  // Parameters: the 8 free entries of H (H(2,2) = 1), then k1.
+  using Params = Eigen::Matrix<double, 9, 1>;
+
+  Params FromMapping(const GraticuleMapping& mapping) const {
+    cv::Matx33d h = ImageNormaliser() * mapping.homography * ScreenNormaliser().inv();
+    h *= 1.0 / h(2, 2);
+    Params p;
+    for (int i = 0; i < 8; ++i) p[i] = h.val[i];
+    p[8] = mapping.radial_k1;
+    return p;
+  }
+
+  GraticuleMapping ToMapping(const Params& p) const {
+    GraticuleMapping mapping;
+    mapping.homography = ImageNormaliser().inv() * Homography(p) * ScreenNormaliser();
+    mapping.homography *= 1.0 / mapping.homography(2, 2);
+    mapping.radial_k1 = p[8];
+    mapping.distortion_centre_px = centre_;
+    mapping.distortion_radius_px = radius_;
+    return mapping;
+  }
+
+  // Screen divisions of an image point under parameters p; `inverse_h` is
+  // Homography(p).inv(), computed once per evaluation.
+  cv::Point2d ScreenOf(cv::Point2d image_px, double k1, const cv::Matx33d& inverse_h) const {
+    cv::Point2d u = (image_px - centre_) * (1.0 / radius_);
+    if (k1 != 0.0) {
+      const double distorted = std::hypot(u.x, u.y);
+      double r = distorted;
+      for (int iteration = 0; iteration < 8; ++iteration) {
+        const double step = (r + k1 * r * r * r - distorted) / (1.0 + 3.0 * k1 * r * r);
+        r -= step;
+        if (std::abs(step) < 1e-14) break;
+      }
+      if (distorted > 0.0) u *= r / distorted;
+    }
+    const cv::Vec3d s = inverse_h * cv::Vec3d(u.x, u.y, 1.0);
+    return {s[0] / s[2] * screen_scale_ + screen_offset_x_, s[1] / s[2] * screen_scale_};
+  }
+
+  static cv::Matx33d Homography(const Params& p) {
+    return {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], 1.0};
+  }
+
+ private:
+  cv::Matx33d ScreenNormaliser() const {
+    return {1.0 / screen_scale_,
+            0.0,
+            -screen_offset_x_ / screen_scale_,
+            0.0,
+            1.0 / screen_scale_,
+            0.0,
+            0.0,
+            0.0,
+            1.0};
+  }
+  cv::Matx33d ImageNormaliser() const {
+    return {1.0 / radius_, 0.0, -centre_.x / radius_, 0.0, 1.0 / radius_, -centre_.y / radius_, 0.0,
+            0.0,           1.0};
+  }
+
+  double screen_scale_, screen_offset_x_;
+  cv::Point2d centre_;
+  double radius_;
+};
+
+// Signed distances (pixels, along each profile) of the used samples from
+// their lines under parameters p.
+Eigen::VectorXd Residuals(const NormalisedModel& model, const NormalisedModel::Params& p,
+                          const std::vector<const LineSample*>& samples) {
+  const cv::Matx33d inverse_h = NormalisedModel::Homography(p).inv();
+  Eigen::VectorXd r(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const LineSample& s = *samples[i];
+    const cv::Point2d screen = model.ScreenOf(s.measured_px, p[8], inverse_h);
+    r[static_cast<Eigen::Index>(i)] =
+        ((s.family == 0 ? screen.x : screen.y) - s.line_div) * s.px_per_div;
+  }
+  return r;
+}
+
+struct MappingFit {
+  NormalisedModel::Params params;
+  double rms_px = 0.0;
+};
+
+// Levenberg-Marquardt on the samples, k1 free or held at 0. Forward
+// differences are ample: the parameters are of order one and the residuals smooth.
+MappingFit FitMapping(const NormalisedModel& model, NormalisedModel::Params p,
+                      const std::vector<const LineSample*>& samples, bool radial) {
+  const int n_params = radial ? 9 : 8;
+  if (!radial) p[8] = 0.0;
+  Eigen::VectorXd r = Residuals(model, p, samples);
+  double cost = r.squaredNorm();
+  double lambda = 1e-3;
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    Eigen::MatrixXd jacobian(r.size(), n_params);
+    for (int k = 0; k < n_params; ++k) {
+      NormalisedModel::Params q = p;
+      const double step = 1e-7 * std::max(1.0, std::abs(p[k]));
+      q[k] += step;
+      jacobian.col(k) = (Residuals(model, q, samples) - r) / step;
+    }
+    const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
+    const Eigen::VectorXd jtr = jacobian.transpose() * r;
+    bool improved = false;
+    for (int attempt = 0; attempt < 10 && !improved; ++attempt) {
+      Eigen::MatrixXd damped = jtj;
+      damped.diagonal() += lambda * jtj.diagonal().cwiseMax(1e-12);
+      const Eigen::VectorXd delta = damped.ldlt().solve(-jtr);
+      NormalisedModel::Params q = p;
+      q.head(n_params) += delta;
+      const Eigen::VectorXd rq = Residuals(model, q, samples);
+      const double cost_q = rq.squaredNorm();
+      if (std::isfinite(cost_q) && cost_q < cost) {
+        const double gain = (cost - cost_q) / std::max(cost, 1e-300);
+        p = q, r = rq, cost = cost_q;
+        lambda = std::max(1e-9, lambda * 0.3);
+        improved = true;
+        // Converged when a step gains less than a millionth of the cost.
+        if (gain < 1e-6) iteration = 1000;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) break;
+  }
+  return {p, r.size() > 0 ? std::sqrt(cost / r.size()) : 0.0};
+}
+
+// Drops samples that do not look like a grid line (a trace's height or
+// width, or barely above the screen).
+void SelectLineLike(std::vector<LineSample>& samples) {
+  std::vector<double> heights, widths;
+  for (const LineSample& s : samples) heights.push_back(s.height), widths.push_back(s.fwhm_px);
+  const double height = Median(heights), width = Median(widths);
+  for (LineSample& s : samples) {
+    s.used = s.height > 0.3 * height && s.height < 3.0 * height && s.fwhm_px < 2.5 * width &&
+             s.fwhm_px > 0.3 * width;
+  }
+}
+
+std::vector<const LineSample*> Used(const std::vector<LineSample>& samples) {
+  std::vector<const LineSample*> used;
+  for (const LineSample& s : samples) {
+    if (s.used) used.push_back(&s);
+  }
+  return used;
+}
+
+// Fits, drops samples beyond 3.5 robust sigmas (at least `floor_px`), refits.
+MappingFit RobustFit(const NormalisedModel& model, const NormalisedModel::Params& start,
+                     std::vector<LineSample>& samples, bool radial, double floor_px) {
+  MappingFit fit = FitMapping(model, start, Used(samples), radial);
+  for (int round = 0; round < 2; ++round) {
+    std::vector<const LineSample*> used = Used(samples);
+    const Eigen::VectorXd r = Residuals(model, fit.params, used);
+    std::vector<double> magnitudes(r.size());
+    for (Eigen::Index i = 0; i < r.size(); ++i) magnitudes[i] = std::abs(r[i]);
+    const double limit = std::max(floor_px, 3.5 * 1.4826 * Median(magnitudes));
+    bool dropped = false;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      if (magnitudes[i] > limit) {
+        const_cast<LineSample*>(used[i])->used = false;
+        dropped = true;
+      }
+    }
+    if (!dropped) break;
+    fit = FitMapping(model, fit.params, Used(samples), radial);
+  }
+  return fit;
+}
+
+[[noreturn]] void NotFound(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                           const std::string& problem) {
+  throw InputError({photo.source, "", std::nullopt},
+                   fmt::format("graticule of {} x {} divisions not found: {}", divisions[0],
+                               divisions[1], problem));
+}
+
+// A lattice of the wrong size fits too: the lines it has beyond the screen's
+// are simply not measured, and one too small takes a part of the screen.
+// So every line of the lattice must be seen along much of its length, and
+// no line may be seen a division beyond the outermost ones.
+void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const GraticuleFit& fit,
+                    const std::vector<LineSample>& samples, const GraticuleOptions& options,
+                    double half_length_px, double search_px) {
+  const std::array<int, 2> divisions = fit.divisions;
+  const char* axis[2] = {"x", "y"};
+  // A measurement sees its line when it found a line where the fit puts it
+  // (whether or not it was used: a trace lying along a grid line hides it).
+  auto sees = [&](const LineSample& s) {
+    const cv::Point2d screen = fit.mapping.ScreenFromImage(s.measured_px);
+    const double miss_px = ((s.family == 0 ? screen.x : screen.y) - s.line_div) * s.px_per_div;
+    return std::abs(miss_px) < std::max(1.5, 4.0 * fit.residual_px);
+  };
+  for (const auto& [family, index] : GridLines(divisions)) {
+    int seen = 0;
+    for (const LineSample& s : samples) {
+      if (s.family == family && s.index == index) {
+        seen +=
+            sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px;
+      }
+    }
+    // Where a trace runs on or near the line (something far brighter than
+    // a grid line within 0.2 division of it), the line may be present but
+    // its measurements disturbed.
+    const bool centre_axis = 2 * index == divisions[family];
+    const std::vector<double> along =
+        SamplePositions(divisions[1 - family], options.samples_per_div, centre_axis);
+    const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
+    const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
+    int hidden = 0;
+    for (const double a : along) {
+      const cv::Point2d on =
+          family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
+      double brightest = 0.0, darkest = 1.0;
+      for (int k = -10; k <= 10; ++k) {
+        const double v = ink(fit.mapping.ImageFromScreen(on + across * k));
+        brightest = std::max(brightest, v), darkest = std::min(darkest, v);
+      }
+      hidden += brightest - darkest > 2.5 * fit.line_contrast;
+    }
+    const int expected = static_cast<int>(along.size());
+    if (seen < 0.4 * (expected - hidden)) {
+      NotFound(photo, divisions,
+               fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
+                           "does the screen have {} x {} divisions?",
+                           axis[family], line_div, seen, expected, divisions[0], divisions[1]));
+    }
+  }
+  const std::vector<std::pair<int, int>> beyond = {
+      {0, -1}, {0, divisions[0] + 1}, {1, -1}, {1, divisions[1] + 1}};
+  std::vector<LineSample> outside =
+      MeasureGridLines(ink, fit.mapping, divisions, beyond, options.samples_per_div, half_length_px,
+                       search_px, options.line_average_div);
+  for (const auto& [family, index] : beyond) {
+    int seen = 0;
+    for (const LineSample& s : outside) {
+      if (s.family != family || s.index != index) continue;
+      seen += sees(s) && s.height > 0.5 * fit.line_contrast && s.height < 2.0 * fit.line_contrast &&
+              s.fwhm_px < 1.5 * fit.line_width_px;
+    }
+    if (seen > 0.75 * divisions[1 - family] * options.samples_per_div) {
+      const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
+      NotFound(photo, divisions,
+               fmt::format("the photo shows a grid line at {} = {:g} div too: the screen has more "
+                           "divisions",
+                           axis[family], line_div));
+    }
+  }
+}
+
+}  // namespace
+
+GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                           const GraticuleOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("graticule options: " + error);
+  }
+  if (divisions[0] < 1 || divisions[1] < 1 || divisions[0] > 100 || divisions[1] > 100) {
+    throw std::invalid_argument(
+        fmt::format("graticule divisions must be 1..100, got {} x {}", divisions[0], divisions[1]));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::string why;
+  const std::optional<digitize::Lattice> lattice =
+      digitize::FindLattice(photo, divisions, options.max_rotation_deg, &why);
+  if (!lattice) NotFound(photo, divisions, why);
+
+  // The working copy's lattice in photo pixels.
+  const double f = photo.shrink;
+  const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0, 1.0);
+  const cv::Size size = photo.image.size();
+  const NormalisedModel model(divisions, size);
+  GraticuleMapping mapping;
+  mapping.homography = photo_from_working * lattice->working_from_screen;
+  mapping.distortion_centre_px = {0.5 * (size.width - 1), 0.5 * (size.height - 1)};
+  mapping.distortion_radius_px = 0.5 * std::hypot(size.width, size.height);
+  NormalisedModel::Params params = model.FromMapping(mapping);
+
+  const InkSampler ink(photo.image, photo.dark_traces);
+  const bool try_radial = options.radial != RadialModel::kNone;
+  const double px_per_div = mapping.PixelsPerDivisionAt({0.5 * divisions[0], 0.0});
+  // The lattice is good to a few working pixels (and the lines of a distorted
+  // photo bend away from it): the first look spans a sixth of a division.
+  double half_length_px = std::max(6.0, px_per_div / 6.0);
+  double search_px = half_length_px;
+  std::vector<LineSample> samples;
+  MappingFit fit;
+  // Two rounds: a wide look from the lattice, a narrow one from the first fit.
+  constexpr int kRounds = 2;
+  for (int round = 0; round < kRounds; ++round) {
+    samples = MeasureGridLines(ink, model.ToMapping(params), divisions, GridLines(divisions),
+                               options.samples_per_div, half_length_px, search_px,
+                               options.line_average_div);
+    if (samples.size() < 12) NotFound(photo, divisions, "the grid lines cannot be measured");
+    SelectLineLike(samples);
+    const bool last = round == kRounds - 1;
+    fit = last ? RobustFit(model, params, samples, try_radial, 0.3)
+               : FitMapping(model, params, Used(samples), try_radial);
+    if (last && options.radial == RadialModel::kAuto && fit.params[8] != 0.0) {
+      // Keep k1 only when it pays: compare with the homography alone on the
+      // same samples.
+      std::vector<LineSample> plain_samples = samples;
+      SelectLineLike(plain_samples);
+      const MappingFit plain = RobustFit(model, params, plain_samples, false, 0.3);
+      if (!(fit.rms_px < (1.0 - options.radial_min_gain) * plain.rms_px)) {
+        fit = plain;
+        samples = std::move(plain_samples);
+      }
+    }
+    params = fit.params;
+    std::vector<double> widths;
+    for (const LineSample& s : samples) {
+      if (s.used) widths.push_back(s.fwhm_px);
+    }
+    half_length_px = std::max({5.0, 2.5 * Median(widths), 4.0 * fit.rms_px + 2.0});
+    // From the first fit on, a line is looked for only where the fit puts
+    // it: a trace running beside it is brighter and would be taken instead.
+    search_px = std::max(2.0, 3.0 * fit.rms_px + 1.0);
+  }
+
+  GraticuleFit result;
+  result.divisions = divisions;
+  result.mapping = model.ToMapping(params);
+  result.radial_fitted = params[8] != 0.0;
+  std::vector<double> heights, widths;
+  const std::vector<const LineSample*> used = Used(samples);
+  const Eigen::VectorXd r = Residuals(model, params, used);
+  for (const LineSample* s : used) heights.push_back(s->height), widths.push_back(s->fwhm_px);
+  result.samples_used = static_cast<int>(used.size());
+  int expected = 0;
+  for (int family = 0; family < 2; ++family) {
+    expected += (divisions[family] + 1) * divisions[1 - family] * options.samples_per_div;
+  }
+  result.samples_rejected = expected - result.samples_used;
+  result.residual_px = r.size() > 0 ? std::sqrt(r.squaredNorm() / r.size()) : 0.0;
+  result.max_residual_px = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0.0;
+  result.px_per_div = result.mapping.PixelsPerDivisionAt({0.5 * divisions[0], 0.0});
+  result.line_width_px = Median(widths);
+  result.line_contrast = Median(heights);
+  result.elapsed_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (result.samples_used < expected / 4) {
+    NotFound(photo, divisions,
+             fmt::format("only {} of {} measurements across the grid lines look like a grid line",
+                         result.samples_used, expected));
+  }
+  CheckDivisions(photo, ink, result, samples, options, half_length_px, search_px);
+  if (result.residual_px > options.max_residual_px) {
+    NotFound(photo, divisions,
+             fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px)",
+                         result.residual_px, options.max_residual_px));
+  }
+  return result;
+}
+
+}  // namespace impactlab

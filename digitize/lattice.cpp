@@ -1,0 +1,552 @@
+#include "digitize/lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace impactlab::digitize {
+
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// The Hough accumulator covers normal angles [-45, 135) degrees, so that
+// neither family (normals near 0 and near 90 degrees for rotations within
+// +-45) wraps around its ends.
+constexpr double kThetaFirstDeg = -45.0;
+constexpr double kThetaStepDeg = 0.5;
+constexpr int kThetaBins = 360;
+// How far a family's lines may turn from its dominant direction (perspective).
+constexpr double kFamilySpreadDeg = 20.0;
+// A grid line must lie within this fraction of the local spacing of where the
+// progression puts it.
+constexpr double kMatchTolerance = 0.15;
+
+struct HoughLine {
+  double theta_rad = 0.0;  // normal direction
+  double rho_px = 0.0;     // x cos + y sin = rho, coordinates from the working copy's centre
+  double votes = 0.0;
+};
+
+struct RidgePoint {
+  float x = 0.0f, y = 0.0f;  // from the working copy's centre
+  float weight = 0.0f;       // its height above the noise, capped near a grid line's
+};
+
+// Thin bright structure: ridge pixels above the noise, thinned to those that
+// are a local maximum across x or across y. Each votes with its height, so
+// that faint lines in heavy noise still add up, capped at about a grid
+// line's height, so that the bright traces do not outvote the grid.
+std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) {
+  // The noise is judged in the middle of the frame, where the screen is: the
+  // flat surround of a scanned print would make it look smaller than it is.
+  std::vector<float> sample;
+  for (int row = ridge.rows / 5; row < ridge.rows * 4 / 5; row += 2) {
+    const float* p = ridge.ptr<float>(row);
+    for (int col = ridge.cols / 5; col < ridge.cols * 4 / 5; col += 2) sample.push_back(p[col]);
+  }
+  const auto middle = sample.begin() + sample.size() / 2;
+  std::nth_element(sample.begin(), middle, sample.end());
+  const float median = *middle;
+  for (float& v : sample) v = std::abs(v - median);
+  std::nth_element(sample.begin(), middle, sample.end());
+  const float sigma = 1.4826f * *middle;
+  const float threshold = std::max(median + 3.0f * sigma, 0.005f);
+
+  const float cx = 0.5f * (ridge.cols - 1), cy = 0.5f * (ridge.rows - 1);
+  std::vector<RidgePoint> points;
+  for (int row = 2; row + 2 < ridge.rows; ++row) {
+    const float* above = ridge.ptr<float>(row - 1);
+    const float* p = ridge.ptr<float>(row);
+    const float* below = ridge.ptr<float>(row + 1);
+    for (int col = 2; col + 2 < ridge.cols; ++col) {
+      const float v = p[col];
+      if (v <= threshold) continue;
+      const bool across_x = v >= p[col - 1] && v >= p[col + 1];
+      const bool across_y = v >= above[col] && v >= below[col];
+      if (across_x || across_y) points.push_back({col - cx, row - cy, v - median});
+    }
+  }
+  if (points.empty()) return points;
+  std::vector<float> weights;
+  for (const RidgePoint& p : points) weights.push_back(p.weight);
+  const auto mid = weights.begin() + weights.size() / 2;
+  std::nth_element(weights.begin(), mid, weights.end());
+  const float cap = 1.5f * *mid;
+  for (RidgePoint& p : points) p.weight = std::min(p.weight, cap);
+  *unit_weight = *mid;
+  return points;
+}
+
+class Accumulator {
+ public:
+  // Votes in the directions (bins) where `fill` is set, every `stride`th
+  // direction of those; the others stay empty.
+  Accumulator(const std::vector<RidgePoint>& points, cv::Size size, float unit_weight,
+              const std::vector<bool>& fill, int stride)
+      : rho_offset_(static_cast<int>(std::ceil(0.5 * std::hypot(size.width, size.height))) + 1),
+        rho_bins_(2 * rho_offset_ + 1),
+        unit_(unit_weight),
+        votes_(kThetaBins, rho_bins_, 0.0f) {
+    for (int t = 0; t < kThetaBins; t += stride) {
+      if (!fill[t]) continue;
+      const float c = static_cast<float>(std::cos(Theta(t))),
+                  s = static_cast<float>(std::sin(Theta(t)));
+      float* row = votes_.ptr<float>(t);
+      const float offset = rho_offset_ + 0.5f;
+      for (const RidgePoint& p : points)
+        row[static_cast<int>(p.x * c + p.y * s + offset)] += p.weight;
+    }
+  }
+
+  static double Theta(double bin) { return (kThetaFirstDeg + bin * kThetaStepDeg) * kDegree; }
+  static int Bin(double theta_deg) {
+    return static_cast<int>(std::lround((theta_deg - kThetaFirstDeg) / kThetaStepDeg));
+  }
+
+  // How much direction t's votes concentrate in a few lines: the sum of its
+  // strongest cells, each smoothed along rho first so that the uneven
+  // projection of the pixel grid (worst at 45 degrees, where bins alternately
+  // catch one and two pixel diagonals) does not count.
+  double Energy(int t) const {
+    constexpr int kLines = 24;
+    std::vector<double> smoothed(rho_bins_);
+    const float* row = votes_.ptr<float>(t);
+    smoothed[0] = smoothed[rho_bins_ - 1] = 0.0;
+    for (int r = 1; r + 1 < rho_bins_; ++r) {
+      smoothed[r] = 0.25 * row[r - 1] + 0.5 * row[r] + 0.25 * row[r + 1];
+    }
+    std::nth_element(smoothed.begin(), smoothed.begin() + kLines, smoothed.end(),
+                     std::greater<double>());
+    double sum = 0.0;
+    for (int i = 0; i < kLines; ++i) sum += smoothed[i];
+    return sum;
+  }
+
+  // The direction (bin) in [lo, hi] whose votes concentrate most, smoothed
+  // over neighbouring directions.
+  int DominantBin(int lo, int hi) const {
+    std::vector<double> energy(kThetaBins, 0.0);
+    for (int t = std::max(0, lo - 1); t <= std::min(kThetaBins - 1, hi + 1); ++t) {
+      energy[t] = Energy(t);
+    }
+    int best = lo;
+    double best_energy = -1.0;
+    for (int t = lo; t <= hi; ++t) {
+      const double e =
+          energy[std::max(0, t - 1)] + 2.0 * energy[t] + energy[std::min(kThetaBins - 1, t + 1)];
+      if (e > best_energy) best_energy = e, best = t;
+    }
+    return best;
+  }
+
+  // Local maxima in directions [lo, hi], strongest first, at most `limit`.
+  std::vector<HoughLine> Peaks(int lo, int hi, double min_share, std::size_t limit) const {
+    float strongest = 0.0f;
+    for (int t = lo; t <= hi; ++t) {
+      const float* row = votes_.ptr<float>(t);
+      strongest = std::max(strongest, *std::max_element(row, row + rho_bins_));
+    }
+    // At least the votes of a short stretch of line.
+    const float floor_votes = std::max(8.0f * unit_, static_cast<float>(min_share * strongest));
+    constexpr int kThetaReach = 2, kRhoReach = 3;
+    std::vector<HoughLine> peaks;
+    for (int t = lo; t <= hi; ++t) {
+      const float* row = votes_.ptr<float>(t);
+      for (int r = kRhoReach; r + kRhoReach < rho_bins_; ++r) {
+        const float v = row[r];
+        if (v < floor_votes) continue;
+        bool is_max = true;
+        for (int dt = -kThetaReach; dt <= kThetaReach && is_max; ++dt) {
+          const int tt = t + dt;
+          if (tt < 0 || tt >= kThetaBins) continue;
+          const float* other = votes_.ptr<float>(tt);
+          for (int dr = -kRhoReach; dr <= kRhoReach; ++dr) {
+            if (dt == 0 && dr == 0) continue;
+            // Ties go to the first in scan order.
+            const float w = other[r + dr];
+            if (w > v || (w == v && (dt < 0 || (dt == 0 && dr < 0)))) {
+              is_max = false;
+              break;
+            }
+          }
+        }
+        if (!is_max) continue;
+        // Sub-bin position: the vote-weighted mean of the neighbourhood.
+        double sum = 0.0, theta_sum = 0.0, rho_sum = 0.0;
+        for (int dt = -1; dt <= 1; ++dt) {
+          const int tt = std::clamp(t + dt, 0, kThetaBins - 1);
+          for (int dr = -1; dr <= 1; ++dr) {
+            const double w = votes_(tt, r + dr);
+            sum += w, theta_sum += w * (t + dt), rho_sum += w * (r + dr);
+          }
+        }
+        peaks.push_back(
+            {Theta(theta_sum / sum), rho_sum / sum - rho_offset_, static_cast<double>(v)});
+      }
+    }
+    std::sort(peaks.begin(), peaks.end(),
+              [](const HoughLine& a, const HoughLine& b) { return a.votes > b.votes; });
+    if (peaks.size() > limit) peaks.resize(limit);
+    return peaks;
+  }
+
+ private:
+  int rho_offset_;
+  int rho_bins_;
+  float unit_;  // a typical vote
+  cv::Mat1f votes_;
+};
+
+// u(n) = (a n + b) / (c n + 1): equally spaced lines seen in perspective.
+struct Progression1d {
+  double a = 1.0, b = 0.0, c = 0.0;
+  double operator()(double n) const { return (a * n + b) / (c * n + 1.0); }
+  double Spacing(double n) const { return std::abs((*this)(n + 0.5) - (*this)(n - 0.5)); }
+};
+
+// Least squares of a n + b - c n u = u; affine (c = 0) below three points.
+Progression1d FitProgression(const std::vector<std::pair<int, double>>& points) {
+  Progression1d model;
+  const auto& [n0, u0] = points.front();
+  const auto& [n1, u1] = points.back();
+  model.a = (u1 - u0) / (n1 - n0);
+  model.b = u0 - model.a * n0;
+  if (points.size() < 3) return model;
+  // Normal equations on the stack: this runs thousands of times per photo.
+  cv::Matx33d normal = cv::Matx33d::zeros();
+  cv::Vec3d rhs(0.0, 0.0, 0.0);
+  for (const auto& [n, u] : points) {
+    const cv::Vec3d row(n, 1.0, -n * u);
+    normal += row * row.t();
+    rhs += u * row;
+  }
+  cv::Vec3d x;
+  if (!cv::solve(normal, rhs, x, cv::DECOMP_LU)) return model;
+  model.a = x[0], model.b = x[1], model.c = x[2];
+  return model;
+}
+
+struct FamilyMatch {
+  std::vector<std::pair<int, int>> lines;  // (index n, candidate), n increasing
+  double score = 0.0;                      // votes of the lines in the best window
+  int window_start = 0;                    // first index of the grid's n_lines lines
+  bool window_certain = false;             // enough lines seen to place the window
+};
+
+// Grows a progression from candidates j (index 0) and k (index m) outward,
+// one index at a time, refitting as it goes.
+FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes, int j, int k,
+                 int m, int n_lines) {
+  std::vector<std::pair<int, double>> points = {{0, u[j]}, {m, u[k]}};
+  std::vector<std::pair<int, int>> matched = {{0, j}, {m, k}};
+  auto find = [&](const Progression1d& model, int n) {
+    const double predicted = model(n), tolerance = kMatchTolerance * model.Spacing(n);
+    int best = -1;
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      if (std::abs(u[i] - predicted) <= tolerance && (best < 0 || votes[i] > votes[best])) {
+        best = static_cast<int>(i);
+      }
+    }
+    return best;
+  };
+  auto add = [&](int n, int candidate) {
+    points.emplace_back(n, u[candidate]);
+    matched.emplace_back(n, candidate);
+  };
+  Progression1d model = FitProgression(points);
+  for (int n = 1; n < m; ++n) {
+    if (const int c = find(model, n); c >= 0) add(n, c);
+  }
+  model = FitProgression(points);
+  int lo = 0, hi = m, misses_lo = 0, misses_hi = 0;
+  const int max_span = n_lines + 2;
+  while ((misses_lo < 2 || misses_hi < 2) && hi - lo + 1 < max_span) {
+    for (const bool upward : {true, false}) {
+      int& misses = upward ? misses_hi : misses_lo;
+      if (misses >= 2 || hi - lo + 1 >= max_span) continue;
+      const int n = upward ? ++hi : --lo;
+      // Perspective must keep the lines in order and the spacing finite.
+      if (!(model.Spacing(n) > 0.0) || std::abs(model.c * n) > 0.8) {
+        misses = 2;
+        continue;
+      }
+      if (const int c = find(model, n); c >= 0) {
+        add(n, c);
+        model = FitProgression(points);
+        misses = 0;
+      } else {
+        ++misses;
+      }
+    }
+  }
+  std::sort(matched.begin(), matched.end());
+  // Indices start at 0; the best window of n_lines consecutive indices.
+  const int first = matched.front().first;
+  for (auto& [n, c] : matched) n -= first;
+  const int span = matched.back().first + 1;
+  FamilyMatch result;
+  result.lines = matched;
+  for (int start = std::min(0, span - n_lines); start <= std::max(0, span - n_lines); ++start) {
+    double score = 0.0;
+    for (const auto& [n, c] : matched) {
+      if (n >= start && n < start + n_lines) score += votes[c];
+    }
+    if (score > result.score) result.score = score, result.window_start = start;
+  }
+  result.window_certain = span >= n_lines;
+  return result;
+}
+
+// Which candidate lines are the grid's, and their indices.
+std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, double theta_rad,
+                                       int n_lines, double min_spacing_px, double max_spacing_px) {
+  // Positions along the transversal through the centre, across the family.
+  std::vector<double> u, votes;
+  for (const HoughLine& line : lines) {
+    u.push_back(line.rho_px / std::cos(line.theta_rad - theta_rad));
+    votes.push_back(line.votes);
+  }
+  std::optional<FamilyMatch> best;
+  const int anchors = std::min<int>(static_cast<int>(lines.size()), 24);
+  for (int j = 0; j < anchors; ++j) {
+    for (int k = 0; k < anchors; ++k) {
+      if (u[k] <= u[j]) continue;
+      for (int m = 1; m <= 3; ++m) {
+        const double spacing = (u[k] - u[j]) / m;
+        if (spacing < min_spacing_px || spacing > max_spacing_px) continue;
+        FamilyMatch match = Grow(u, votes, j, k, m, n_lines);
+        if (!best || match.score > best->score) best = std::move(match);
+      }
+    }
+  }
+  return best;
+}
+
+// A family's lines l(n) = A + n B in normalised homogeneous coordinates, fitted
+// to the matched Hough lines (each line's cross product with the model is 0).
+struct Pencil {
+  cv::Vec3d a, b;
+  cv::Vec3d operator()(double n) const { return a + n * b; }
+};
+
+cv::Vec3d HomogeneousLine(const HoughLine& line, double scale) {
+  return {std::cos(line.theta_rad), std::sin(line.theta_rad), -line.rho_px / scale};
+}
+
+Pencil FitPencil(const std::vector<HoughLine>& lines, const FamilyMatch& match, double scale) {
+  cv::Mat1d design(3 * static_cast<int>(match.lines.size()), 6);
+  int row = 0;
+  for (const auto& [n, c] : match.lines) {
+    const cv::Vec3d l = HomogeneousLine(lines[c], scale);
+    const cv::Matx33d cross(0.0, -l[2], l[1], l[2], 0.0, -l[0], -l[1], l[0], 0.0);
+    for (int i = 0; i < 3; ++i, ++row) {
+      for (int k = 0; k < 3; ++k) {
+        design(row, k) = cross(i, k);
+        design(row, 3 + k) = n * cross(i, k);
+      }
+    }
+  }
+  cv::Mat1d solution;
+  cv::SVD::solveZ(design, solution);
+  return {{solution(0), solution(1), solution(2)}, {solution(3), solution(4), solution(5)}};
+}
+
+cv::Point2d Intersect(const cv::Vec3d& l1, const cv::Vec3d& l2) {
+  const cv::Vec3d p = l1.cross(l2);
+  return {p[0] / p[2], p[1] / p[2]};
+}
+
+// Mean ridge response along the line between two points (normalised
+// coordinates), the brightest of a 3 x 3 neighbourhood at each step.
+double LineEvidence(const cv::Mat1f& ridge, cv::Point2d from, cv::Point2d to, double scale) {
+  const cv::Point2d centre(0.5 * (ridge.cols - 1), 0.5 * (ridge.rows - 1));
+  constexpr int kSteps = 48;
+  double sum = 0.0;
+  int count = 0;
+  for (int i = 1; i < kSteps; ++i) {
+    const cv::Point2d p = centre + (from + (to - from) * (static_cast<double>(i) / kSteps)) * scale;
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    if (x < 1 || y < 1 || x + 1 >= ridge.cols || y + 1 >= ridge.rows) continue;
+    float best = 0.0f;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) best = std::max(best, ridge(y + dy, x + dx));
+    }
+    sum += best;
+    ++count;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+// Places a family's window of n_lines indices when fewer lines were seen:
+// the window whose unseen lines show the most ridge along their predicted
+// course (between the other family's outermost seen lines).
+void PlaceWindow(FamilyMatch& match, const Pencil& pencil, const Pencil& other, int other_lo,
+                 int other_hi, int n_lines, const cv::Mat1f& ridge, double scale) {
+  if (match.window_certain) return;
+  const int span = match.lines.back().first + 1;
+  double best = -1.0;
+  for (int start = span - n_lines; start <= 0; ++start) {
+    double evidence = 0.0;
+    for (int n = start; n < start + n_lines; ++n) {
+      if (n >= 0 && n < span) continue;
+      const cv::Vec3d line = pencil(n);
+      evidence += LineEvidence(ridge, Intersect(line, other(other_lo)),
+                               Intersect(line, other(other_hi)), scale);
+    }
+    if (evidence > best) best = evidence, match.window_start = start;
+  }
+}
+
+}  // namespace
+
+cv::Matx33d FitHomography(const std::vector<cv::Point2d>& from,
+                          const std::vector<cv::Point2d>& to) {
+  CV_Assert(from.size() == to.size() && from.size() >= 4);
+  auto normaliser = [](const std::vector<cv::Point2d>& points) {
+    cv::Point2d mean(0.0, 0.0);
+    for (const cv::Point2d& p : points) mean += p;
+    mean *= 1.0 / points.size();
+    double spread = 0.0;
+    for (const cv::Point2d& p : points) spread += cv::norm(p - mean);
+    const double s = std::sqrt(2.0) * points.size() / std::max(spread, 1e-12);
+    return cv::Matx33d(s, 0.0, -s * mean.x, 0.0, s, -s * mean.y, 0.0, 0.0, 1.0);
+  };
+  const cv::Matx33d t_from = normaliser(from), t_to = normaliser(to);
+  cv::Mat1d design(2 * static_cast<int>(from.size()), 9);
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const cv::Vec3d p = t_from * cv::Vec3d(from[i].x, from[i].y, 1.0);
+    const cv::Vec3d q = t_to * cv::Vec3d(to[i].x, to[i].y, 1.0);
+    const double rows[2][9] = {{-p[0], -p[1], -1.0, 0.0, 0.0, 0.0, q[0] * p[0], q[0] * p[1], q[0]},
+                               {0.0, 0.0, 0.0, -p[0], -p[1], -1.0, q[1] * p[0], q[1] * p[1], q[1]}};
+    for (int r = 0; r < 2; ++r) {
+      for (int k = 0; k < 9; ++k) design(2 * static_cast<int>(i) + r, k) = rows[r][k];
+    }
+  }
+  cv::Mat1d h;
+  cv::SVD::solveZ(design, h);
+  const cv::Matx33d normalised(h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8));
+  cv::Matx33d result = t_to.inv() * normalised * t_from;
+  return result * (1.0 / result(2, 2));
+}
+
+std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                                   double max_rotation_deg, std::string* why) {
+  const cv::Mat1f& ridge = photo.ridge;
+  float unit_weight = 0.0f;
+  const std::vector<RidgePoint> points = RidgePoints(ridge, &unit_weight);
+  if (points.size() < 50) {
+    *why = "no thin lines in the photo";
+    return std::nullopt;
+  }
+  // The two families: normals near 0 degrees (vertical lines) and near 90,
+  // their directions first found in every fourth direction (2 degrees apart),
+  // then the lines in all directions near them.
+  const double reach_deg = std::min(44.0, max_rotation_deg + 15.0);
+  const int family_lo[2] = {Accumulator::Bin(-reach_deg), Accumulator::Bin(90.0 - reach_deg)};
+  const int family_hi[2] = {Accumulator::Bin(reach_deg), Accumulator::Bin(90.0 + reach_deg)};
+  constexpr int kCoarse = 4;
+  std::vector<bool> fill(kThetaBins, false);
+  for (int f = 0; f < 2; ++f) {
+    for (int t = family_lo[f]; t <= family_hi[f]; ++t) fill[t] = t % kCoarse == 0;
+  }
+  int dominant[2];
+  {
+    const Accumulator coarse(points, ridge.size(), unit_weight, fill, kCoarse);
+    for (int f = 0; f < 2; ++f) {
+      const int first = (family_lo[f] + kCoarse - 1) / kCoarse * kCoarse;
+      int best = first;
+      double best_energy = -1.0;
+      for (int t = first; t <= family_hi[f]; t += kCoarse) {
+        const double e = coarse.Energy(t);
+        if (e > best_energy) best_energy = e, best = t;
+      }
+      dominant[f] = best;
+    }
+  }
+  const int spread = static_cast<int>(kFamilySpreadDeg / kThetaStepDeg);
+  std::fill(fill.begin(), fill.end(), false);
+  for (int f = 0; f < 2; ++f) {
+    for (int t = std::max(0, dominant[f] - spread - kCoarse);
+         t <= std::min(kThetaBins - 1, dominant[f] + spread + kCoarse); ++t) {
+      fill[t] = true;
+    }
+  }
+  const Accumulator accumulator(points, ridge.size(), unit_weight, fill, 1);
+  for (int f = 0; f < 2; ++f) {
+    dominant[f] = accumulator.DominantBin(std::max(0, dominant[f] - kCoarse),
+                                          std::min(kThetaBins - 1, dominant[f] + kCoarse));
+  }
+  const double size = std::max(ridge.cols, ridge.rows);
+  const double scale = 0.5 * size;  // normalised coordinates: centred, divided by this
+  std::vector<HoughLine> lines[2];
+  std::optional<FamilyMatch> matches[2];
+  Pencil pencils[2];
+  const char* family_names[2] = {"vertical", "horizontal"};
+  for (int f = 0; f < 2; ++f) {
+    const int lo = std::max(0, dominant[f] - spread);
+    const int hi = std::min(kThetaBins - 1, dominant[f] + spread);
+    lines[f] = accumulator.Peaks(lo, hi, 0.15, 48);
+    const int n_lines = divisions[f] + 1;
+    // The grid spans at least a fifth of the photo and at most all of it.
+    const double min_spacing = 0.2 * size / divisions[f] * (f == 0 ? 1.0 : 0.75);
+    const double max_spacing = 1.1 * size / divisions[f];
+    matches[f] =
+        MatchFamily(lines[f], Accumulator::Theta(dominant[f]), n_lines, min_spacing, max_spacing);
+    const int needed = std::max(3, (n_lines + 1) / 2);
+    if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed) {
+      *why = fmt::format("found {} of the {} {} grid lines in step",
+                         matches[f] ? matches[f]->lines.size() : 0, n_lines, family_names[f]);
+      return std::nullopt;
+    }
+    pencils[f] = FitPencil(lines[f], *matches[f], scale);
+  }
+  for (int f = 0; f < 2; ++f) {
+    const FamilyMatch& other = *matches[1 - f];
+    PlaceWindow(*matches[f], pencils[f], pencils[1 - f], other.lines.front().first,
+                other.lines.back().first, divisions[f] + 1, ridge, scale);
+  }
+
+  // Crossings of the lattice's lines: screen x = n - start (vertical family),
+  // screen y = ny / 2 - (m - start) (horizontal family, image y grows down).
+  const cv::Point2d centre(0.5 * (ridge.cols - 1), 0.5 * (ridge.rows - 1));
+  std::vector<cv::Point2d> screen, image;
+  for (int i = 0; i <= divisions[0]; ++i) {
+    const cv::Vec3d vertical = pencils[0](i + matches[0]->window_start);
+    for (int j = 0; j <= divisions[1]; ++j) {
+      const cv::Vec3d horizontal = pencils[1](j + matches[1]->window_start);
+      const cv::Point2d p = Intersect(vertical, horizontal);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+        *why = "the grid lines found do not cross";
+        return std::nullopt;
+      }
+      screen.emplace_back(i, 0.5 * divisions[1] - j);
+      image.push_back(centre + p * scale);
+    }
+  }
+  Lattice lattice;
+  lattice.working_from_screen = FitHomography(screen, image);
+  lattice.lines_found = {static_cast<int>(matches[0]->lines.size()),
+                         static_cast<int>(matches[1]->lines.size())};
+  // The screen must land in the photo's frame the right way round.
+  const cv::Matx33d& h = lattice.working_from_screen;
+  auto map = [&](double x, double y) {
+    const cv::Vec3d q = h * cv::Vec3d(x, y, 1.0);
+    return cv::Point2d(q[0] / q[2], q[1] / q[2]);
+  };
+  const cv::Point2d corner00 = map(0, -0.5 * divisions[1]),
+                    corner10 = map(divisions[0], -0.5 * divisions[1]);
+  const cv::Point2d corner01 = map(0, 0.5 * divisions[1]);
+  const double orientation = (corner10 - corner00).cross(corner01 - corner00);
+  if (!(orientation < 0.0)) {  // x right and y up on the screen: clockwise in the image
+    *why = "the lattice found is mirrored";
+    return std::nullopt;
+  }
+  return lattice;
+}
+
+}  // namespace impactlab::digitize

@@ -1,0 +1,179 @@
+// LoadPhoto and PreparePhoto: decoding with clear errors, and the small grey
+// working copy the searches run on.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "digitize/digitize.h"
+#include "io/errors.h"
+
+namespace impactlab {
+
+namespace {
+
+// Smallest photo side that can hold a graticule worth measuring, pixels.
+constexpr int kMinSidePx = 100;
+
+[[noreturn]] void Refuse(const std::filesystem::path& path, const std::string& problem) {
+  throw InputError({path, "", std::nullopt}, problem);
+}
+
+bool StartsWith(const std::vector<uchar>& bytes, std::initializer_list<uchar> magic) {
+  return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
+}
+
+// Decoders fill a truncated JPEG with grey and say so only on stderr, so the
+// end markers are checked here: a JPEG ends with EOI (FF D9), a PNG with its
+// IEND chunk (possibly followed by stray bytes some writers add).
+void CheckComplete(const std::filesystem::path& path, const std::vector<uchar>& bytes) {
+  if (StartsWith(bytes, {0xFF, 0xD8, 0xFF})) {
+    const std::size_t tail = std::min<std::size_t>(bytes.size(), 64);
+    bool found = false;
+    for (std::size_t i = bytes.size() - tail; i + 1 < bytes.size(); ++i) {
+      if (bytes[i] == 0xFF && bytes[i + 1] == 0xD9) found = true;
+    }
+    if (!found) Refuse(path, "the JPEG photo is truncated (no end-of-image marker)");
+  } else if (StartsWith(bytes, {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A})) {
+    const std::string iend = "IEND";
+    const std::size_t tail = std::min<std::size_t>(bytes.size(), 64);
+    if (std::search(bytes.end() - tail, bytes.end(), iend.begin(), iend.end()) == bytes.end()) {
+      Refuse(path, "the PNG photo is truncated (no IEND chunk)");
+    }
+  }
+}
+
+void CheckUsable(const std::filesystem::path& path, const cv::Mat& image) {
+  if (image.empty()) Refuse(path, "the photo is empty");
+  if (image.depth() != CV_8U && image.depth() != CV_16U) {
+    Refuse(path, "the photo's samples are neither 8 nor 16 bit integers");
+  }
+  if (image.channels() != 1 && image.channels() != 3 && image.channels() != 4) {
+    Refuse(path, fmt::format("the photo has {} channels; expected 1 (grey), 3 or 4 (colour)",
+                             image.channels()));
+  }
+  if (image.cols < kMinSidePx || image.rows < kMinSidePx) {
+    Refuse(path, fmt::format("the photo is {}x{} pixels, too small to hold a graticule (at least "
+                             "{} pixels each way)",
+                             image.cols, image.rows, kMinSidePx));
+  }
+}
+
+double Quantile(std::vector<float>& values, double q) {
+  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+// Dark traces when the photo's thin features stand further below the screen
+// than above it, judged in the middle of the frame, where the screen is.
+bool LooksNegative(const cv::Mat1f& grey) {
+  const cv::Rect middle(grey.cols / 5, grey.rows / 5, grey.cols * 3 / 5, grey.rows * 3 / 5);
+  std::vector<float> values;
+  values.reserve(middle.area());
+  for (int row = middle.y; row < middle.y + middle.height; ++row) {
+    const float* p = grey.ptr<float>(row);
+    values.insert(values.end(), p + middle.x, p + middle.x + middle.width);
+  }
+  const double low = Quantile(values, 0.01), median = Quantile(values, 0.5);
+  const double high = Quantile(values, 0.99);
+  return median - low > high - median;
+}
+
+}  // namespace
+
+Photo LoadPhoto(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    Refuse(path, std::filesystem::exists(path, error) ? "the photo is not a regular file"
+                                                      : "the photo does not exist");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) Refuse(path, "cannot open the photo");
+  std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) Refuse(path, "the photo file is empty");
+  CheckComplete(path, bytes);
+  Photo photo;
+  photo.source = path;
+  try {
+    photo.image = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  } catch (const cv::Exception& e) {
+    Refuse(path, fmt::format("cannot decode the photo: {}", e.what()));
+  }
+  if (photo.image.empty()) {
+    Refuse(path, "cannot decode the photo (not a PNG, JPEG or TIFF image, or damaged)");
+  }
+  CheckUsable(path, photo.image);
+  return photo;
+}
+
+PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("graticule options: " + error);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  CheckUsable(photo.source, photo.image);
+  PreparedPhoto prepared;
+  prepared.image = photo.image;
+  prepared.source = photo.source;
+  prepared.shrink = std::max(1, static_cast<int>(std::lround(static_cast<double>(photo.image.cols) /
+                                                             options.detect_width_px)));
+  const int f = prepared.shrink;
+  // An exact whole factor: OpenCV's area resampling then takes its fast path,
+  // and working pixel (u, v) covers photo pixels [f u, f u + f) exactly.
+  cv::Mat small;
+  const cv::Rect whole(0, 0, photo.image.cols / f * f, photo.image.rows / f * f);
+  if (f > 1) {
+    cv::resize(photo.image(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
+               cv::INTER_AREA);
+  } else {
+    small = photo.image;
+  }
+  if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
+  if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
+  small.convertTo(prepared.working, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
+
+  switch (options.polarity) {
+    case Polarity::kAuto:
+      prepared.dark_traces = LooksNegative(prepared.working);
+      break;
+    case Polarity::kBrightTraces:
+      prepared.dark_traces = false;
+      break;
+    case Polarity::kDarkTraces:
+      prepared.dark_traces = true;
+      break;
+  }
+  if (prepared.dark_traces) prepared.working = 1.0f - prepared.working;
+
+  // Thin bright structure: the working copy less its opening by a square a
+  // little wider than a grid line or a trace. Broad light (glare, vignetting,
+  // a print's border) and edges do not pass; lines of any direction do.
+  constexpr int kOpeningPx = 5;
+  cv::Mat opened;
+  cv::morphologyEx(prepared.working, opened, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpeningPx, kOpeningPx)));
+  prepared.ridge = prepared.working - opened;
+  prepared.prepare_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return prepared;
+}
+
+void WriteImage(const std::filesystem::path& path, const cv::Mat& image) {
+  bool written = false;
+  try {
+    written = cv::imwrite(path.string(), image);
+  } catch (const cv::Exception& e) {
+    throw InputError({path, "", std::nullopt}, fmt::format("cannot write the image: {}", e.what()));
+  }
+  if (!written) throw InputError({path, "", std::nullopt}, "cannot write the image");
+}
+
+}  // namespace impactlab

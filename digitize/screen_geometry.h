@@ -1,0 +1,118 @@
+// Screen geometry used by several measurements (internal to digitize/):
+// the inverse mapping for many points, and which graticule lines cross a
+// profile.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <opencv2/core.hpp>
+
+#include "digitize/digitize.h"
+#include "digitize/line_profile.h"
+
+namespace impactlab::digitize {
+
+// ScreenFromImage with the inverse homography computed once.
+class ScreenFromPixel {
+ public:
+  explicit ScreenFromPixel(const GraticuleMapping& mapping)
+      : mapping_(mapping), inverse_(mapping.homography.inv()) {}
+
+  cv::Point2d operator()(cv::Point2d p) const {
+    if (mapping_.radial_k1 != 0.0) {
+      const cv::Point2d d = p - mapping_.distortion_centre_px;
+      const double distorted = std::hypot(d.x, d.y);
+      if (distorted > 0.0) {
+        const double k =
+            mapping_.radial_k1 / (mapping_.distortion_radius_px * mapping_.distortion_radius_px);
+        double r = distorted;
+        for (int iteration = 0; iteration < 6; ++iteration) {
+          r -= (r + k * r * r * r - distorted) / (1.0 + 3.0 * k * r * r);
+        }
+        p = mapping_.distortion_centre_px + d * (r / distorted);
+      }
+    }
+    const cv::Vec3d s = inverse_ * cv::Vec3d(p.x, p.y, 1.0);
+    return {s[0] / s[2], s[1] / s[2]};
+  }
+
+ private:
+  const GraticuleMapping& mapping_;
+  cv::Matx33d inverse_;
+};
+
+// The graticule's lines and the centre axes' minor ticks (every 0.2
+// division, 0.2 division long) that cross a profile, found from the screen
+// positions of its ends (the mapping is as good as straight over a profile).
+class GridCrossings {
+ public:
+  // `fwhm_div`: a grid line's width; its light is taken to reach
+  // `reach_widths` of them either side.
+  GridCrossings(std::array<int, 2> divisions, double fwhm_div, double reach_widths)
+      : nx_(divisions[0]), ny_(divisions[1]), fwhm_div_(fwhm_div), m_(reach_widths * fwhm_div) {}
+
+  void AddTo(Profile& profile, cv::Point2d first_div, cv::Point2d last_div) const {
+    if (m_ <= 0.0) return;
+    const double u0 = profile.OffsetAt(0);
+    const double length = profile.OffsetAt(static_cast<int>(profile.values.size()) - 1) - u0;
+    const cv::Point2d per_px = (last_div - first_div) / length;
+    const double half = 0.5 * ny_;
+    // Lines y = value where x lies in [x_lo, x_hi], and x = value where y does.
+    auto add = [&](bool horizontal, double value, double lo, double hi) {
+      const double rate = horizontal ? per_px.y : per_px.x;
+      const double reach = std::abs(rate) > 1e-12 ? m_ / std::abs(rate) : HUGE_VAL;
+      if (reach > 0.5 * length) {
+        // Along the profile. A line covering all of it is an even
+        // background, harmless; one ending within it (a tick, the
+        // graticule's edge) lights part of it: the profile is spoiled.
+        const double c0 = horizontal ? first_div.y : first_div.x;
+        const double c1 = horizontal ? last_div.y : last_div.x;
+        if (std::min(std::abs(c0 - value), std::abs(c1 - value)) > m_) return;
+        const double o0 =
+            std::min(horizontal ? first_div.x : first_div.y, horizontal ? last_div.x : last_div.y);
+        const double o1 =
+            std::max(horizontal ? first_div.x : first_div.y, horizontal ? last_div.x : last_div.y);
+        const bool covers = lo - m_ <= o0 && o1 <= hi + m_;
+        const bool touches = o1 >= lo - m_ && o0 <= hi + m_;
+        if (touches && !covers) profile.beside_short_line = true;
+        return;
+      }
+      const double u = u0 + (value - (horizontal ? first_div.y : first_div.x)) / rate;
+      if (u < u0 - reach || u > u0 + length + reach) return;
+      const double other =
+          horizontal ? first_div.x + per_px.x * (u - u0) : first_div.y + per_px.y * (u - u0);
+      if (other < lo - m_ || other > hi + m_) return;
+      profile.crossings.push_back({u, fwhm_div_ / std::abs(rate), reach});
+    };
+    const double y_lo = std::min(first_div.y, last_div.y) - 0.5,
+                 y_hi = std::max(first_div.y, last_div.y) + 0.5;
+    const double x_lo = std::min(first_div.x, last_div.x) - 0.5,
+                 x_hi = std::max(first_div.x, last_div.x) + 0.5;
+    for (int k = 0; k <= ny_; ++k) {
+      const double y = k - half;
+      if (y >= y_lo && y <= y_hi) add(true, y, 0.0, nx_);
+    }
+    for (int k = 0; k <= nx_; ++k) {
+      if (k >= x_lo && k <= x_hi) add(false, k, -half, half);
+    }
+    for (int k = 0; k <= 5 * nx_; ++k) {
+      const double x = kTickDiv * k;
+      if (k % 5 != 0 && x >= x_lo && x <= x_hi) add(false, x, -kTickHalfDiv, kTickHalfDiv);
+    }
+    for (int k = 0; k <= 5 * ny_; ++k) {
+      const double y = kTickDiv * k - half;
+      if (k % 5 != 0 && y >= y_lo && y <= y_hi) {
+        add(true, y, 0.5 * nx_ - kTickHalfDiv, 0.5 * nx_ + kTickHalfDiv);
+      }
+    }
+  }
+
+ private:
+  static constexpr double kTickDiv = 0.2, kTickHalfDiv = 0.1;
+  int nx_, ny_;
+  double fwhm_div_, m_;
+};
+
+}  // namespace impactlab::digitize

@@ -1,0 +1,487 @@
+// ExtractTraces: each trace tracked coarsely along its band, then its centre
+// line measured across it in the full photo, sample by sample, with the grid
+// lines it passes allowed for, dash ends, specks, cusps and outliers dropped,
+// and nothing reported where no line is seen.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "digitize/digitize.h"
+#include "digitize/ink_sampler.h"
+#include "digitize/line_profile.h"
+#include "digitize/screen_geometry.h"
+#include "digitize/trace_track.h"
+#include "io/errors.h"
+
+namespace impactlab {
+
+namespace {
+
+using digitize::CentreSettings;
+using digitize::Claims;
+using digitize::CoarsePath;
+using digitize::FindLineCentre;
+using digitize::GridCrossings;
+using digitize::InkSampler;
+using digitize::LineCentre;
+using digitize::Profile;
+using digitize::ReadProfile;
+using digitize::ScreenFromPixel;
+using digitize::TrackGrid;
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// The coarse course as a function of screen x: the seen columns either side,
+// joined across gaps the tracking bridged (never across a step or a restart).
+class Course {
+ public:
+  Course(const CoarsePath& path, int max_gap_columns) : path_(path), max_gap_(max_gap_columns) {
+    const int n = static_cast<int>(path.y_div.size());
+    previous_.assign(n, -1);
+    next_.assign(n, -1);
+    for (int c = 0, last = -1; c < n; ++c) {
+      if (!std::isnan(path.y_div[c])) last = c;
+      previous_[c] = last;
+    }
+    for (int c = n - 1, last = -1; c >= 0; --c) {
+      if (!std::isnan(path.y_div[c])) last = c;
+      next_[c] = last;
+    }
+    piece_.assign(n, 0);
+    for (int c = 0, piece = 0; c < n; ++c) {
+      if (!std::isnan(path.y_div[c]) && path.link[c] != CoarsePath::kOnCourse) ++piece;
+      piece_[c] = piece;
+    }
+  }
+
+  // y (div), slope (div/div) and which piece (between steps and restarts) at x.
+  bool At(double x_div, double* y_div, double* slope, int* piece) const {
+    const int n = static_cast<int>(path_.y_div.size());
+    const double column = x_div * path_.grid.px_per_div;
+    const int c0 = std::clamp(static_cast<int>(std::floor(column)), 0, n - 1);
+    const int c1 = std::min(c0 + 1, n - 1);
+    const int a = previous_[c0], b = next_[c1];
+    const bool joined =
+        a >= 0 && b >= 0 && b - a <= max_gap_ && path_.link[b] == CoarsePath::kOnCourse;
+    // Only where the tracking saw the trace (within a column): in a gap it
+    // bridged there is nothing to measure, and a grid line might pass for it.
+    const bool seen = (a >= 0 && column - a <= 1.0) || (b >= 0 && b - column <= 1.0);
+    if (!seen) return false;
+    int at = -1;
+    if (joined && b != a) {
+      const double f = std::clamp((column - a) / (b - a), 0.0, 1.0);
+      *y_div = path_.y_div[a] + f * (path_.y_div[b] - path_.y_div[a]);
+      at = column - a < b - column ? a : b;
+    } else if (a >= 0 && column - a <= 1.5) {
+      *y_div = path_.y_div[a], at = a;
+    } else if (b >= 0 && b - column <= 1.5) {
+      *y_div = path_.y_div[b], at = b;
+    } else {
+      return false;
+    }
+    *slope = Slope(at);
+    *piece = Piece(at);
+    return true;
+  }
+
+ private:
+  // The slope over a few seen columns either side within the same piece.
+  double Slope(int c) const {
+    constexpr int kReach = 4;
+    const int n = static_cast<int>(path_.y_div.size());
+    int lo = c, hi = c;
+    for (int k = 0, p = c; k < kReach && p >= 0; ++k) {
+      if (path_.link[p] != CoarsePath::kOnCourse) break;
+      const int q = p > 0 ? previous_[p - 1] : -1;
+      if (q < 0 || p - q > max_gap_) break;
+      lo = q, p = q;
+    }
+    for (int k = 0, p = c; k < kReach && p < n - 1; ++k) {
+      const int q = next_[p + 1];
+      if (q < 0 || q - p > max_gap_ || path_.link[q] != CoarsePath::kOnCourse) break;
+      hi = q, p = q;
+    }
+    if (hi == lo) return 0.0;
+    return (path_.y_div[hi] - path_.y_div[lo]) / ((hi - lo) / path_.grid.px_per_div);
+  }
+
+  int Piece(int c) const { return piece_[c]; }
+
+  const CoarsePath& path_;
+  int max_gap_;
+  std::vector<int> previous_, next_;
+  std::vector<int> piece_;  // per column: pieces begun up to it
+};
+
+struct Sample {
+  cv::Point2d centre_px;
+  cv::Point2d screen_div;
+  double height = 0.0;
+  double fwhm_px = 0.0;
+  double crossing_share = 0.0;
+  int piece = 0;
+  bool keep = true;
+  double confidence = 1.0;
+};
+
+struct MeasureSettings {
+  double step_div = 0.01;  // between samples along the sweep
+  double search_px = 3.0;  // the coarse course's uncertainty across the trace
+  double half_length_px = 10.0;
+  double profile_step_px = 0.5;
+  CentreSettings centre;
+};
+
+// Measures across the trace at x = x0, x0 + step, ... wherever the course is known.
+std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& graticule,
+                                 const Course& course, const GridCrossings& grid,
+                                 const MeasureSettings& settings, double step_div) {
+  const GraticuleMapping& mapping = graticule.mapping;
+  const ScreenFromPixel screen_from_pixel(mapping);
+  const double nx = graticule.divisions[0];
+  std::vector<Sample> samples;
+  constexpr double kTangentDiv = 0.02;
+  const int count = static_cast<int>(std::floor(nx / step_div + 1e-9));
+  for (int i = 0; i <= count; ++i) {
+    const double x = std::min(nx, i * step_div);
+    double y = 0.0, slope = 0.0;
+    int piece = 0;
+    if (!course.At(x, &y, &slope, &piece)) continue;
+    const cv::Point2d origin = mapping.ImageFromScreen({x, y});
+    const cv::Point2d tangent =
+        mapping.ImageFromScreen({x + kTangentDiv, y + slope * kTangentDiv}) -
+        mapping.ImageFromScreen({x - kTangentDiv, y - slope * kTangentDiv});
+    const double length = std::hypot(tangent.x, tangent.y);
+    if (!(length > 0.0)) continue;
+    const cv::Point2d normal(-tangent.y / length, tangent.x / length);
+    Profile profile =
+        ReadProfile(ink, origin, normal, settings.half_length_px, settings.profile_step_px);
+    const int n = static_cast<int>(profile.values.size());
+    grid.AddTo(profile, screen_from_pixel(profile.PointAt(profile.OffsetAt(0))),
+               screen_from_pixel(profile.PointAt(profile.OffsetAt(n - 1))));
+    if (profile.beside_short_line) continue;
+    const LineCentre centre = FindLineCentre(profile, settings.centre);
+    if (!centre.found) continue;
+    Sample sample;
+    sample.centre_px = profile.PointAt(centre.offset_px);
+    sample.screen_div = screen_from_pixel(sample.centre_px);
+    sample.height = centre.height;
+    sample.fwhm_px = centre.fwhm_px;
+    sample.crossing_share = centre.crossing_share;
+    sample.piece = piece;
+    samples.push_back(sample);
+  }
+  return samples;
+}
+
+// Drops samples further than `sigmas` robust sigmas from a smooth curve
+// through their neighbours on the same piece (a parabola in x over the
+// nearest tenth of a division or so; a straight line with few neighbours);
+// returns that robust sigma across the trace, the centre's scatter (pixels).
+// A sample with fewer than three neighbours (its stretch otherwise dropped)
+// is not trusted.
+double RejectOutliers(std::vector<Sample>& samples, double step_div, double px_per_div,
+                      double sigmas, int* dropped) {
+  constexpr int kReach = 10;
+  const double reach_div = std::max(0.1, 6.5 * step_div);
+  const int n = static_cast<int>(samples.size());
+  std::vector<double> residuals(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    const cv::Point2d centre = samples[i].screen_div;
+    cv::Matx33d normal = cv::Matx33d::zeros();
+    cv::Vec3d rhs(0.0, 0.0, 0.0);
+    int count = 0;
+    for (int j = std::max(0, i - kReach); j <= std::min(n - 1, i + kReach); ++j) {
+      const double x = samples[j].screen_div.x - centre.x, y = samples[j].screen_div.y - centre.y;
+      if (j == i || samples[j].piece != samples[i].piece || std::abs(x) > reach_div) continue;
+      const cv::Vec3d basis(1.0, x, x * x);
+      normal += basis * basis.t();
+      rhs += y * basis;
+      ++count;
+    }
+    if (count < 3) {
+      residuals[i] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    if (count < 5) normal(2, 2) += 1e6 * (normal(1, 1) + 1e-12);  // a straight line
+    cv::Vec3d fit;
+    if (!cv::solve(normal, rhs, fit, cv::DECOMP_CHOLESKY)) continue;
+    // Across the trace: the vertical miss shrunk by the slope.
+    residuals[i] = -fit[0] * px_per_div / std::sqrt(1.0 + fit[1] * fit[1]);
+  }
+  std::vector<double> magnitudes;
+  for (const double r : residuals) {
+    if (std::isfinite(r)) magnitudes.push_back(std::abs(r));
+  }
+  const double sigma = 1.4826 * Median(magnitudes);
+  const double limit = sigmas * std::max(sigma, 0.1);
+  *dropped = 0;
+  for (int i = 0; i < n; ++i) {
+    if (std::abs(residuals[i]) > limit) {
+      samples[i].keep = false;
+      ++*dropped;
+    } else {
+      // Confidence falls as a sample strays towards the limit.
+      samples[i].confidence *= 1.0 - 0.5 * std::abs(residuals[i]) / limit;
+    }
+  }
+  return sigma;
+}
+
+// Where a dash ends (or dust hides the trace), the profile sees the line's
+// end from the side and its centre slides off the course; those samples are
+// dimmer than the line a little way inside. Drops samples dimmer than
+// `level` times the brightest within kReachDiv on the same unbroken run.
+void TrimDashEnds(std::vector<Sample>& samples, double step_div, double level) {
+  const double reach_div = std::max(0.06, 6.5 * step_div);
+  const int n = static_cast<int>(samples.size());
+  std::vector<int> run(n, 0);
+  for (int i = 1; i < n; ++i) {
+    const bool joined = samples[i].screen_div.x - samples[i - 1].screen_div.x <= 1.6 * step_div;
+    run[i] = run[i - 1] + (joined ? 0 : 1);
+  }
+  std::vector<double> brightest(n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    double best = samples[i].height;
+    for (int j = i - 1; j >= 0 && run[j] == run[i] &&
+                        samples[i].screen_div.x - samples[j].screen_div.x <= reach_div;
+         --j) {
+      best = std::max(best, samples[j].height);
+    }
+    for (int j = i + 1; j < n && run[j] == run[i] &&
+                        samples[j].screen_div.x - samples[i].screen_div.x <= reach_div;
+         ++j) {
+      best = std::max(best, samples[j].height);
+    }
+    brightest[i] = best;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (samples[i].height < level * brightest[i]) samples[i].keep = false;
+  }
+}
+
+// Where the trace turns sharply (a rebound's cusp, a step's corner) within
+// about its own width, glow and blur round the corner off and the measured
+// centre cuts inside it; the line's centre is not defined there. Drops
+// samples where the course turns by more than kMaxTurnDeg between points
+// `reach_px` before and after them.
+void DropCorners(std::vector<Sample>& samples, double reach_px, double step_div) {
+  constexpr double kMaxTurnDeg = 40.0;
+  const double max_turn_cos = std::cos(kMaxTurnDeg * 3.14159265358979 / 180.0);
+  const int n = static_cast<int>(samples.size());
+  auto joined = [&](int a, int b) {  // an unbroken stretch between samples a < b
+    for (int k = a; k < b; ++k) {
+      if (samples[k + 1].screen_div.x - samples[k].screen_div.x > 3.0 * step_div ||
+          samples[k + 1].piece != samples[k].piece) {
+        return false;
+      }
+    }
+    return true;
+  };
+  std::vector<bool> corner(n, false);
+  for (int i = 0; i < n; ++i) {
+    int before = i, after = i;
+    while (before > 0 && cv::norm(samples[before].centre_px - samples[i].centre_px) < reach_px)
+      --before;
+    while (after + 1 < n && cv::norm(samples[after].centre_px - samples[i].centre_px) < reach_px)
+      ++after;
+    if (before == i || after == i || !joined(before, after)) continue;
+    const cv::Point2d in = samples[i].centre_px - samples[before].centre_px;
+    const cv::Point2d out = samples[after].centre_px - samples[i].centre_px;
+    const double turn_cos = in.dot(out) / (cv::norm(in) * cv::norm(out));
+    if (turn_cos < max_turn_cos) corner[i] = true;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (corner[i]) samples[i].keep = false;
+  }
+}
+
+// A speck of dust or a blob of glare the tracking strayed onto gives a run
+// of samples no longer than itself is wide; a dashed trace's stretches are
+// longer. Runs break where the centre jumps by more than a few trace widths
+// between neighbouring samples. A run shorter than `min_length_px` is dropped
+// when the trace's runs are typically several times longer (a finely chopped
+// trace, all dots, keeps its dots).
+void DropShortRuns(std::vector<Sample>& samples, double step_div, double width_px,
+                   double min_length_px) {
+  const int n = static_cast<int>(samples.size());
+  std::vector<std::pair<int, int>> runs;  // [start, end)
+  int start = 0;
+  for (int i = 1; i <= n; ++i) {
+    const bool breaks = i == n ||
+                        samples[i].screen_div.x - samples[i - 1].screen_div.x > 3.0 * step_div ||
+                        cv::norm(samples[i].centre_px - samples[i - 1].centre_px) > 3.0 * width_px;
+    if (breaks) runs.emplace_back(start, i), start = i;
+  }
+  auto length = [&](const std::pair<int, int>& run) {
+    return cv::norm(samples[run.second - 1].centre_px - samples[run.first].centre_px);
+  };
+  std::vector<double> lengths;
+  for (const auto& run : runs) lengths.push_back(length(run));
+  const double typical = Median(lengths);
+  for (const auto& run : runs) {
+    if (length(run) < std::min(min_length_px, 0.3 * typical)) {
+      for (int k = run.first; k < run.second; ++k) samples[k].keep = false;
+    }
+  }
+}
+
+DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                            const TraceRequest& request, const CoarsePath& path,
+                            const TraceOptions& options) {
+  const InkSampler ink(photo.image, photo.dark_traces);
+  const int max_gap_columns =
+      std::max(1, static_cast<int>(std::lround(options.max_gap_div * path.grid.px_per_div)));
+  const Course course(path, max_gap_columns);
+  const double px_per_div = graticule.px_per_div;
+  const GridCrossings grid(graticule.divisions, graticule.line_width_px / px_per_div,
+                           options.grid_reach_widths);
+
+  MeasureSettings settings;
+  // The tracking places the trace to about a working pixel.
+  settings.search_px = 1.5 * photo.shrink + 1.5;
+  settings.centre.method = options.method;
+  settings.centre.centroid_level = options.centroid_level;
+  settings.centre.search_px = settings.search_px;
+  settings.centre.crossing_height = graticule.line_contrast;
+  settings.centre.symmetric_near_crossings = options.grid_model;
+
+  // A first look at every tenth position gives the trace's width.
+  settings.half_length_px = settings.search_px + std::max(6.0, 0.08 * px_per_div);
+  settings.profile_step_px = 0.5;
+  const double step_div = 1.0 / (px_per_div * options.samples_per_px);
+  std::vector<double> widths;
+  for (const Sample& s : MeasureAlong(ink, graticule, course, grid, settings, 10.0 * step_div)) {
+    widths.push_back(s.fwhm_px);
+  }
+  const double width_px = std::max(1.0, Median(widths));
+
+  settings.half_length_px = settings.search_px + options.profile_half_widths * width_px;
+  settings.profile_step_px = std::clamp(width_px / 6.0, 0.25, 1.0);
+  std::vector<Sample> samples = MeasureAlong(ink, graticule, course, grid, settings, step_div);
+
+  DigitizedTrace result;
+  result.name = request.name;
+  result.settings = request.settings;
+  result.width_px = width_px;
+  std::vector<double> heights;
+  for (const Sample& s : samples) heights.push_back(s.height);
+  result.height = Median(heights);
+  const double band_lo = std::min(request.settings.band_div[0], request.settings.band_div[1]);
+  const double band_hi = std::max(request.settings.band_div[0], request.settings.band_div[1]);
+  constexpr double kBandSlackDiv = 0.15;
+  for (Sample& s : samples) {
+    s.keep = s.height >= options.min_relative_height * result.height &&
+             s.screen_div.y >= band_lo - kBandSlackDiv &&
+             s.screen_div.y <= band_hi + kBandSlackDiv && s.screen_div.x >= 0.0 &&
+             s.screen_div.x <= graticule.divisions[0];
+    s.confidence = std::min(1.0, s.height / result.height) * (1.0 - 0.5 * s.crossing_share);
+  }
+  std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+  TrimDashEnds(samples, step_div, options.min_local_height);
+  std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+  DropShortRuns(samples, step_div, width_px, 1.25 * width_px);
+  std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+  result.noise_px =
+      RejectOutliers(samples, step_div, px_per_div, options.outlier_sigmas, &result.outliers);
+  std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+  DropCorners(samples, std::max(2.0, width_px), step_div);
+  // Where two stretches of the trace merge (a cusp, a crossing) the line
+  // looks wider than the trace and its centre is not defined.
+  for (Sample& s : samples) {
+    if (s.fwhm_px > options.max_relative_width * width_px) s.keep = false;
+  }
+  std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+
+  std::erase_if(samples, [&](const Sample& s) { return s.confidence < options.min_confidence; });
+
+  // Time must increase: where the trace runs back (it cannot, but a steep
+  // stretch's samples may), the later sample goes.
+  const TraceSettings& ts = request.settings;
+  const double sigma_px = std::hypot(result.noise_px, 0.5 * graticule.residual_px);
+  double last_time = -std::numeric_limits<double>::infinity();
+  for (const Sample& s : samples) {
+    const double time = (s.screen_div.x - ts.t0_div) * ts.time_per_div;
+    if (!(time > last_time)) continue;
+    last_time = time;
+    result.trace.time_s.push_back(time);
+    result.trace.volts.push_back((s.screen_div.y - ts.zero_div) * ts.volts_per_div);
+    result.trace.sigma_volts.push_back(sigma_px / std::sqrt(std::max(s.confidence, 0.05)) /
+                                       px_per_div * std::abs(ts.volts_per_div));
+    result.confidence.push_back(s.confidence);
+    result.centre_px.push_back(s.centre_px);
+    result.screen_div.push_back(s.screen_div);
+  }
+  result.coverage = result.trace.time_s.size() * step_div / graticule.divisions[0];
+  return result;
+}
+
+std::string BandText(const TraceSettings& settings) {
+  return fmt::format("[{:g}, {:g}] div", settings.band_div[0], settings.band_div[1]);
+}
+
+}  // namespace
+
+std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                                          const std::vector<TraceRequest>& requests,
+                                          const TraceOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("trace options: " + error);
+  }
+  for (const TraceRequest& request : requests) {
+    const TraceSettings& s = request.settings;
+    if (!(s.time_per_div > 0.0) || s.volts_per_div == 0.0 || !std::isfinite(s.volts_per_div) ||
+        !std::isfinite(s.zero_div) || !std::isfinite(s.t0_div) || !std::isfinite(s.band_div[0]) ||
+        !std::isfinite(s.band_div[1]) || s.band_div[0] == s.band_div[1]) {
+      throw std::invalid_argument(fmt::format(
+          "trace '{}': time_per_div must be positive, volts_per_div non-zero, the band not empty "
+          "and all settings finite",
+          request.name));
+    }
+  }
+  // Contact (step) traces first: their levels and edges are unmistakable,
+  // and what they take is not offered to the traces whose bands they share.
+  std::vector<std::size_t> order(requests.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_partition(order.begin(), order.end(),
+                        [&](std::size_t i) { return requests[i].settings.impact.has_value(); });
+
+  const TrackGrid grid = digitize::MakeTrackGrid(photo, graticule, options);
+  Claims claims(grid.columns);
+  std::vector<DigitizedTrace> results(requests.size());
+  for (const std::size_t i : order) {
+    const TraceRequest& request = requests[i];
+    const CoarsePath path =
+        digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims);
+    DigitizedTrace trace;
+    if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
+    // What stands out of the band only as much as a grid line is a grid line.
+    const bool bright_enough =
+        trace.height >= options.min_height_over_grid * graticule.line_contrast;
+    if (trace.trace.time_s.empty() || trace.coverage < options.min_coverage || !bright_enough) {
+      if (!bright_enough) trace.coverage = 0.0;
+      throw InputError(
+          {photo.source, "traces." + request.name, std::nullopt},
+          fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % "
+                      "of the sweep, at least {:.0f} % needed",
+                      request.name, BandText(request.settings), 100.0 * trace.coverage,
+                      100.0 * options.min_coverage));
+    }
+    // Claim the course and the trace's glow, a few widths either side.
+    digitize::Claim(path, 3.0 * trace.width_px / graticule.px_per_div + 0.5 / grid.px_per_div,
+                    claims);
+    results[i] = std::move(trace);
+  }
+  return results;
+}
+
+}  // namespace impactlab

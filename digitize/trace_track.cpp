@@ -1,0 +1,318 @@
+#include "digitize/trace_track.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace impactlab::digitize {
+
+namespace {
+
+// The strip reaches this far beyond the band: a trace may touch its band's
+// edge, and its glow then spills over, divisions.
+constexpr double kBandMarginDiv = 0.15;
+// The CRT face shows this much beyond the graticule, divisions.
+constexpr double kOverscanDiv = 0.3;
+// Candidate peaks kept per column.
+constexpr int kCandidatesPerColumn = 6;
+
+// Path costs, in units of one full-height peak's reward.
+constexpr double kBendWeight = 0.5;    // per (dy div off the course's slope)^2 / (dx div)
+constexpr double kSteepWeight = 0.02;  // per (dy div)^2 / (dx div): keeps a course from wandering
+constexpr double kGapWeight = 2.0;     // per division of gap
+constexpr double kRestartCost = 3.0;   // a trace reappearing off its course after a gap
+constexpr double kJumpCost = 2.0;      // a contact trace's step, whatever its height
+constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to pay
+
+double MedianOf(std::vector<float>& values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+double QuantileOf(std::vector<float>& values, double q) {
+  if (values.empty()) return 0.0;
+  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+struct Strip {
+  cv::Mat1f image;     // rows: screen y from y_top down; columns: the track grid
+  double y_top = 0.0;  // screen y of row 0
+  double px_per_div = 1.0;
+  double YOf(double row) const { return y_top - row / px_per_div; }
+  double RowOf(double y) const { return (y_top - y) * px_per_div; }
+};
+
+// The band's part of the ridge image, resampled on the screen's axes.
+Strip CutStrip(const PreparedPhoto& photo, const GraticuleMapping& mapping,
+               std::array<int, 2> divisions, const TraceSettings& settings, const TrackGrid& grid) {
+  const double half_height = 0.5 * divisions[1] + kOverscanDiv;
+  const double lo = std::min(settings.band_div[0], settings.band_div[1]);
+  const double hi = std::max(settings.band_div[0], settings.band_div[1]);
+  Strip strip;
+  strip.px_per_div = grid.px_per_div;
+  strip.y_top = std::min(hi + kBandMarginDiv, half_height);
+  const double y_bottom = std::max(lo - kBandMarginDiv, -half_height);
+  const int rows =
+      std::max(3, static_cast<int>(std::ceil((strip.y_top - y_bottom) * grid.px_per_div)) + 1);
+  cv::Mat1f map_x(rows, grid.columns), map_y(rows, grid.columns);
+  // The mapping is smooth over a few strip pixels: exact every kEvery
+  // columns, linear in between.
+  constexpr int kEvery = 4;
+  for (int row = 0; row < rows; ++row) {
+    const double y = strip.YOf(row);
+    float* mx = map_x.ptr<float>(row);
+    float* my = map_y.ptr<float>(row);
+    cv::Point2d previous;
+    int previous_column = -1;
+    for (int column = 0; column < grid.columns; column += kEvery) {
+      const int c = std::min(column, grid.columns - 1);
+      const cv::Point2d w = photo.WorkingFromPhoto(mapping.ImageFromScreen({grid.XOf(c), y}));
+      mx[c] = static_cast<float>(w.x), my[c] = static_cast<float>(w.y);
+      if (previous_column >= 0) {
+        for (int k = previous_column + 1; k < c; ++k) {
+          const double f = static_cast<double>(k - previous_column) / (c - previous_column);
+          mx[k] = static_cast<float>(previous.x + f * (w.x - previous.x));
+          my[k] = static_cast<float>(previous.y + f * (w.y - previous.y));
+        }
+      }
+      previous = w, previous_column = c;
+      if (column + kEvery >= grid.columns && c != grid.columns - 1)
+        column = grid.columns - 1 - kEvery;
+    }
+  }
+  cv::remap(photo.ridge, strip.image, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+  return strip;
+}
+
+// Takes the grid lines out of the strip. Vertical lines and any vertical
+// drift: each column's median. Horizontal lines: the lower quartile along
+// their rows, but never more than twice the lines' usual height, so that a
+// trace lying along a grid line survives. The usual height comes from the
+// vertical lines (their columns' medians stand out of their neighbours'),
+// which no trace can cover for more than a few rows. Returns it.
+double SuppressGrid(Strip& strip, std::array<int, 2> divisions) {
+  cv::Mat1f& image = strip.image;
+  std::vector<float> column(image.rows), medians(image.cols);
+  for (int c = 0; c < image.cols; ++c) {
+    for (int r = 0; r < image.rows; ++r) column[r] = image(r, c);
+    medians[c] = static_cast<float>(MedianOf(column));
+    for (int r = 0; r < image.rows; ++r) image(r, c) -= medians[c];
+  }
+  std::vector<float> heights;
+  const int reach = std::max(2, static_cast<int>(std::lround(0.1 * strip.px_per_div)));
+  for (int i = 0; i <= divisions[0]; ++i) {
+    const int c = static_cast<int>(std::lround(i * strip.px_per_div));
+    if (c - reach < 0 || c + reach >= image.cols) continue;
+    const float line = std::max({medians[c - 1], medians[c], medians[c + 1]});
+    heights.push_back(line - 0.5f * (medians[c - reach] + medians[c + reach]));
+  }
+  const double line_height = std::max(0.0, MedianOf(heights));
+
+  const double cap = 2.0 * line_height;
+  std::vector<float> row_values(image.cols);
+  const double half = 0.5 * divisions[1];
+  for (int k = 0; k <= divisions[1]; ++k) {
+    const double centre = strip.RowOf(k - half);
+    for (int r = static_cast<int>(std::floor(centre - 1.5));
+         r <= static_cast<int>(std::ceil(centre + 1.5)); ++r) {
+      if (r < 0 || r >= image.rows || std::abs(r - centre) > 1.5) continue;
+      for (int c = 0; c < image.cols; ++c) row_values[c] = image(r, c);
+      const float take = static_cast<float>(std::clamp(QuantileOf(row_values, 0.25), 0.0, cap));
+      for (int c = 0; c < image.cols; ++c) image(r, c) -= take;
+    }
+  }
+  return line_height;
+}
+
+struct Node {
+  int column = 0;
+  double row = 0.0;  // sub-row peak position
+  float value = 0.0f;
+  double score = 0.0;
+  int previous = -1;  // node index, or -1 for a start
+  unsigned char link = CoarsePath::kOnCourse;
+  double slope = 0.0;  // the course's slope arriving here, rows' direction, div/div
+  double trust = 0.0;  // 0..1: how far that slope is to be believed
+};
+
+}  // namespace
+
+TrackGrid MakeTrackGrid(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                        const TraceOptions& options) {
+  TrackGrid grid;
+  grid.px_per_div = options.track_px_per_div > 0.0
+                        ? options.track_px_per_div
+                        : std::clamp(std::round(graticule.px_per_div / photo.shrink), 12.0, 80.0);
+  grid.columns = static_cast<int>(std::lround(graticule.divisions[0] * grid.px_per_div)) + 1;
+  return grid;
+}
+
+bool Claims::Taken(int column, double y_div) const {
+  for (const auto& [y, half_width] : taken[column]) {
+    if (std::abs(y_div - y) <= half_width) return true;
+  }
+  return false;
+}
+
+CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                      const TraceSettings& settings, const TraceOptions& options,
+                      const TrackGrid& grid, const Claims& claims) {
+  Strip strip = CutStrip(photo, graticule.mapping, graticule.divisions, settings, grid);
+  const double line_height = SuppressGrid(strip, graticule.divisions);
+  const cv::Mat1f& image = strip.image;
+
+  // The noise, from every third value (plenty, and a third of the work).
+  std::vector<float> all;
+  all.reserve(image.total() / 3 + 1);
+  for (int r = 0; r < image.rows; ++r) {
+    const float* p = image.ptr<float>(r);
+    for (int c = r % 3; c < image.cols; c += 3) all.push_back(p[c]);
+  }
+  const double median = MedianOf(all);
+  for (float& v : all) v = std::abs(v - static_cast<float>(median));
+  const double sigma = 1.4826 * MedianOf(all);
+  // A trace is brighter than the graticule's lines, and stands out of the noise.
+  const double floor = std::max({6.0 * sigma, 1.2 * line_height, 1e-3});
+
+  // Each column's peaks.
+  std::vector<std::vector<Node>> columns(grid.columns);
+  std::vector<float> column_maxima;
+  for (int c = 0; c < image.cols; ++c) {
+    std::vector<Node>& nodes = columns[c];
+    for (int r = 1; r + 1 < image.rows; ++r) {
+      const float v = image(r, c);
+      if (!(v > floor && v > image(r - 1, c) && v >= image(r + 1, c))) continue;
+      const double a = image(r - 1, c), b = v, d = image(r + 1, c);
+      const double curvature = a - 2.0 * b + d;
+      const double row = r + (curvature < 0.0 ? 0.5 * (a - d) / curvature : 0.0);
+      if (claims.Taken(c, strip.YOf(row))) continue;
+      nodes.push_back({c, row, v});
+    }
+    std::sort(nodes.begin(), nodes.end(),
+              [](const Node& x, const Node& y) { return x.value > y.value; });
+    if (nodes.size() > kCandidatesPerColumn) nodes.resize(kCandidatesPerColumn);
+    if (!nodes.empty()) column_maxima.push_back(nodes.front().value);
+  }
+  CoarsePath path;
+  path.grid = grid;
+  path.y_div.assign(grid.columns, CoarsePath::kNone);
+  path.peak.assign(grid.columns, 0.0f);
+  path.link.assign(grid.columns, CoarsePath::kOnCourse);
+  if (column_maxima.empty()) return path;
+  const double level = QuantileOf(column_maxima, 0.8);
+  path.level = level;
+  path.floor = std::max(floor, 0.3 * level);
+  for (std::vector<Node>& nodes : columns) {
+    std::erase_if(nodes, [&](const Node& n) { return n.value < path.floor; });
+  }
+
+  // Dynamic programming over the columns.
+  const bool step_trace = settings.impact.has_value();
+  const int max_gap =
+      std::max(1, static_cast<int>(std::lround(options.max_gap_div * grid.px_per_div)));
+  std::vector<Node> nodes;
+  std::vector<int> first_of(grid.columns + 1, 0);
+  for (int c = 0; c < grid.columns; ++c) {
+    first_of[c] = static_cast<int>(nodes.size());
+    nodes.insert(nodes.end(), columns[c].begin(), columns[c].end());
+  }
+  first_of[grid.columns] = static_cast<int>(nodes.size());
+  // best_up_to[c]: the best-scoring node in columns 0..c (index), for restarts.
+  std::vector<int> best_up_to(grid.columns, -1);
+  const double dx_unit = 1.0 / grid.px_per_div;
+  for (int c = 0; c < grid.columns; ++c) {
+    for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
+      Node& node = nodes[k];
+      const double reward = std::min(node.value / level, 1.5) - kRewardOffset;
+      double best = 0.0, best_slope = 0.0, best_trust = 0.0;
+      int previous = -1;
+      unsigned char link = CoarsePath::kOnCourse;
+      for (int d = 1; d <= max_gap && c - d >= 0; ++d) {
+        const double dx = d * dx_unit;
+        const double gap = kGapWeight * (d - 1) * dx_unit;
+        for (int j = first_of[c - d]; j < first_of[c - d + 1]; ++j) {
+          const Node& from = nodes[j];
+          // Rows grow downwards; slopes here are in rows' direction, div/div.
+          const double dy = (node.row - from.row) * dx_unit;
+          const double off_course = dy - from.slope * dx;
+          double bend =
+              kBendWeight * from.trust * off_course * off_course / dx + kSteepWeight * dy * dy / dx;
+          unsigned char kind = CoarsePath::kOnCourse;
+          if (step_trace && bend > kJumpCost) bend = kJumpCost, kind = CoarsePath::kStep;
+          const double score = from.score - bend - gap;
+          if (score > best) {
+            best = score, previous = j, link = kind;
+            if (step_trace) {
+              best_slope = 0.0, best_trust = 1.0;  // a contact trace's levels are flat
+            } else {
+              // The course's slope, smoothed over the last few columns; trust
+              // in it grows with the path's length.
+              const double weight = std::min(1.0, d / 4.0);
+              best_slope =
+                  from.trust > 0.0 ? (1.0 - weight) * from.slope + weight * dy / dx : dy / dx;
+              best_trust = std::min(1.0, from.trust + 0.2 * d);
+            }
+          }
+        }
+      }
+      // After a gap the trace may reappear anywhere, at a price.
+      if (c - 2 >= 0) {
+        const int j = best_up_to[c - 2];
+        if (j >= 0 && nodes[j].score - kRestartCost > best) {
+          best = nodes[j].score - kRestartCost, previous = j, link = CoarsePath::kRestart;
+          best_slope = 0.0, best_trust = step_trace ? 1.0 : 0.0;
+        }
+      }
+      node.slope = best_slope;
+      node.trust = step_trace ? 1.0 : best_trust;
+      node.score = reward + best;
+      node.previous = previous;
+      node.link = link;
+    }
+    best_up_to[c] = c > 0 ? best_up_to[c - 1] : -1;
+    for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
+      if (best_up_to[c] < 0 || nodes[k].score > nodes[best_up_to[c]].score) best_up_to[c] = k;
+    }
+  }
+  int k = best_up_to[grid.columns - 1];
+  while (k >= 0) {
+    const Node& node = nodes[k];
+    path.y_div[node.column] = strip.YOf(node.row);
+    path.peak[node.column] = node.value;
+    path.link[node.column] = node.link;
+    ++path.seen_columns;
+    k = node.previous;
+  }
+  return path;
+}
+
+void Claim(const CoarsePath& path, double half_width_div, Claims& claims) {
+  const int columns = static_cast<int>(path.y_div.size());
+  int previous = -1;
+  for (int c = 0; c < columns; ++c) {
+    if (std::isnan(path.y_div[c])) continue;
+    claims.taken[c].emplace_back(path.y_div[c], half_width_div);
+    if (previous >= 0 && path.link[c] != CoarsePath::kRestart) {
+      const double y0 = path.y_div[previous], y1 = path.y_div[c];
+      const bool step = path.link[c] == CoarsePath::kStep;
+      // A step's edge takes everything between its levels, from the last
+      // column of one level to the first of the other.
+      for (int k = step ? previous : previous + 1; k < c || (step && k == c); ++k) {
+        if (step) {
+          claims.taken[k].emplace_back(0.5 * (y0 + y1), 0.5 * std::abs(y1 - y0) + half_width_div);
+        } else {
+          const double f = static_cast<double>(k - previous) / (c - previous);
+          claims.taken[k].emplace_back(y0 + f * (y1 - y0), half_width_div);
+        }
+      }
+    }
+    previous = c;
+  }
+}
+
+}  // namespace impactlab::digitize

@@ -1,0 +1,65 @@
+#include "pipeline/log_results.h"
+
+#include "signal/log_analysis.h"
+
+namespace impactlab {
+namespace {
+
+LogChannelResult Summarise(const ChannelAnalysis& c) {
+  LogChannelResult out;
+  out.channel = c.name;
+  out.units = c.units;
+  out.dominant_frequency_hz = c.dominant_frequency_hz;
+  out.damping_ratio = c.damping_ratio;
+  out.frequency_source = c.frequency_source;
+  out.frequency_mismatch = c.frequency_mismatch;
+  out.notes = c.notes;
+  // The ring-down's spectrum is what the frequency is read from; else the whole record's.
+  for (const char* segment : {"post_impact", "whole"}) {
+    for (const SegmentSpectrum& s : c.spectra) {
+      if (s.segment == segment && out.spectrum_frequency_hz.empty()) {
+        out.spectrum_frequency_hz = s.spectrum.frequency_hz;
+        out.spectrum_psd = s.spectrum.psd;
+      }
+    }
+  }
+  return out;
+}
+
+LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
+  LogSourceResult out;
+  out.source = name;
+  if (s.impact.found) {
+    out.impact_time_s = s.impact.time_s;
+    out.impact_method = s.impact.method;
+  } else {
+    out.impact_method = s.impact.diagnostic;
+  }
+  for (const ChannelAnalysis& c : s.channels) out.channels.push_back(Summarise(c));
+  return out;
+}
+
+}  // namespace
+
+LogResult ReduceLog(const Log& log) {
+  const LogAnalysis a = AnalyseLog(log, LogAnalysisOptions{});
+  LogResult out;
+  out.id = a.log_id;
+  out.ok = a.ok;
+  out.status = a.status;
+  if (!a.ok) return out;
+  out.sources.push_back(Summarise(a.experiment, "experiment"));
+  if (a.simulation) out.sources.push_back(Summarise(*a.simulation, "simulation"));
+  if (a.comparison) {
+    out.impact_offset_s = a.comparison->impact_offset_s;
+    for (const ChannelComparison& c : a.comparison->channels) {
+      out.comparison.push_back({c.channel, c.units, c.experiment_frequency_hz,
+                                c.simulation_frequency_hz, c.frequency_difference_hz,
+                                c.frequency_difference_percent, c.rms_difference,
+                                c.rms_difference_unaligned});
+    }
+  }
+  return out;
+}
+
+}  // namespace impactlab

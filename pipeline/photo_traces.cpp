@@ -1,0 +1,56 @@
+#include "pipeline/photo_traces.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "digitize/digitize.h"
+#include "io/errors.h"
+
+namespace impactlab {
+namespace {
+
+// The overlay at a size a report page shows well, as JPEG: a few hundred kB
+// per photo instead of megabytes of PNG.
+std::vector<unsigned char> EncodeOverlay(const cv::Mat& overlay) {
+  cv::Mat small;
+  const double scale = std::min(1.0, 1200.0 / overlay.cols);
+  cv::resize(overlay, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  std::vector<unsigned char> jpeg;
+  cv::imencode(".jpg", small, jpeg, {cv::IMWRITE_JPEG_QUALITY, 82});
+  return jpeg;
+}
+
+}  // namespace
+
+DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
+                                    const std::map<std::string, TraceSettings>& traces) {
+  const Photo photo = LoadPhoto(path);
+  std::vector<TraceRequest> requests;
+  for (const auto& [name, settings] : traces) requests.push_back({name, settings});
+  const DigitizeResult result =
+      DigitizePhoto(photo, session.divisions, requests, DigitizeOptions{});
+
+  DigitizedPhoto out;
+  out.overlay.photo = std::filesystem::relative(path, session.folder).string();
+  out.overlay.jpeg = EncodeOverlay(DrawOverlay(photo, result));
+  out.overlay.graticule_residual_px = result.graticule.residual_px;
+  out.overlay.processing_ms = result.ProcessingMs();
+  for (std::size_t i = 0; i < result.traces.size(); ++i) {
+    const DigitizedTrace& t = result.traces[i];
+    out.traces[t.name] = t.trace;
+    out.overlay.trace_names.push_back(t.name);
+    out.overlay.trace_coverage.push_back(t.coverage);
+    if (const auto& pulse = result.pulses[i]) {
+      ContactPulse p;
+      p.rise_s = {pulse->rise.time_s, pulse->rise.sigma_s};
+      p.fall_s = {pulse->fall.time_s, pulse->fall.sigma_s};
+      p.width_s = {pulse->width_s, pulse->width_sigma_s};
+      p.low_volts = pulse->low_volts;
+      p.high_volts = pulse->high_volts;
+      out.pulse = p;
+    }
+  }
+  return out;
+}
+
+}  // namespace impactlab

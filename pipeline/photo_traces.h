@@ -1,0 +1,31 @@
+// The traces of one photo, digitized for `reduce` (digitize/digitize.h): every
+// trace the manifest reads from the photo in one pass (the photo is decoded
+// once), the contact pulse measured on the image, and a small overlay for the
+// report. OpenCV stays behind this header.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/session.h"
+#include "io/trace.h"
+#include "pipeline/session_result.h"
+#include "rebounds/rebound_extraction.h"
+
+namespace impactlab {
+
+struct DigitizedPhoto {
+  std::map<std::string, Trace> traces;  // by trace name ("right", "left", "contact", ...)
+  std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
+  PhotoOverlay overlay;                 // what was found, drawn on the photo
+};
+
+// Throws InputError naming the photo and what was not found (no graticule, a
+// trace missing from its band, an unreadable file).
+DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& photo, const Session& session,
+                                    const std::map<std::string, TraceSettings>& traces);
+
+}  // namespace impactlab

@@ -1,0 +1,143 @@
+// The log stage: one `[[log]]` of a session, experiment and (optionally)
+// simulation, read, analysed channel by channel, and compared
+// (docs/logs.md). The results file stores exactly this struct.
+//
+// Per source (experiment, simulation):
+//   1. read the CSV (io/log_reader.h) in blocks; a log longer than
+//      `max_analysis_samples` is low-pass decimated on the fly (signal/decimate.h),
+//      so memory stays bounded whatever its length;
+//   2. the impact instant (signal/impact_detection.h); on a decimated log a second
+//      pass reads the file again and keeps only the full-rate samples around the
+//      coarse instant to refine it;
+//   3. segments: free flight (start .. impact - guard), post-impact (impact .. end),
+//      whole record; per channel and segment a spectrum with its peaks
+//      (signal/spectrum.h);
+//   4. per channel, the damped modes of the post-impact ring-down
+//      (signal/damped_modes.h), cross-checked against the FFT peak of the same
+//      ring-down window.
+// Then, with a simulation, per channel: frequencies side by side, the impact
+// offset, and RMS differences with and without aligning the impacts.
+//
+// A channel's `dominant_frequency_hz` is the fitted damped frequency of the mode
+// nearest the FFT peak of the ring-down (the post-impact FFT peak itself when
+// the fit failed; the whole record's when no impact was found);
+// `damping_ratio` is that mode's. These are the results file's
+// /logs/<id>/<source>/<channel> datasets.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "io/log_reader.h"
+#include "io/session.h"
+#include "signal/damped_modes.h"
+#include "signal/decimate.h"
+#include "signal/impact_detection.h"
+#include "signal/spectrum.h"
+
+namespace impactlab {
+
+struct LogAnalysisOptions {
+  LogReadOptions read;
+  SpectrumOptions spectrum;  // detrend is set per channel: linear for angles, mean otherwise
+  DampedModeOptions modes;   // max_frequency_hz 0: 1.5 x the highest of the leading FFT peaks
+  ImpactDetectionOptions impact;
+  std::size_t max_analysis_samples = std::size_t{1} << 20;  // per channel in memory; longer
+                                                            // logs are decimated to fit
+  double free_flight_guard_s = 0.005;  // free flight ends this long before the impact, s
+  double fit_delay_s = 0.005;          // the ring-down fit starts this long after the impact, s
+  double fit_max_duration_s = 0.0;     // ring-down window length, s; 0: to the record's end
+  std::size_t max_fit_samples = 8192;  // a longer ring-down window is decimated for the fit
+  double mismatch_sigmas = 4.0;        // FFT and fitted frequency disagree beyond this many
+                                       // combined sigmas ...
+  double mismatch_min_bins = 0.05;     // ... and this fraction of the FFT bin width
+  double fft_sigma_factor = 2.0;   // sigma of the FFT peak, as a multiple of the fit's (the Hann
+                                   // peak of a ring-down is 1.5-2x the bound; docs/logs.md)
+  std::size_t plot_points = 2000;  // points of the decimated series and spectra kept for plots
+  double plot_max_frequency_hz = 0.0;  // spectra kept up to here, Hz; 0: 5 x the highest peak
+
+  bool Check(std::string* error) const;
+};
+
+// A spectrum of one segment, decimated for plotting (max-hold per bucket, up to
+// plot_max_frequency_hz); its peaks come from the full spectrum.
+struct SegmentSpectrum {
+  std::string segment;                // "whole", "free_flight" or "post_impact"
+  double start_s = 0.0, end_s = 0.0;  // log time
+  Spectrum spectrum;
+};
+
+struct ChannelAnalysis {
+  std::string name;
+  LogChannelKind kind = LogChannelKind::kOther;
+  std::string units;  // "rad", "m/s^2", "SI"
+
+  std::optional<Estimate> dominant_frequency_hz;  // see the file comment; sigma 0 from the FFT
+  std::optional<Estimate> damping_ratio;          // from the fit, when there is one
+  std::string frequency_source;                   // "fit", "fft post_impact" or "fft whole"
+  double fft_frequency_hz = 0.0;    // FFT peak of the ring-down window (the fit's samples, 4
+                                    // time constants), else of the post-impact (or whole) record
+  double fft_resolution_hz = 0.0;   // that spectrum's bin width
+  std::vector<SpectralPeak> peaks;  // that spectrum's peaks: [0] dominant, then the next
+  DampedModeFit ring_down;          // the post-impact fit (not ok: see its diagnostic)
+  double ring_down_start_s = 0.0;   // log time of the fit window's first sample
+  double ring_down_rate_hz = 0.0;   // its sampling rate (after any decimation)
+  bool frequency_mismatch = false;  // FFT peak and fitted frequency disagree
+  std::vector<std::string> notes;   // what went wrong or is worth knowing
+
+  std::vector<SegmentSpectrum> spectra;  // whole, free_flight, post_impact (those that exist)
+  DecimatedSeries series;                     // the channel over time, decimated for plots
+};
+
+struct SourceAnalysis {
+  LogSource source = LogSource::kExperiment;
+  std::filesystem::path file;
+  LogReadReport read;           // rows, dropped and interpolated samples, issues
+  double sample_rate_hz = 0.0;  // of the file: 1 / mean interval
+  int decimation = 1;           // analysis rate = sample_rate_hz / decimation
+  ImpactEstimate impact;        // found or not (diagnostic); samples index the analysis series
+  std::vector<ChannelAnalysis> channels;  // the manifest's order
+  double seconds = 0.0;                   // wall time: reading and analysis
+};
+
+struct ChannelComparison {
+  std::string channel;
+  std::string units;
+  Estimate experiment_frequency_hz, simulation_frequency_hz;
+  double frequency_difference_hz = 0.0;       // simulation - experiment
+  double frequency_difference_percent = 0.0;  // of the experiment's
+  std::optional<Estimate> experiment_damping_ratio, simulation_damping_ratio;
+  double rms_difference = 0.0;            // units; simulation shifted so the impacts coincide
+  double rms_difference_unaligned = 0.0;  // units; both on their own time axes
+  double overlap_s = 0.0;                 // duration compared (aligned)
+};
+
+struct LogComparison {
+  std::optional<Estimate> impact_offset_s;  // simulation - experiment, when both found one
+  std::vector<ChannelComparison> channels;
+};
+
+struct LogAnalysis {
+  std::string log_id;
+  bool ok = false;
+  std::string status;  // "ok" or "failed: <reason>" (file, line and key where they apply)
+  SourceAnalysis experiment;
+  std::optional<SourceAnalysis> simulation;
+  std::optional<LogComparison> comparison;
+
+  std::string Brief() const;  // a few lines: impact, per channel frequency/damping, comparison
+};
+
+// Never throws for bad data: a log that cannot be read or analysed comes back
+// with !ok and the reason. Throws std::invalid_argument for bad options.
+LogAnalysis AnalyseLog(const Log& log, const LogAnalysisOptions& options);
+
+// One source alone (used by AnalyseLog; throws InputError for unreadable data).
+SourceAnalysis AnalyseLogSource(const Log& log, LogSource source,
+                                const LogAnalysisOptions& options);
+
+}  // namespace impactlab

@@ -1,0 +1,200 @@
+// The digitizer against the renderer's truth, in every photo style: the
+// graticule's mapping, each trace's centre line (pixels and % of full scale),
+// the contact pulse's width, and that no sample lies off the true trace.
+#include <cmath>
+#include <map>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "digitize/digitize.h"
+#include "render/oscillograph.h"
+#include "tests/digitize/photo_scenes.h"
+
+namespace impactlab {
+namespace {
+
+using testing::ScoreTrace;
+using testing::StandardRunScene;
+using testing::TraceScore;
+
+// Per style, about 1.5 times the worst seen over seeds 1..5 at these widths
+// (bench/digitize_bench.cpp measures them; docs/digitizing.md has the table).
+struct Tolerance {
+  int width_px;          // the photo (lowres at its own 1000 px)
+  double mapping_px;     // worst |fitted - true| image position of a graticule point
+  double centre_rms_px;  // a trace's centre line against the truth
+  double pulse_percent;  // contact pulse width error
+};
+
+const std::map<PhotoStyle, Tolerance> kTolerance = {
+    {PhotoStyle::kClean, {1600, 0.05, 0.15, 0.5}}, {PhotoStyle::kPolaroid, {1600, 0.15, 0.35, 0.5}},
+    {PhotoStyle::kPhone, {1600, 0.15, 0.3, 0.5}},  {PhotoStyle::kNegative, {1600, 0.15, 0.35, 0.5}},
+    {PhotoStyle::kLowres, {1000, 0.45, 0.5, 1.0}},
+};
+
+double WorstMappingError(const GraticuleFit& fit, const RenderedPhoto& photo) {
+  double worst = 0.0;
+  for (double x = 0.0; x <= fit.divisions[0]; x += 0.5) {
+    for (double y = -0.5 * fit.divisions[1]; y <= 0.5 * fit.divisions[1]; y += 0.5) {
+      worst = std::max(
+          worst, cv::norm(fit.mapping.ImageFromScreen({x, y}) - photo.ImageFromScreen({x, y})));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("digitize: every style gives the true traces, graticule and contact pulse") {
+  cv::setNumThreads(1);
+  const testing::RunScene run = StandardRunScene();
+  for (const auto& [style, tolerance] : kTolerance) {
+    RenderOptions options;
+    options.style = style;
+    options.seed = 3;
+    options.width_px = tolerance.width_px;
+    const RenderedPhoto photo = RenderOscillograph(run.scene, options);
+    const DigitizeResult result =
+        DigitizePhoto({photo.image, "synthetic.png"}, {10, 8}, run.requests, DigitizeOptions{});
+    INFO(PhotoStyleName(style));
+
+    CHECK(result.graticule.residual_px < 0.5);
+    CHECK(WorstMappingError(result.graticule, photo) < tolerance.mapping_px);
+    // Barrel distortion is fitted where the photo has much of it (phone), and
+    // where it is fitted it is the photo's; a photo without any gets none.
+    const double true_k1 = photo.mapping.radial_k1;
+    if (std::abs(true_k1) > 0.03) CHECK(result.graticule.radial_fitted);
+    if (true_k1 == 0.0) CHECK_FALSE(result.graticule.radial_fitted);
+    if (result.graticule.radial_fitted) {
+      CHECK(result.graticule.mapping.radial_k1 == Approx(true_k1).margin(0.01));
+    }
+
+    REQUIRE(result.traces.size() == run.requests.size());
+    for (std::size_t t = 0; t < result.traces.size(); ++t) {
+      const DigitizedTrace& trace = result.traces[t];
+      const TraceScore score = ScoreTrace(trace, photo, run.scene.traces[t], {10, 8});
+      INFO(trace.name << ": rms " << score.rms_px << " px (" << score.rms_percent_fs
+                      << " % FS), max " << score.max_px << " px over " << score.samples
+                      << ", coverage " << score.coverage);
+      CHECK(trace.name == run.requests[t].name);
+      CHECK(score.rms_px < tolerance.centre_rms_px);
+      CHECK(score.far_samples == 0);  // nothing made up
+      CHECK(score.coverage > 0.7);    // most of what was drawn is found
+      // Samples come with increasing time, an uncertainty and a confidence.
+      REQUIRE(trace.trace.time_s.size() == trace.trace.volts.size());
+      REQUIRE(trace.trace.sigma_volts.size() == trace.trace.volts.size());
+      REQUIRE(trace.confidence.size() == trace.trace.volts.size());
+      for (std::size_t i = 1; i < trace.trace.time_s.size(); ++i) {
+        REQUIRE(trace.trace.time_s[i] > trace.trace.time_s[i - 1]);
+      }
+      for (std::size_t i = 0; i < trace.confidence.size(); ++i) {
+        REQUIRE((trace.confidence[i] > 0.0 && trace.confidence[i] <= 1.0));
+        REQUIRE(trace.trace.sigma_volts[i] > 0.0);
+      }
+    }
+    // The contact trace (the only one with `impact`) has its pulse measured.
+    REQUIRE(result.pulses.size() == 3);
+    CHECK(!result.pulses[0]);
+    CHECK(!result.pulses[1]);
+    REQUIRE(result.pulses[2]);
+    const ContactPulseFit& pulse = *result.pulses[2];
+    const double truth = testing::kPulseFallS - testing::kPulseRiseS;
+    INFO("pulse " << pulse.width_s * 1e6 << " +- " << pulse.width_sigma_s * 1e6 << " us");
+    CHECK(std::abs(pulse.width_s - truth) < tolerance.pulse_percent / 100.0 * truth);
+    CHECK(pulse.width_sigma_s > 0.0);
+    CHECK(pulse.rise.time_s == Approx(testing::kPulseRiseS).margin(0.01 * truth));
+    CHECK(pulse.low_volts == Approx(0.0).margin(0.05));
+    CHECK(pulse.high_volts == Approx(1.0).margin(0.05));
+  }
+}
+
+TEST_CASE("digitize: grey and 16-bit photos give the same traces as 8-bit colour") {
+  const testing::RunScene run = StandardRunScene();
+  RenderOptions options;
+  options.width_px = 1200;
+  const RenderedPhoto colour = RenderOscillograph(run.scene, options);
+  options.grey = true;
+  options.sixteen_bit = true;
+  const RenderedPhoto grey16 = RenderOscillograph(run.scene, options);
+  REQUIRE(grey16.image.type() == CV_16UC1);
+  const DigitizeResult a = DigitizePhoto({colour.image, "c.png"}, {10, 8}, run.requests, {});
+  const DigitizeResult b = DigitizePhoto({grey16.image, "g.png"}, {10, 8}, run.requests, {});
+  for (std::size_t t = 0; t < run.requests.size(); ++t) {
+    const TraceScore sa = ScoreTrace(a.traces[t], colour, run.scene.traces[t], {10, 8});
+    const TraceScore sb = ScoreTrace(b.traces[t], grey16, run.scene.traces[t], {10, 8});
+    INFO(run.requests[t].name << ": colour " << sa.rms_px << " px, grey16 " << sb.rms_px << " px");
+    CHECK(sb.rms_px < 0.2);
+    CHECK(std::abs(sa.rms_px - sb.rms_px) < 0.05);
+  }
+}
+
+TEST_CASE("digitize: a negative is recognised and read as such") {
+  const testing::RunScene run = StandardRunScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kNegative;
+  options.width_px = 1000;
+  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "n.png"}, {});
+  CHECK(prepared.dark_traces);
+  GraticuleOptions forced;
+  forced.polarity = Polarity::kBrightTraces;  // told wrong: the grid is dark, not found
+  CHECK_THROWS(FindGraticule(PreparePhoto({photo.image, "n.png"}, forced), {10, 8}, forced));
+  CHECK_FALSE(PreparePhoto({RenderOscillograph(run.scene, RenderOptions{}).image, "c.png"}, {})
+                  .dark_traces);
+}
+
+TEST_CASE("digitize: the mapping's inverse undoes it") {
+  GraticuleMapping mapping;
+  mapping.homography = cv::Matx33d(150.0, 8.0, 200.0, -6.0, -148.0, 700.0, 1e-3, 2e-4, 1.0);
+  mapping.radial_k1 = -0.06;
+  mapping.distortion_centre_px = {999.5, 749.5};
+  mapping.distortion_radius_px = 1250.0;
+  for (double x = 0.0; x <= 10.0; x += 2.5) {
+    for (double y = -4.0; y <= 4.0; y += 2.0) {
+      const cv::Point2d back = mapping.ScreenFromImage(mapping.ImageFromScreen({x, y}));
+      CHECK(cv::norm(back - cv::Point2d(x, y)) < 1e-9);
+    }
+  }
+  CHECK(mapping.PixelsPerDivisionAt({5.0, 0.0}) > 100.0);
+}
+
+TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
+  const testing::RunScene run = StandardRunScene();
+  RenderOptions options;
+  options.width_px = 1000;
+  options.grey = true;
+  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const Photo input{photo.image, "p.png"};
+  const DigitizeResult result = DigitizePhoto(input, {10, 8}, run.requests, {});
+  const cv::Mat overlay = DrawOverlay(input, result);
+  CHECK(overlay.type() == CV_8UC3);
+  CHECK(overlay.size() == photo.image.size());
+  cv::Mat grey;
+  cv::cvtColor(overlay, grey, cv::COLOR_BGR2GRAY);
+  CHECK(cv::countNonZero(grey != photo.image) > 1000);  // lines, labels, insets
+}
+
+TEST_CASE("digitize: options outside their ranges are refused before any work") {
+  std::string error;
+  CHECK(GraticuleOptions{}.Check(&error));
+  CHECK(TraceOptions{}.Check(&error));
+  CHECK(DigitizeOptions{}.Check(&error));
+  DigitizeOptions options;
+  options.traces.samples_per_px = 0.0;
+  CHECK_FALSE(options.Check(&error));
+  CHECK(error.find("samples_per_px") != std::string::npos);
+  options = {};
+  options.graticule.detect_width_px = 50;
+  CHECK_FALSE(options.Check(&error));
+  CHECK(error.find("detect_width_px") != std::string::npos);
+  options = {};
+  options.traces.centroid_level = 1.5;
+  CHECK_THROWS_AS(
+      DigitizePhoto({cv::Mat(300, 400, CV_8UC1, cv::Scalar(0)), "x.png"}, {10, 8}, {}, options),
+      std::invalid_argument);
+}
+
+}  // namespace impactlab

@@ -1,0 +1,179 @@
+// Oscillograph scenes for the digitizer's tests and benchmark, and how to
+// score a digitized trace against the renderer's truth. Header-only, shared
+// by tests/digitize and bench/digitize_bench.cpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "digitize/digitize.h"
+#include "render/oscillograph.h"
+
+namespace impactlab::testing {
+
+inline TraceSettings Settings(double time_per_div, double volts_per_div, double zero_div,
+                              std::array<double, 2> band_div) {
+  TraceSettings settings;
+  settings.time_per_div = time_per_div;
+  settings.volts_per_div = volts_per_div;
+  settings.zero_div = zero_div;
+  settings.band_div = band_div;
+  return settings;
+}
+
+// A pendulum's displacement seen by a photocell over a 5 s sweep: the release
+// swing down to the first impact, then half-sine rebounds of falling height,
+// through a slightly curved photocell response. Volts.
+inline double PhotocellVolts(double t, double x0_share, double period_s, double restitution,
+                             double phase_s) {
+  const double quarter = 0.25 * period_s, half = 0.5 * period_s;
+  double x = 0.0;
+  const double tt = t + phase_s;
+  if (tt < quarter) {
+    x = x0_share * std::cos(2.0 * std::numbers::pi * tt / period_s);
+  } else {
+    const int rebound = static_cast<int>((tt - quarter) / half);
+    const double into = tt - quarter - rebound * half;
+    x = x0_share * std::pow(restitution, rebound + 1) * std::sin(std::numbers::pi * into / half);
+  }
+  return 0.05 + 0.6 * x - 0.04 * x * x;
+}
+
+// The contact pulse of the standard scene: 1 us edges, half level crossed at
+// these times.
+constexpr double kPulseRiseS = 150.5e-6;
+constexpr double kPulseFallS = 502.5e-6;
+
+struct RunScene {
+  OscillographScene scene;
+  std::vector<TraceRequest> requests;  // what the manifest would say
+};
+
+// A run photo as the thesis's: the right and left displacement traces chopped
+// on one beam in their own bands, the contact pulse on a delayed sweep below.
+inline RunScene StandardRunScene() {
+  RunScene run;
+  ScreenTrace right{"right", {}, {}, Settings(0.5, 0.2, 0.3, {0.0, 4.0}), BeamMode::kChopped, 0};
+  ScreenTrace left{"left", {}, {}, Settings(0.5, 0.4, -2.2, {-2.4, 0.0}), BeamMode::kChopped, 0};
+  constexpr int kSamples = 5000;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double t = 5.0 * i / kSamples;
+    right.time_s.push_back(t);
+    right.volts.push_back(PhotocellVolts(t, 1.0, 1.5, 0.8, 0.0));
+    left.time_s.push_back(t);
+    left.volts.push_back(1.15 * PhotocellVolts(t, 0.95, 1.5, 0.78, 0.004));
+  }
+  ScreenTrace contact{
+      "contact", {}, {}, Settings(100e-6, 1.0, -3.6, {-4.0, -2.4}), BeamMode::kContinuous, 1};
+  contact.settings.impact = 2;
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = i * 1e-6;
+    contact.time_s.push_back(t);
+    double v = 0.0;
+    if (t >= 150e-6 && t < 502e-6) v = 1.0;
+    contact.volts.push_back(v + 0.01 * std::sin(t * 2e5));
+  }
+  // The edges themselves, 1 us long, exactly.
+  auto set = [&](double t, double v) {
+    const int i = static_cast<int>(std::lround(t * 1e6));
+    contact.volts[i] = v + 0.01 * std::sin(t * 2e5);
+  };
+  set(150e-6, 0.0), set(151e-6, 1.0), set(502e-6, 1.0), set(503e-6, 0.0);
+  run.scene.traces = {right, left, contact};
+  for (const ScreenTrace& trace : run.scene.traces)
+    run.requests.push_back({trace.name, trace.settings});
+  return run;
+}
+
+// How far the digitized centre line lies from the truth.
+struct TraceScore {
+  double rms_px = 0.0;  // distance to the true centre line, in photo pixels
+  double max_px = 0.0;
+  double rms_percent_fs = 0.0;  // volts error at the sample's time, % of the screen's full scale
+  std::size_t samples = 0;
+  std::size_t far_samples = 0;  // further than 3 px from the truth: made up or misplaced
+  double coverage = 0.0;        // share of the drawn truth samples with a digitized sample near
+};
+
+// Distance from p to the polyline through `points`, whose segments are short.
+inline double DistanceToPolyline(const std::vector<cv::Point2d>& points, cv::Point2d p,
+                                 std::size_t& hint) {
+  double best = std::numeric_limits<double>::max();
+  const std::size_t n = points.size();
+  // Search around the hint first; the samples come in order.
+  const std::size_t lo = hint > 400 ? hint - 400 : 0, hi = std::min(n - 1, hint + 400);
+  auto scan = [&](std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i) {
+      const cv::Point2d a = points[i], ab = points[i + 1] - a;
+      const double length2 = ab.dot(ab);
+      const double t = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+      const double d = cv::norm(p - (a + ab * t));
+      if (d < best) best = d, hint = i;
+    }
+  };
+  scan(lo, hi);
+  if (best > 5.0) scan(0, n - 1);
+  return best;
+}
+
+// Scores a digitized trace against the truth of the photo it came from: each
+// sample's (time, volts) goes to the screen through the trace's settings and
+// to the photo through the true mapping, and is compared with the true centre line.
+inline TraceScore ScoreTrace(const DigitizedTrace& digitized, const RenderedPhoto& photo,
+                             const ScreenTrace& source, std::array<int, 2> divisions) {
+  TraceScore score;
+  const TraceTruth* truth = nullptr;
+  for (const TraceTruth& t : photo.traces) {
+    if (t.name == digitized.name) truth = &t;
+  }
+  if (truth == nullptr || truth->centre_px.size() < 2) return score;
+  const TraceSettings& s = digitized.settings;
+  double sum2 = 0.0, sum2_fs = 0.0;
+  std::size_t hint = 0;
+  for (std::size_t i = 0; i < digitized.trace.time_s.size(); ++i) {
+    const double t = digitized.trace.time_s[i], v = digitized.trace.volts[i];
+    const cv::Point2d screen(s.t0_div + t / s.time_per_div, s.zero_div + v / s.volts_per_div);
+    const double d = DistanceToPolyline(truth->centre_px, photo.ImageFromScreen(screen), hint);
+    sum2 += d * d;
+    score.max_px = std::max(score.max_px, d);
+    score.far_samples += d > 3.0;
+    // The signal at that time (linear between the source's samples).
+    const auto it = std::lower_bound(source.time_s.begin(), source.time_s.end(), t);
+    if (it != source.time_s.begin() && it != source.time_s.end()) {
+      const std::size_t k = static_cast<std::size_t>(it - source.time_s.begin());
+      const double f = (t - source.time_s[k - 1]) / (source.time_s[k] - source.time_s[k - 1]);
+      const double truth_volts = source.volts[k - 1] + f * (source.volts[k] - source.volts[k - 1]);
+      const double full_scale = divisions[1] * std::abs(s.volts_per_div);
+      const double e = 100.0 * (v - truth_volts) / full_scale;
+      sum2_fs += e * e;
+    }
+    ++score.samples;
+  }
+  if (score.samples > 0) {
+    score.rms_px = std::sqrt(sum2 / score.samples);
+    score.rms_percent_fs = std::sqrt(sum2_fs / score.samples);
+  }
+  // Coverage: drawn truth samples clear of the screen's edge with a digitized
+  // sample within 0.02 division in x.
+  std::vector<double> xs;
+  for (const cv::Point2d& p : digitized.screen_div) xs.push_back(p.x);
+  std::sort(xs.begin(), xs.end());
+  std::size_t drawn = 0, covered = 0;
+  for (std::size_t i = 0; i < truth->screen_div.size(); ++i) {
+    if (!truth->drawn[i]) continue;
+    ++drawn;
+    const double x = truth->screen_div[i].x;
+    const auto it = std::lower_bound(xs.begin(), xs.end(), x - 0.02);
+    covered += it != xs.end() && *it <= x + 0.02;
+  }
+  score.coverage = drawn > 0 ? static_cast<double>(covered) / drawn : 0.0;
+  return score;
+}
+
+}  // namespace impactlab::testing
