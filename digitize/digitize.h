@@ -170,8 +170,9 @@ struct TraceOptions {
   // Resolution of the strip each band is tracked in, pixels per division;
   // 0: the working copy's own.
   double track_px_per_div = 0.0;
-  // Longest gap in a trace (a chopper's blanking, dust) bridged by the
-  // tracking without a penalty for restarting, divisions.
+  // Longest gap in a trace (a chopper's blanking, dust) the tracking bridges
+  // on the trace's course; after longer ones the trace may reappear anywhere
+  // at a fixed cost, divisions.
   double max_gap_div = 0.8;
   // A sample is kept when its height above the background is at least this
   // fraction of the trace's typical height, 1.
@@ -183,8 +184,8 @@ struct TraceOptions {
   // A sample whose line is wider than this many times the trace's usual width
   // (FWHM) is dropped: two stretches merge there (a cusp, a crossing), 1.
   double max_relative_width = 1.4;
-  // A sample further than this many robust sigmas from its neighbours' median
-  // is an outlier (dust, glare), 1.
+  // A sample further than this many robust sigmas (at least 0.1 px) from a
+  // parabola through its neighbours is an outlier (dust, glare), 1.
   double outlier_sigmas = 4.0;
   // Samples less confident than this (dim, pulled by a grid line, straying
   // from their neighbours: see docs/digitizing.md) are not reported, 0..1.

@@ -372,7 +372,8 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
       hidden += brightest - darkest > 2.5 * fit.line_contrast;
     }
     const int expected = static_cast<int>(along.size());
-    if (seen < 0.4 * (expected - hidden)) {
+    // Judged where at least a few places are clear of traces.
+    if (expected - hidden >= 3 && seen < 0.4 * (expected - hidden)) {
       NotFound(photo, divisions,
                fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
                            "does the screen have {} x {} divisions?",

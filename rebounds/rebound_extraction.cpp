@@ -23,15 +23,16 @@ struct Segment {
 // quarter of it, so noise around the threshold does not split a rebound. A
 // digitized photo may have no samples at all near an impact (the beam moves
 // fast there and is faint): a gap longer than `max_gap_s` with X below half
-// the stretch's own maximum on both sides also ends a stretch.
+// a fifth of the stretch's maximum on both sides (near equilibrium, where an
+// impact is) also ends a stretch.
 std::vector<Segment> FindSegments(const std::vector<double>& t, const std::vector<double>& x,
                                   double threshold, double max_gap_s) {
   std::vector<Segment> segments;
   bool inside = false;
   double stretch_max = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    const bool gap = inside && t[i] - t[i - 1] > max_gap_s && x[i - 1] < 0.5 * stretch_max &&
-                     x[i] < 0.5 * stretch_max;
+    const bool gap = inside && t[i] - t[i - 1] > max_gap_s && x[i - 1] < 0.2 * stretch_max &&
+                     x[i] < 0.2 * stretch_max;
     if (gap) inside = false;
     stretch_max = inside ? std::max(stretch_max, x[i]) : x[i];
     if (!inside && x[i] > threshold) {
@@ -45,6 +46,39 @@ std::vector<Segment> FindSegments(const std::vector<double>& t, const std::vecto
   }
   if (inside) segments.back().open_end = true;
   return segments;
+}
+
+// A stretch much longer than a swing holds two rebounds whose impact left no
+// sample near equilibrium (a faint part of a photo): split it where its
+// samples have the widest gap, or else at its lowest interior sample, until
+// every stretch lasts at most 1.3 half periods of its own amplitude.
+void SplitMergedRebounds(const std::vector<double>& t, const std::vector<double>& x,
+                         const Pendulum& pendulum, std::vector<Segment>& segments) {
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    Segment& seg = segments[s];
+    if (seg.last <= seg.first + 2) continue;
+    const double top = *std::max_element(x.begin() + seg.first, x.begin() + seg.last + 1);
+    if (!(top > 0.0) || top >= pendulum.length) continue;
+    if (t[seg.last] - t[seg.first] <= 1.3 * HalfPeriod(pendulum, top)) continue;
+    // Search the interior, away from the stretch's own flanks.
+    const std::size_t lo = seg.first + (seg.last - seg.first) / 10 + 1;
+    const std::size_t hi = seg.last - (seg.last - seg.first) / 10 - 1;
+    std::size_t cut = lo;
+    double widest = 0.0;
+    for (std::size_t i = lo; i <= hi; ++i) {
+      if (t[i] - t[i - 1] > widest) widest = t[i] - t[i - 1], cut = i;
+    }
+    const double median_step = (t[seg.last] - t[seg.first]) / (seg.last - seg.first);
+    if (widest < 5.0 * median_step) {  // no telling gap: the lowest sample instead
+      cut = static_cast<std::size_t>(std::min_element(x.begin() + lo, x.begin() + hi + 1) -
+                                     x.begin());
+    }
+    const Segment second{cut, seg.last, false, seg.open_end};
+    seg.last = cut - 1;
+    seg.open_end = false;
+    segments.insert(segments.begin() + s + 1, second);
+    --s;  // the first part may still hold two rebounds
+  }
 }
 
 // Where a rebound's flank crosses 0. A contact lasts far less than a sample
@@ -171,8 +205,9 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");
   // A gap of 2 % of a swing cannot hide a rebound's peak, but can hide an impact.
   const double max_gap_s = 0.02 * HalfPeriod(pendulum, largest);
-  const std::vector<Segment> segments =
+  std::vector<Segment> segments =
       FindSegments(h.time_s, h.displacement, options.threshold_fraction * largest, max_gap_s);
+  SplitMergedRebounds(h.time_s, h.displacement, pendulum, segments);
 
   ReboundExtraction out;
   // Where a flank crosses 0, or the model's half period from the peak when the
