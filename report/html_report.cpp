@@ -1,6 +1,7 @@
 #include "report/html_report.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -160,6 +161,38 @@ std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
   return out;
 }
 
+// Per channel: the experiment's and the simulation's spectra overlaid.
+std::string LogFigures(const LogResult& log) {
+  std::string out;
+  const char* colours[] = {kBlue, kOrange};
+  const LogSourceResult* first = log.sources.empty() ? nullptr : &log.sources.front();
+  if (first == nullptr) return out;
+  for (const LogChannelResult& c : first->channels) {
+    Plot plot;
+    plot.title = fmt::format("Log {}: spectrum of {}", log.id, c.channel);
+    plot.x_label = "frequency (Hz)";
+    plot.y_label = fmt::format("log10 PSD (({})^2/Hz)", c.units);
+    for (std::size_t k = 0; k < log.sources.size(); ++k) {
+      for (const LogChannelResult& d : log.sources[k].channels) {
+        if (d.channel != c.channel || d.spectrum_psd.empty()) continue;
+        PlotSeries series{log.sources[k].source,
+                          d.spectrum_frequency_hz,
+                          {},
+                          PlotSeries::Style::kLine,
+                          colours[k % 2]};
+        for (double p : d.spectrum_psd) series.y.push_back(std::log10(std::max(p, 1e-300)));
+        plot.series.push_back(std::move(series));
+      }
+    }
+    if (!plot.series.empty()) {
+      out += Figure(plot, fmt::format("Post-impact spectra of {}, experiment and simulation "
+                                      "overlaid (the dominant peaks are in the table above).",
+                                      c.channel));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string RenderHtmlReport(const SessionResult& r) {
@@ -187,6 +220,10 @@ std::string RenderHtmlReport(const SessionResult& r) {
   html += "<h2>Tables</h2>\n";
   for (const Table& t : BuildTables(r)) html += RenderTable(t, ReportFormat::kHtml);
   html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
+  for (const LogResult& log : r.logs) {
+    html += fmt::format("<h2>Log {}</h2>\n<p>{}</p>\n", EscapeHtml(log.id), EscapeHtml(log.status));
+    html += LogFigures(log);
+  }
   for (const RunResult& run : r.runs) {
     if (run.xmax.empty()) continue;
     html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", EscapeHtml(run.id));
