@@ -14,6 +14,8 @@ LogChannelResult Summarise(const ChannelAnalysis& c) {
   out.frequency_source = c.frequency_source;
   out.frequency_mismatch = c.frequency_mismatch;
   out.notes = c.notes;
+  out.series_time_s = c.series.time_s;
+  out.series_value = c.series.value;
   // The ring-down's spectrum is what the frequency is read from; else the whole record's.
   for (const char* segment : {"post_impact", "whole"}) {
     for (const SegmentSpectrum& s : c.spectra) {

@@ -237,6 +237,8 @@ void WriteLog(Hdf5File& f, const LogResult& log) {
       f.WriteVector(k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz");
       f.WriteVector(k + "/spectrum/psd", c.spectrum_psd, "(" + c.units + ")^2/Hz");
       f.WriteStrings(k + "/notes", c.notes);
+      f.WriteVector(k + "/series/time", c.series_time_s, "s");
+      f.WriteVector(k + "/series/value", c.series_value, c.units);
     }
   }
   if (log.sources.size() < 2) return;
@@ -281,6 +283,8 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
       c.spectrum_frequency_hz = f.ReadVector(k + "/spectrum/frequency");
       c.spectrum_psd = f.ReadVector(k + "/spectrum/psd");
       c.notes = f.ReadStrings(k + "/notes");
+      c.series_time_s = f.ReadVector(k + "/series/time");
+      c.series_value = f.ReadVector(k + "/series/value");
       s.channels.push_back(std::move(c));
     }
     log.sources.push_back(std::move(s));

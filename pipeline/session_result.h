@@ -141,6 +141,7 @@ struct LogChannelResult {
   std::string frequency_source;     // "fit", "fft post_impact" or "fft whole"
   bool frequency_mismatch = false;  // the FFT peak and the fitted frequency disagree
   std::vector<double> spectrum_frequency_hz, spectrum_psd;  // post-impact (or whole), for plots
+  std::vector<double> series_time_s, series_value;          // the channel over time, decimated
   std::vector<std::string> notes;
 };
 

@@ -168,6 +168,23 @@ std::string LogFigures(const LogResult& log) {
   const LogSourceResult* first = log.sources.empty() ? nullptr : &log.sources.front();
   if (first == nullptr) return out;
   for (const LogChannelResult& c : first->channels) {
+    Plot history;
+    history.title = fmt::format("Log {}: {} over time", log.id, c.channel);
+    history.x_label = "time (s)";
+    history.y_label = fmt::format("{} ({})", c.channel, c.units);
+    for (std::size_t k = 0; k < log.sources.size(); ++k) {
+      for (const LogChannelResult& d : log.sources[k].channels) {
+        if (d.channel == c.channel && !d.series_time_s.empty()) {
+          history.series.push_back({log.sources[k].source, d.series_time_s, d.series_value,
+                                    PlotSeries::Style::kLine, colours[k % 2]});
+        }
+      }
+    }
+    if (!history.series.empty()) {
+      out += Figure(history, fmt::format("{} of experiment and simulation on their own time "
+                                         "axes; the impact offset is in the table above.",
+                                         c.channel));
+    }
     Plot plot;
     plot.title = fmt::format("Log {}: spectrum of {}", log.id, c.channel);
     plot.x_label = "frequency (Hz)";
