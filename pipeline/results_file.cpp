@@ -91,6 +91,30 @@ std::string UnitsOf(const std::string& kind, const UnitLabels& u) {
   return kind;  // "1", "s"
 }
 
+// A fit's parameters: one dataset each (+ _std_error), and their names and unit
+// kinds, so that they read back in order.
+void WriteNamedEstimates(Hdf5File& f, const std::string& g,
+                         const std::vector<NamedEstimate>& parameters, const UnitLabels& u) {
+  std::vector<std::string> names, kinds;
+  for (const NamedEstimate& p : parameters) {
+    names.push_back(p.name);
+    kinds.push_back(p.units);
+    WriteEstimate(f, g + "/" + p.name, p.estimate, UnitsOf(p.units, u));
+  }
+  f.WriteStrings(g + "/parameter_names", names);
+  f.WriteStrings(g + "/parameter_unit_kinds", kinds);
+}
+
+std::vector<NamedEstimate> ReadNamedEstimates(const Hdf5File& f, const std::string& g) {
+  const auto names = f.ReadStrings(g + "/parameter_names");
+  const auto kinds = f.ReadStrings(g + "/parameter_unit_kinds");
+  std::vector<NamedEstimate> parameters;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    parameters.push_back({names[i], kinds.at(i), ReadEstimate(f, g + "/" + names[i])});
+  }
+  return parameters;
+}
+
 void WriteLeastSquares(Hdf5File& f, const std::string& g, const LeastSquaresSummary& fit,
                        const UnitLabels& u) {
   f.CreateGroup(g);
@@ -102,14 +126,7 @@ void WriteLeastSquares(Hdf5File& f, const std::string& g, const LeastSquaresSumm
   f.SetAttribute(g, "rank", static_cast<long long>(fit.rank));
   f.SetAttribute(g, "identifiability", fit.identifiability);
   f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
-  std::vector<std::string> names, kinds;
-  for (const NamedEstimate& p : fit.parameters) {
-    names.push_back(p.name);
-    kinds.push_back(p.units);
-    WriteEstimate(f, g + "/" + p.name, p.estimate, UnitsOf(p.units, u));
-  }
-  f.WriteStrings(g + "/parameter_names", names);
-  f.WriteStrings(g + "/parameter_unit_kinds", kinds);
+  WriteNamedEstimates(f, g, fit.parameters, u);
   f.WriteScalar(g + "/chi2", fit.chi2, "1");
   f.WriteScalar(g + "/seconds", fit.seconds, "s");
   if (!fit.predicted_xmax.empty())
@@ -130,11 +147,7 @@ LeastSquaresSummary ReadLeastSquares(const Hdf5File& f, const std::string& g,
   fit.rank = static_cast<int>(f.ReadIntegerAttribute(g, "rank"));
   fit.identifiability = f.ReadStringAttribute(g, "identifiability");
   fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
-  const auto names = f.ReadStrings(g + "/parameter_names");
-  const auto kinds = f.ReadStrings(g + "/parameter_unit_kinds");
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    fit.parameters.push_back({names[i], kinds.at(i), ReadEstimate(f, g + "/" + names[i])});
-  }
+  fit.parameters = ReadNamedEstimates(f, g);
   fit.chi2 = f.ReadScalar(g + "/chi2");
   fit.seconds = f.ReadScalar(g + "/seconds");
   if (f.Exists(g + "/predicted_xmax")) fit.predicted_xmax = f.ReadVector(g + "/predicted_xmax");
@@ -157,14 +170,7 @@ void WriteModelComparison(Hdf5File& f, const ModelComparison& c, const UnitLabel
     f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
     f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
     f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
-    std::vector<std::string> names, kinds;
-    for (const NamedEstimate& p : m.parameters) {
-      names.push_back(p.name);
-      kinds.push_back(p.units);
-      WriteEstimate(f, h + "/" + p.name, p.estimate, UnitsOf(p.units, u));
-    }
-    f.WriteStrings(h + "/parameter_names", names);
-    f.WriteStrings(h + "/parameter_unit_kinds", kinds);
+    WriteNamedEstimates(f, h, m.parameters, u);
     f.WriteScalar(h + "/chi2", m.chi2, "1");
     f.WriteScalar(h + "/aic", m.aic, "1");
     f.WriteScalar(h + "/bic", m.bic, "1");
@@ -191,11 +197,7 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     m.maxima = static_cast<int>(f.ReadIntegerAttribute(h, "maxima"));
     m.parameter_count = static_cast<int>(f.ReadIntegerAttribute(h, "parameter_count"));
     m.dof = static_cast<int>(f.ReadIntegerAttribute(h, "dof"));
-    const auto names = f.ReadStrings(h + "/parameter_names");
-    const auto kinds = f.ReadStrings(h + "/parameter_unit_kinds");
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      m.parameters.push_back({names[i], kinds.at(i), ReadEstimate(f, h + "/" + names[i])});
-    }
+    m.parameters = ReadNamedEstimates(f, h);
     m.chi2 = f.ReadScalar(h + "/chi2");
     m.aic = f.ReadScalar(h + "/aic");
     m.bic = f.ReadScalar(h + "/bic");
