@@ -174,9 +174,7 @@ JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
   fit.parameter_count = static_cast<int>(m + nr);
   fit.dof = fit.maxima - fit.parameter_count;
 
-  ceres::Solver::Summary summary;
-  ceres::Solve(fit_internal::SolverOptions(options.solver), &problem, &summary);
-  fit_internal::SetStatus(summary, &fit.status);
+  fit_internal::Solve(problem, options.solver, &fit.status);
   const auto finish = [&] {
     fit.status.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

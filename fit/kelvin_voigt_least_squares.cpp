@@ -132,9 +132,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     problem.AddResidualBlock(new MaximumCost(pendulum, n, measured.xmax[i], sigmas[i]),
                              fit_internal::MakeLoss(options.loss), theta);
   }
-  ceres::Solver::Summary summary;
-  ceres::Solve(fit_internal::SolverOptions(options.solver), &problem, &summary);
-  fit_internal::SetStatus(summary, &fit.status);
+  fit_internal::Solve(problem, options.solver, &fit.status);
   const auto finish = [&] {
     fit.status.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -72,7 +72,9 @@ ceres::LossFunction* MakeLoss(const LossOptions& loss) {
   return nullptr;
 }
 
-void SetStatus(const ceres::Solver::Summary& summary, FitStatus* status) {
+void Solve(ceres::Problem& problem, const SolverControl& control, FitStatus* status) {
+  ceres::Solver::Summary summary;
+  ceres::Solve(SolverOptions(control), &problem, &summary);
   status->converged = summary.termination_type == ceres::CONVERGENCE;
   status->usable = summary.IsSolutionUsable();
   status->message = summary.message;

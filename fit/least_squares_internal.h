@@ -21,8 +21,9 @@ ceres::Solver::Options SolverOptions(const SolverControl& control);
 // nullptr for RobustLoss::kNone (Ceres then uses the squared loss).
 ceres::LossFunction* MakeLoss(const LossOptions& loss);
 
-// Fills status from a Ceres summary.
-void SetStatus(const ceres::Solver::Summary& summary, FitStatus* status);
+// Solves `problem` with the project's silent solver settings and records how
+// it went in `status` (convergence, usability, message, iterations, costs).
+void Solve(ceres::Problem& problem, const SolverControl& control, FitStatus* status);
 
 // The whitened Jacobian at the current parameters (robust loss not applied),
 // columns in the order of `blocks`, and the raw residuals.

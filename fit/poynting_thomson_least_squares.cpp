@@ -391,9 +391,7 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   const int parameter_count = 3 + static_cast<int>(runs.size());
   fit.dof = residual_count - parameter_count;
 
-  ceres::Solver::Summary summary;
-  ceres::Solve(fit_internal::SolverOptions(options.solver), &problem, &summary);
-  fit_internal::SetStatus(summary, &fit.status);
+  fit_internal::Solve(problem, options.solver, &fit.status);
   fit.model = {options.mass, std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
   if (!fit.status.usable) {
     fit.diagnostic = "the solver failed: " + fit.status.message;

@@ -140,8 +140,9 @@ std::string Generator::WritePhoto(const std::string& stem, const OscillographSce
   render.width_px =
       options_.width_px > 0 ? options_.width_px : (options_.preset == "quick" ? 1000 : 0);
   render.seed = NextSeed();
-  // A real chopper switches at ~100 kHz, invisible at 0.5 s/div; short slots
-  // keep the dashed look without hiding the rebound peaks in long gaps.
+  // A real chopper switches at ~100 kHz, invisible at 0.5 s/div: 0.01 div
+  // slots (a pixel or two) draw the traces chopped but nearly continuous, as
+  // such a photo shows them. Long dashes would hide rebound peaks in the gaps.
   render.chop_dash_div = 0.01;
   const auto start = Clock::now();
   const RenderedPhoto photo = RenderOscillograph(scene, render);

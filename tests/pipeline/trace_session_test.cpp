@@ -144,7 +144,7 @@ TEST_CASE("trace_session: with noisy traces the maxima stay within their reporte
   }
 }
 
-TEST_CASE("trace_session: a missing trace file fails that run with the file named") {
+TEST_CASE("trace_session: a missing trace file is refused when the manifest is read, naming it") {
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
   std::filesystem::remove(dir.path() / "traces" / "L.csv");
