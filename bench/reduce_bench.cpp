@@ -48,8 +48,17 @@ double DecodeSeconds(const std::filesystem::path& session) {
   return Seconds(start);
 }
 
+// One rebound's error, kept so --worst can say where the worst ones are.
+struct XmaxError {
+  double pct = 0.0;
+  int seed = 0;
+  std::string run;
+  std::size_t rebound = 0;
+};
+
 struct StyleFigures {
   int runs = 0, ok = 0;
+  std::vector<XmaxError> worst;
   std::vector<double> xmax_error_pct, contact_error_pct;
   double decode_s = 0, reduce_s = 0;
   StageSeconds stages;
@@ -62,7 +71,7 @@ int main(int argc, char** argv) {
   using namespace impactlab;
   CLI::App app{"End-to-end reduce benchmark against generator truth"};
   std::vector<std::string> styles = {"clean", "polaroid", "phone", "negative", "lowres"};
-  int seeds = 2, jobs = 2;
+  int seeds = 2, jobs = 2, worst = 0;
   SynthOptions synth;
   synth.preset = "thesis";
   app.add_option("--styles", styles)->delimiter(',');
@@ -71,6 +80,7 @@ int main(int argc, char** argv) {
   app.add_option("--nonlinearity", synth.photocell_nonlinearity);
   app.add_option("--jobs", jobs);
   app.add_flag("--csv-run", synth.csv_run);
+  app.add_option("--worst", worst, "List the N worst Xmax errors per style on stderr");
   CLI11_PARSE(app, argc, argv);
 
   const auto scratch = std::filesystem::temp_directory_path() / "impactlab-bench-reduce";
@@ -107,7 +117,9 @@ int main(int argc, char** argv) {
         const double x0 = truth["initial_displacement"];
         const auto& xmax = truth["rebounds"]["xmax"];
         for (std::size_t n = 0; n < run->xmax.size() && n < xmax.size(); ++n) {
-          f.xmax_error_pct.push_back(100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0);
+          const double pct = 100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0;
+          f.xmax_error_pct.push_back(pct);
+          f.worst.push_back({pct, seed, run->id, n});
         }
         if (run->contact_time) {
           const double tau = truth["contact"]["duration_s"];
@@ -124,6 +136,12 @@ int main(int argc, char** argv) {
         f.reduce_s / std::max(f.decode_s, 1e-9), f.stages.load / seeds, f.stages.calibrate / seeds,
         f.stages.extract / seeds, f.stages.fit / seeds);
     std::fflush(stdout);
+    std::sort(f.worst.begin(), f.worst.end(),
+              [](const XmaxError& a, const XmaxError& b) { return a.pct > b.pct; });
+    for (int i = 0; i < worst && i < static_cast<int>(f.worst.size()); ++i) {
+      fmt::print(stderr, "  {} seed {} run {} rebound {}: {:.4f} % of X0\n", style,
+                 1000 + f.worst[i].seed, f.worst[i].run, f.worst[i].rebound, f.worst[i].pct);
+    }
   }
   std::filesystem::remove_all(scratch);
   return 0;

@@ -8,105 +8,52 @@
 #include <stdexcept>
 #include <utility>
 
-#include <fmt/format.h>
 #include <Eigen/Dense>
 
 namespace impactlab {
 namespace {
 
-struct Segment {
-  std::size_t first = 0, last = 0;  // samples above the threshold
-  bool open_start = false, open_end = false;
-};
-
-// Stretches with X above `threshold`; a stretch ends only where X falls to a
-// quarter of it, so noise around the threshold does not split a rebound. A
-// digitized photo may have no samples at all near an impact (the beam moves
-// fast there and is faint): a gap longer than `max_gap_s` with X below half
-// a fifth of the stretch's maximum on both sides (near equilibrium, where an
-// impact is) also ends a stretch.
-std::vector<Segment> FindSegments(const std::vector<double>& t, const std::vector<double>& x,
-                                  double threshold, double max_gap_s) {
-  std::vector<Segment> segments;
-  bool inside = false;
-  double stretch_max = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const bool gap = inside && t[i] - t[i - 1] > max_gap_s && x[i - 1] < 0.2 * stretch_max &&
-                     x[i] < 0.2 * stretch_max;
-    if (gap) inside = false;
-    stretch_max = inside ? std::max(stretch_max, x[i]) : x[i];
-    if (!inside && x[i] > threshold) {
-      segments.push_back({i, i, i == 0, false});
-      inside = true;
-    } else if (inside && x[i] > 0.25 * threshold) {
-      segments.back().last = i;
-    } else if (inside) {
-      inside = false;
-    }
-  }
-  if (inside) segments.back().open_end = true;
-  return segments;
-}
-
-// A stretch much longer than a swing holds two rebounds whose impact left no
-// sample near equilibrium (a faint part of a photo): split it where its
-// samples have the widest gap, or else at its lowest interior sample, until
-// every stretch lasts at most 1.3 half periods of its own amplitude.
-void SplitMergedRebounds(const std::vector<double>& t, const std::vector<double>& x,
-                         const Pendulum& pendulum, std::vector<Segment>& segments) {
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    Segment& seg = segments[s];
-    if (seg.last <= seg.first + 2) continue;
-    const double top = *std::max_element(x.begin() + seg.first, x.begin() + seg.last + 1);
-    if (!(top > 0.0) || top >= pendulum.length) continue;
-    if (t[seg.last] - t[seg.first] <= 1.3 * HalfPeriod(pendulum, top)) continue;
-    // Search the interior, away from the stretch's own flanks.
-    const std::size_t lo = seg.first + (seg.last - seg.first) / 10 + 1;
-    const std::size_t hi = seg.last - (seg.last - seg.first) / 10 - 1;
-    std::size_t cut = lo;
-    double widest = 0.0;
-    for (std::size_t i = lo; i <= hi; ++i) {
-      if (t[i] - t[i - 1] > widest) widest = t[i] - t[i - 1], cut = i;
-    }
-    const double median_step = (t[seg.last] - t[seg.first]) / (seg.last - seg.first);
-    if (widest < 5.0 * median_step) {  // no telling gap: the lowest sample instead
-      cut = static_cast<std::size_t>(std::min_element(x.begin() + lo, x.begin() + hi + 1) -
-                                     x.begin());
-    }
-    const Segment second{cut, seg.last, false, seg.open_end};
-    seg.last = cut - 1;
-    seg.open_end = false;
-    segments.insert(segments.begin() + s + 1, second);
-    --s;  // the first part may still hold two rebounds
-  }
-}
-
-// Where a rebound's flank crosses 0. A contact lasts far less than a sample
-// interval at slow sweeps, so samples near 0 cannot be told apart between the
-// two rebounds meeting there; the flank's own samples between 5 % and 30 % of
-// the amplitude are used instead, where asin((X - c)/A) runs linearly in time,
-// and that line is extended to X = 0. `step` is +1 for the falling flank after
-// the peak, -1 for the rising flank before it.
-double FlankCrossing(const DisplacementHistory& h, std::size_t peak, int step, double amplitude,
-                     double offset) {
+// Where a rebound's flank crosses 0, from its samples at `step` (+1: the
+// falling flank after the peak, -1: the rising flank before it) no further
+// than half a swing from the peak, so the neighbouring rebound's samples are
+// never taken for this one's. A contact lasts far less than a sample interval
+// at slow sweeps, so samples near 0 cannot be told apart between the two
+// rebounds meeting there; the flank's own samples between 5 % and 30 % of the
+// amplitude are used instead, where asin((X - c)/A) runs linearly in time, and
+// that line is extended to X = 0. A flank with fewer than two samples there
+// (a gap in a digitized photo) still gives a crossing from each sample it has
+// higher up, through the swing's sine shape; their median is used.
+double FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_peak, int step,
+                     double amplitude, double offset, double half_period) {
   const auto& x = h.displacement;
+  const double omega = std::numbers::pi / half_period;
+  const double zero = std::asin(std::clamp(-offset / amplitude, -1.0, 1.0));
   double st = 0, sy = 0, stt = 0, sty = 0;
   int n = 0;
+  std::vector<double> from_shape;
   for (long long k = static_cast<long long>(peak); k >= 0 && k < static_cast<long long>(x.size());
        k += step) {
     const auto i = static_cast<std::size_t>(k);
+    if (std::abs(h.time_s[i] - t_peak) > 0.5 * half_period) break;
+    const double t = h.time_s[i] - h.time_s[peak];
     const double level = (x[i] - offset) / amplitude;
     if (level < 0.05) break;
+    if (level > 0.95) continue;
+    const double y = std::asin(level);
+    from_shape.push_back(h.time_s[i] + step * (y - zero) / omega);
     if (level > 0.30) continue;
-    const double t = h.time_s[i] - h.time_s[peak], y = std::asin(level);
     st += t, sy += y, stt += t * t, sty += t * y;
     ++n;
   }
-  if (n < 2) return std::numeric_limits<double>::quiet_NaN();  // the caller falls back
-  const double slope = (n * sty - st * sy) / (n * stt - st * st);
-  const double intercept = (sy - slope * st) / n;
-  // y = asin(-offset/A) at X = 0.
-  return h.time_s[peak] + (std::asin(-offset / amplitude) - intercept) / slope;
+  if (n >= 2) {
+    const double slope = (n * sty - st * sy) / (n * stt - st * st);
+    const double intercept = (sy - slope * st) / n;
+    if (slope * step < 0.0) return h.time_s[peak] + (zero - intercept) / slope;
+  }
+  if (from_shape.empty()) return std::numeric_limits<double>::quiet_NaN();  // caller falls back
+  std::nth_element(from_shape.begin(), from_shape.begin() + from_shape.size() / 2,
+                   from_shape.end());
+  return from_shape[from_shape.size() / 2];
 }
 
 // The exact pendulum's rebound shape, symmetric about its peak: X at `tau`
@@ -125,7 +72,7 @@ struct PeakFit {
 // Linear start (sinusoid + offset), then Gauss-Newton on the exact shape with
 // parameters (amplitude, peak time, offset).
 PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo, std::size_t hi,
-                std::size_t top) {
+                std::size_t top, double amplitude_guess) {
   const int n = static_cast<int>(hi - lo + 1);
   Eigen::VectorXd t(n), x(n), w(n);
   for (int k = 0; k < n; ++k) {
@@ -133,7 +80,7 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
     x(k) = h.displacement[lo + k];
     w(k) = h.sigma.empty() ? 1.0 : 1.0 / h.sigma[lo + k];
   }
-  const double omega = std::numbers::pi / HalfPeriod(p, std::max(h.displacement[top], 1e-300));
+  const double omega = std::numbers::pi / HalfPeriod(p, amplitude_guess);
   Eigen::MatrixXd a(n, 3);
   for (int k = 0; k < n; ++k) {
     a.row(k) << std::cos(omega * t(k)), std::sin(omega * t(k)), 1.0;
@@ -194,6 +141,56 @@ bool ReboundExtractionOptions::Check(std::string* error) const {
   return true;
 }
 
+namespace {
+
+std::size_t NearestSample(const std::vector<double>& t, double at) {
+  const auto it = std::lower_bound(t.begin(), t.end(), at);
+  if (it == t.end()) return t.size() - 1;
+  const auto k = static_cast<std::size_t>(it - t.begin());
+  return k > 0 && at - t[k - 1] < t[k] - at ? k - 1 : k;
+}
+
+double MedianSpacing(const std::vector<double>& t, std::size_t lo, std::size_t end) {
+  std::vector<double> steps;
+  for (std::size_t i = lo + 1; i < end; ++i) steps.push_back(t[i] - t[i - 1]);
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+// The release swing: from the history's start while X stays above a quarter
+// of the threshold (the bar is held at X0, then falls).
+struct ReleaseSwing {
+  std::size_t top = 0;        // its largest sample
+  std::size_t last_high = 0;  // its last sample above 90 % of that
+  double amplitude = 0.0;
+};
+
+ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, double threshold) {
+  const auto& x = h.displacement;
+  std::size_t i = 0;
+  while (i < x.size() && x[i] <= threshold) ++i;
+  ReleaseSwing swing;
+  swing.top = std::min(i, x.size() - 1);
+  for (; i < x.size() && x[i] > 0.25 * threshold; ++i) {
+    if (x[i] > x[swing.top]) swing.top = i;
+    if (x[i] > 0.9 * x[swing.top]) swing.last_high = i;
+  }
+  swing.last_high = std::max(swing.last_high, swing.top);
+  swing.amplitude = x[swing.top];
+  return swing;
+}
+
+// Samples of the history within [from, to] s.
+std::pair<std::size_t, std::size_t> SamplesWithin(const DisplacementHistory& h, double from,
+                                                  double to) {
+  const auto lo = std::lower_bound(h.time_s.begin(), h.time_s.end(), from);
+  const auto hi = std::upper_bound(h.time_s.begin(), h.time_s.end(), to);
+  return {static_cast<std::size_t>(lo - h.time_s.begin()),
+          static_cast<std::size_t>(hi - h.time_s.begin())};
+}
+
+}  // namespace
+
 ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& pendulum,
                                   const ReboundExtractionOptions& options) {
   std::string error;
@@ -203,153 +200,85 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   }
   const double largest = *std::max_element(h.displacement.begin(), h.displacement.end());
   if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");
-  // A gap of 2 % of a swing cannot hide a rebound's peak, but can hide an impact.
-  const double max_gap_s = 0.02 * HalfPeriod(pendulum, largest);
-  std::vector<Segment> segments =
-      FindSegments(h.time_s, h.displacement, options.threshold_fraction * largest, max_gap_s);
-  SplitMergedRebounds(h.time_s, h.displacement, pendulum, segments);
+  const double threshold = options.threshold_fraction * largest;
 
+  // The bars meet at the equilibrium position once every half period of the
+  // pendulum (a contact lasts microseconds), so each rebound is the stretch
+  // between one impact and the next, about a half period later. Walking the
+  // history by that clock, refined at every impact by the rebound's own
+  // falling flank, keeps the numbering right where a digitized trace has gaps
+  // at a peak, at an impact or over a whole rebound: a gap can neither merge
+  // two rebounds nor split one.
   ReboundExtraction out;
-  // Where a flank crosses 0, or the model's half period from the peak when the
-  // flank has too few samples to say.
-  const auto crossing = [&](std::size_t top, int step, double amplitude, double offset,
-                            double t_peak) {
-    const double t = FlankCrossing(h, top, step, amplitude, offset);
-    return std::isfinite(t) ? t : t_peak + step * 0.5 * HalfPeriod(pendulum, amplitude);
+  const auto crossing = [&](std::size_t top, double t_peak, int step, double amplitude,
+                            double offset, double half) {
+    const double t = FlankCrossing(h, top, t_peak, step, amplitude, offset, half);
+    return std::isfinite(t) ? t : t_peak + step * 0.5 * half;
   };
-  const auto top_of = [&](const Segment& seg) {
-    return static_cast<std::size_t>(std::max_element(h.displacement.begin() + seg.first,
-                                                     h.displacement.begin() + seg.last + 1) -
-                                    h.displacement.begin());
-  };
-  // Segment 0 is the release swing (its peak is the release itself); every
-  // later complete segment is a rebound.
-  if (!segments.empty()) {
-    const std::size_t top = top_of(segments[0]);
-    out.impact_times.push_back(crossing(top, +1, h.displacement[top], 0.0, h.time_s[top]));
-  }
-  for (std::size_t s = 1; s < segments.size(); ++s) {
-    const Segment& seg = segments[s];
-    if (seg.open_end) break;
-    const std::size_t top = top_of(seg);
-    const double expected_duration = HalfPeriod(pendulum, h.displacement[top]);
-    const double half_window = options.peak_window_fraction * expected_duration;
-    std::size_t lo = top, hi = top;
-    while (lo > seg.first && h.time_s[top] - h.time_s[lo - 1] <= half_window) --lo;
-    while (hi < seg.last && h.time_s[hi + 1] - h.time_s[top] <= half_window) ++hi;
-    ExtractedRebound rebound;
-    rebound.number = static_cast<int>(s);
-    rebound.samples_in_fit = static_cast<int>(hi - lo + 1);
-    if (rebound.samples_in_fit < options.min_samples_per_peak) {
-      throw std::invalid_argument(
-          fmt::format("rebound {} has only {} samples near its peak (at least {} are needed)", s,
-                      rebound.samples_in_fit, options.min_samples_per_peak));
+  // The release is where the bar, held at X0 until then, starts to fall: the
+  // last sample still near X0 says when, through the swing's cosine shape.
+  const ReleaseSwing release = FindReleaseSwing(h, threshold);
+  double half_period = HalfPeriod(pendulum, release.amplitude);
+  const double release_level =
+      std::clamp(h.displacement[release.last_high] / release.amplitude, 0.0, 1.0);
+  const double t_release =
+      h.time_s[release.last_high] - std::acos(release_level) * half_period / std::numbers::pi;
+  double impact = crossing(release.last_high, t_release, +1, release.amplitude, 0.0, half_period);
+  out.impact_times.push_back(impact);
+
+  for (int number = 1;; ++number) {
+    // Rebound `number` lies between `impact` and the next impact.
+    if (h.time_s.back() < impact + 0.9 * half_period) break;  // not complete in the history
+    const auto [first, end] = SamplesWithin(h, impact, impact + half_period);
+    double top_x = 0.0;
+    for (std::size_t i = first; i < end; ++i) top_x = std::max(top_x, h.displacement[i]);
+    if (end - first < static_cast<std::size_t>(options.min_samples_per_peak)) {
+      impact += half_period;  // a whole rebound lost in a gap: the clock carries on
+      out.impact_times.push_back(impact);
+      continue;
     }
-    const PeakFit fit = FitPeak(h, pendulum, lo, hi, top);
+    if (top_x < threshold) break;  // the rebounds have died out
+    half_period = HalfPeriod(pendulum, top_x);
+    const double predicted_peak = impact + 0.5 * half_period;
+    const double half_window = options.peak_window_fraction * half_period;
+    const auto [lo, hi_end] =
+        SamplesWithin(h, predicted_peak - half_window, predicted_peak + half_window);
+    const std::size_t centre = NearestSample(h.time_s, predicted_peak);
+    const auto below = static_cast<int>(
+        std::lower_bound(h.time_s.begin() + lo, h.time_s.begin() + hi_end, predicted_peak) -
+        (h.time_s.begin() + lo));
+    const int samples = static_cast<int>(hi_end - lo);
+    if (samples < options.min_samples_per_peak || below < 2 || samples - below < 2) {
+      // Too little of this rebound survives near its peak to measure it;
+      // the clock carries on to the next one.
+      impact += half_period;
+      out.impact_times.push_back(impact);
+      continue;
+    }
+    const PeakFit fit = FitPeak(h, pendulum, lo, hi_end - 1, centre, top_x);
+    const bool plausible = fit.xmax.value > 0.0 && fit.xmax.value < 1.5 * top_x &&
+                           std::abs(fit.t_peak.value - predicted_peak) < half_window;
+    if (!plausible) {
+      impact += half_period;
+      out.impact_times.push_back(impact);
+      continue;
+    }
+    ExtractedRebound rebound;
+    rebound.number = number;
+    rebound.samples_in_fit = samples;
     rebound.xmax = fit.xmax;
     rebound.t_peak = fit.t_peak;
     rebound.fit_rms = fit.rms;
-    rebound.start_s = crossing(top, -1, fit.amplitude, fit.offset, fit.t_peak.value);
-    rebound.end_s = crossing(top, +1, fit.amplitude, fit.offset, fit.t_peak.value);
-    const double dt = h.time_s[top + 1] - h.time_s[top];
+    const std::size_t top = NearestSample(h.time_s, fit.t_peak.value);
+    rebound.start_s = crossing(top, fit.t_peak.value, -1, fit.amplitude, fit.offset, half_period);
+    rebound.end_s = crossing(top, fit.t_peak.value, +1, fit.amplitude, fit.offset, half_period);
+    const double dt = MedianSpacing(h.time_s, lo, hi_end);
     rebound.duration = {rebound.end_s - rebound.start_s, dt / std::sqrt(6.0)};
     out.rebounds.push_back(rebound);
-    out.impact_times.push_back(rebound.end_s);
+    impact = rebound.end_s;
+    out.impact_times.push_back(impact);
   }
   return out;
-}
-
-namespace {
-
-// x of history h at time t by linear interpolation, if t lies between two of
-// its samples no further apart than `max_span_s` (never across a gap).
-std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& h, double t,
-                                                     double max_span_s) {
-  const auto it = std::lower_bound(h.time_s.begin(), h.time_s.end(), t);
-  if (it == h.time_s.end()) return std::nullopt;
-  const auto k = static_cast<std::size_t>(it - h.time_s.begin());
-  const double sigma_k = h.sigma.empty() ? 0.0 : h.sigma[k];
-  if (*it == t) return std::pair{h.displacement[k], sigma_k};
-  if (k == 0 || h.time_s[k] - h.time_s[k - 1] > max_span_s) return std::nullopt;
-  const double f = (t - h.time_s[k - 1]) / (h.time_s[k] - h.time_s[k - 1]);
-  const double sigma = h.sigma.empty() ? 0.0 : std::max(h.sigma[k - 1], sigma_k);
-  return std::pair{h.displacement[k - 1] + f * (h.displacement[k] - h.displacement[k - 1]), sigma};
-}
-
-double MedianStep(const std::vector<double>& t) {
-  std::vector<double> steps;
-  for (std::size_t i = 1; i < t.size(); ++i) steps.push_back(t[i] - t[i - 1]);
-  if (steps.empty()) return 0.0;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  return steps[steps.size() / 2];
-}
-
-}  // namespace
-
-DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b) {
-  // On the union of both sample times: where one bar's trace has a gap (a
-  // digitized photo may), the other still counts wherever both can be read.
-  std::vector<double> times = a.time_s;
-  times.insert(times.end(), b.time_s.begin(), b.time_s.end());
-  std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end()), times.end());
-  const double span_a = 4.0 * MedianStep(a.time_s), span_b = 4.0 * MedianStep(b.time_s);
-  DisplacementHistory out;
-  for (double t : times) {
-    const auto xa = Interpolate(a, t, span_a), xb = Interpolate(b, t, span_b);
-    if (!xa || !xb) continue;
-    out.time_s.push_back(t);
-    out.displacement.push_back(0.5 * (xa->first + xb->first));
-    if (!a.sigma.empty() && !b.sigma.empty())
-      out.sigma.push_back(0.5 * std::hypot(xa->second, xb->second));
-  }
-  return out;
-}
-
-ContactPulse MeasureContactPulse(const Trace& trace) {
-  const std::size_t n = trace.volts.size();
-  if (n < 8) throw std::invalid_argument("a contact trace needs at least 8 samples");
-  std::vector<double> sorted = trace.volts;
-  std::sort(sorted.begin(), sorted.end());
-  ContactPulse pulse;
-  pulse.low_volts = sorted[n / 10];
-  pulse.high_volts = sorted[n - 1 - n / 10];
-  // Noise from the low state's spread (median absolute deviation).
-  std::vector<double> low_state;
-  const double mid = 0.5 * (pulse.low_volts + pulse.high_volts);
-  for (double v : trace.volts) {
-    if (v < mid) low_state.push_back(std::abs(v - pulse.low_volts));
-  }
-  std::nth_element(low_state.begin(), low_state.begin() + low_state.size() / 2, low_state.end());
-  const double noise = 1.4826 * low_state[low_state.size() / 2];
-  if (!(pulse.high_volts - pulse.low_volts > 6.0 * noise) || pulse.high_volts == pulse.low_volts) {
-    throw std::invalid_argument("the contact trace shows no step above its noise");
-  }
-
-  // Crossing of `mid` between samples i and i + 1, with its uncertainty: the
-  // noise over the slope, or, for an edge within one sample, the sample
-  // interval's uniform spread.
-  const auto edge = [&](std::size_t i) {
-    const double t0 = trace.time_s[i], t1 = trace.time_s[i + 1];
-    const double v0 = trace.volts[i], v1 = trace.volts[i + 1];
-    const double t = t0 + (t1 - t0) * (mid - v0) / (v1 - v0);
-    const double slope = std::abs(v1 - v0) / (t1 - t0);
-    const double resolved_sigma = noise / slope;
-    const bool one_sample_jump = std::min(v0, v1) < pulse.low_volts + 3.0 * noise &&
-                                 std::max(v0, v1) > pulse.high_volts - 3.0 * noise;
-    return Estimate{t, one_sample_jump ? (t1 - t0) / std::sqrt(12.0) : resolved_sigma};
-  };
-  std::size_t i = 0;
-  while (i + 1 < n && !(trace.volts[i] < mid && trace.volts[i + 1] >= mid)) ++i;
-  if (i + 1 >= n) throw std::invalid_argument("the contact trace has no rising edge");
-  pulse.rise_s = edge(i);
-  std::size_t j = i + 1;
-  while (j + 1 < n && !(trace.volts[j] >= mid && trace.volts[j + 1] < mid)) ++j;
-  if (j + 1 >= n) throw std::invalid_argument("the contact pulse does not end within the trace");
-  pulse.fall_s = edge(j);
-  pulse.width_s = {pulse.fall_s.value - pulse.rise_s.value,
-                   std::hypot(pulse.rise_s.sigma, pulse.fall_s.sigma)};
-  return pulse;
 }
 
 }  // namespace impactlab

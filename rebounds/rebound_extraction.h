@@ -2,14 +2,15 @@
 // Chapter III "Reduction of data", Figure 15), and the contact time from the
 // contact circuit's pulse.
 //
-// A rebound is a stretch where the bar is away from the equilibrium position
-// (X above a small threshold); the release swing before the first impact is
-// rebound 0 (PENDUL's numbering, Figure 6). Each maximum comes from a
-// least-squares fit of the pendulum's own shape near the peak,
-//   X(t) = a cos(w (t - t0)) + b sin(w (t - t0)) + c,
-// with w the exact pendulum's angular frequency for that amplitude, so its
-// precision is far below the sample spacing and it carries an uncertainty
-// from the fit's residuals.
+// The bars meet at equilibrium once every half period of the pendulum, so
+// rebound N is the stretch between impact N and the next, a half period
+// later; the history is walked by that clock, refined at each impact by the
+// rebound's own falling flank, so gaps in a digitized trace cannot merge or
+// split rebounds. The release swing before the first impact is rebound 0
+// (PENDUL's numbering, Figure 6). Each maximum comes from a least-squares fit
+// of the exact pendulum's swing (amplitude, peak time and an offset) to the
+// samples near the peak, so its precision is far below the sample spacing
+// and it carries an uncertainty from the fit's residuals.
 #pragma once
 
 #include <string>
@@ -28,8 +29,9 @@ struct DisplacementHistory {
 };
 
 struct ReboundExtractionOptions {
-  // A rebound starts where X rises above this fraction of the largest X in
-  // the history (and ends where it falls below it again), 1.
+  // Rebounds end where their maximum falls below this fraction of the
+  // largest X in the history; the release swing ends where X first falls
+  // below a quarter of it.
   double threshold_fraction = 0.03;
   // Half-width of the peak fit window as a fraction of the rebound's duration.
   // Wide windows average more samples; the model fits the whole swing shape.
@@ -51,7 +53,9 @@ struct ExtractedRebound {
 };
 
 struct ReboundExtraction {
-  // Complete rebounds after the first impact (rebound 1, 2, ...), in order.
+  // Complete rebounds after the first impact (rebound 1, 2, ...), in order; a
+  // rebound with too few samples near its peak is left out (its number is
+  // skipped, the later ones keep theirs).
   std::vector<ExtractedRebound> rebounds;
   // Starts of the gaps between rebounds (contacts), s.
   std::vector<double> impact_times;

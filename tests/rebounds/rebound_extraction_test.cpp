@@ -62,6 +62,40 @@ TEST_CASE("rebounds: with noise the maxima stay within a few reported sigmas") {
   }
 }
 
+// Drops the samples of `h` within [from, to] s: a faint stretch of a photo.
+void DropSamples(DisplacementHistory& h, double from, double to) {
+  DisplacementHistory kept;
+  for (std::size_t i = 0; i < h.time_s.size(); ++i) {
+    if (h.time_s[i] >= from && h.time_s[i] <= to) continue;
+    kept.time_s.push_back(h.time_s[i]);
+    kept.displacement.push_back(h.displacement[i]);
+  }
+  h = kept;
+}
+
+TEST_CASE("rebounds: gaps at an impact, at a peak or over a whole rebound keep the numbering") {
+  Truth truth = Simulate(0.323, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  // A digitized photo loses its faint parts: here the samples around impact
+  // 2 (merging rebounds 1 and 2 for a threshold), the top of rebound 3
+  // (splitting it), and rebound 4 entirely.
+  DropSamples(truth.history, s.impact_time[1] - 0.04, s.impact_time[1] + 0.05);
+  DropSamples(truth.history, s.peak_time[3] - 0.05, s.peak_time[3] + 0.04);
+  DropSamples(truth.history, s.start_time[4] - 0.01, s.start_time[4] + s.duration[4] + 0.01);
+  // A stray fragment of rebound 2's tail, cut off from it by a gap.
+  DropSamples(truth.history, s.impact_time[2] - 0.06, s.impact_time[2] - 0.02);
+
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  std::vector<int> numbers;
+  for (const ExtractedRebound& rb : r.rebounds) {
+    numbers.push_back(rb.number);
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+    CHECK(rb.t_peak.value == Approx(s.peak_time[rb.number]).margin(1e-6));
+  }
+  CHECK(numbers == std::vector<int>{1, 2, 3, 5});
+}
+
 TEST_CASE("rebounds: averaging right and left halves the difference between them") {
   const Truth right = Simulate(0.6, 1e-3, 0.0, 1);
   DisplacementHistory left = right.history;

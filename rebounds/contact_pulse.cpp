@@ -1,0 +1,57 @@
+// MeasureContactPulse: the contact circuit's step pulse from a sampled trace
+// (a CSV trace; photos measure the edges on the image itself, digitize/).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "rebounds/rebound_extraction.h"
+
+namespace impactlab {
+
+ContactPulse MeasureContactPulse(const Trace& trace) {
+  const std::size_t n = trace.volts.size();
+  if (n < 8) throw std::invalid_argument("a contact trace needs at least 8 samples");
+  std::vector<double> sorted = trace.volts;
+  std::sort(sorted.begin(), sorted.end());
+  ContactPulse pulse;
+  pulse.low_volts = sorted[n / 10];
+  pulse.high_volts = sorted[n - 1 - n / 10];
+  // Noise from the low state's spread (median absolute deviation).
+  std::vector<double> low_state;
+  const double mid = 0.5 * (pulse.low_volts + pulse.high_volts);
+  for (double v : trace.volts) {
+    if (v < mid) low_state.push_back(std::abs(v - pulse.low_volts));
+  }
+  std::nth_element(low_state.begin(), low_state.begin() + low_state.size() / 2, low_state.end());
+  const double noise = 1.4826 * low_state[low_state.size() / 2];
+  if (!(pulse.high_volts - pulse.low_volts > 6.0 * noise) || pulse.high_volts == pulse.low_volts) {
+    throw std::invalid_argument("the contact trace shows no step above its noise");
+  }
+
+  // Crossing of `mid` between samples i and i + 1, with its uncertainty: the
+  // noise over the slope, or, for an edge within one sample, the sample
+  // interval's uniform spread.
+  const auto edge = [&](std::size_t i) {
+    const double t0 = trace.time_s[i], t1 = trace.time_s[i + 1];
+    const double v0 = trace.volts[i], v1 = trace.volts[i + 1];
+    const double t = t0 + (t1 - t0) * (mid - v0) / (v1 - v0);
+    const double slope = std::abs(v1 - v0) / (t1 - t0);
+    const double resolved_sigma = noise / slope;
+    const bool one_sample_jump = std::min(v0, v1) < pulse.low_volts + 3.0 * noise &&
+                                 std::max(v0, v1) > pulse.high_volts - 3.0 * noise;
+    return Estimate{t, one_sample_jump ? (t1 - t0) / std::sqrt(12.0) : resolved_sigma};
+  };
+  std::size_t i = 0;
+  while (i + 1 < n && !(trace.volts[i] < mid && trace.volts[i + 1] >= mid)) ++i;
+  if (i + 1 >= n) throw std::invalid_argument("the contact trace has no rising edge");
+  pulse.rise_s = edge(i);
+  std::size_t j = i + 1;
+  while (j + 1 < n && !(trace.volts[j] >= mid && trace.volts[j + 1] < mid)) ++j;
+  if (j + 1 >= n) throw std::invalid_argument("the contact pulse does not end within the trace");
+  pulse.fall_s = edge(j);
+  pulse.width_s = {pulse.fall_s.value - pulse.rise_s.value,
+                   std::hypot(pulse.rise_s.sigma, pulse.fall_s.sigma)};
+  return pulse;
+}
+
+}  // namespace impactlab
