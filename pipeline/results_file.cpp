@@ -47,6 +47,28 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
           f.ReadVector(g + "/duration")};
 }
 
+// A digitized photo: the overlay image and the digitizer's figures of merit.
+void WriteOverlay(Hdf5File& f, const std::string& h, const PhotoOverlay& o) {
+  f.CreateGroup(h);
+  f.SetAttribute(h, "photo", o.photo);
+  f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
+  f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
+  f.WriteStrings(h + "/trace_names", o.trace_names);
+  f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
+  f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
+}
+
+PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
+  PhotoOverlay o;
+  o.photo = f.ReadStringAttribute(h, "photo");
+  o.jpeg = f.ReadBytes(h + "/overlay_jpeg");
+  o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
+  o.trace_names = f.ReadStrings(h + "/trace_names");
+  o.trace_coverage = f.ReadVector(h + "/trace_coverage");
+  o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
+  return o;
+}
+
 void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& c,
                       const UnitLabels& u) {
   f.CreateGroup(g);
@@ -62,6 +84,7 @@ void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& 
   f.SetAttribute(g, "samples_used", static_cast<long long>(c.samples_used));
   f.WriteVector(g + "/points_x", c.points_x, u.length);
   f.WriteVector(g + "/points_volts", c.points_volts, "V");
+  if (c.overlay) WriteOverlay(f, g + "/digitized", *c.overlay);
 }
 
 CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const std::string& cell) {
@@ -78,6 +101,7 @@ CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const s
   c.samples_used = static_cast<int>(f.ReadIntegerAttribute(g, "samples_used"));
   c.points_x = f.ReadVector(g + "/points_x");
   c.points_volts = f.ReadVector(g + "/points_volts");
+  if (f.Exists(g + "/digitized")) c.overlay = ReadOverlay(f, g + "/digitized");
   return c;
 }
 
@@ -369,15 +393,7 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
                   u.length);
   }
   for (std::size_t i = 0; i < run.overlays.size(); ++i) {
-    const PhotoOverlay& o = run.overlays[i];
-    const std::string h = fmt::format("{}/digitized/{}", g, i);
-    f.CreateGroup(h);
-    f.SetAttribute(h, "photo", o.photo);
-    f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
-    f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
-    f.WriteStrings(h + "/trace_names", o.trace_names);
-    f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
-    f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
+    WriteOverlay(f, fmt::format("{}/digitized/{}", g, i), run.overlays[i]);
   }
   if (run.right) WriteBar(f, g + "/rebounds/right", *run.right, u);
   if (run.left) WriteBar(f, g + "/rebounds/left", *run.left, u);
@@ -501,15 +517,7 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
   }
   if (f.Exists(g + "/digitized")) {
     for (const std::string& i : f.Children(g + "/digitized")) {
-      const std::string h = g + "/digitized/" + i;
-      PhotoOverlay o;
-      o.photo = f.ReadStringAttribute(h, "photo");
-      o.jpeg = f.ReadBytes(h + "/overlay_jpeg");
-      o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
-      o.trace_names = f.ReadStrings(h + "/trace_names");
-      o.trace_coverage = f.ReadVector(h + "/trace_coverage");
-      o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
-      run.overlays.push_back(std::move(o));
+      run.overlays.push_back(ReadOverlay(f, g + "/digitized/" + i));
     }
   }
   if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");

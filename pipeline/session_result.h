@@ -70,6 +70,7 @@ struct CellCalibration {
   int samples_used = 0;
   double volts_min = 0.0, volts_max = 0.0;
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
+  std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
 };
 
 // Wall time spent per stage of one run, s (for benchmarks; not in the results file).

@@ -54,8 +54,10 @@ DisplacementHistory ToDisplacement(const Trace& trace, const CalibrationResult& 
 }  // namespace
 
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
-                                     double release_x, const CalibrationResult& c) {
+                                     double release_x, const CalibratedCell& calibrated) {
+  const CalibrationResult& c = calibrated.calibration;
   CellCalibration out;
+  out.overlay = calibrated.overlay;
   out.calibration_id = id;
   out.cell = cell;
   out.release_x = release_x;
@@ -105,43 +107,7 @@ Trace LoadTrace(const Session& session, const TraceSettings& settings,
                    "the trace has neither a csv nor a photo");
 }
 
-const CalibrationResult& CalibrationCache::Get(const std::string& id) {
-  std::unique_lock lock(mutex_);
-  if (const auto it = entries_.find(id); it != entries_.end()) {
-    const Entry entry = it->second;
-    lock.unlock();
-    return *entry.get();  // rethrows the calibration's error, if it had one
-  }
-  std::promise<std::shared_ptr<const CalibrationResult>> promise;
-  const Entry entry = promise.get_future().share();
-  entries_.emplace(id, entry);
-  lock.unlock();
-  try {
-    promise.set_value(Compute(id));
-  } catch (...) {
-    promise.set_exception(std::current_exception());
-  }
-  return *entry.get();
-}
-
-std::shared_ptr<const CalibrationResult> CalibrationCache::Compute(const std::string& id) const {
-  const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
-                                        [&](const Calibration& c) { return c.id == id; });
-  const std::string key = fmt::format("calibration \"{}\"", id);
-  if (calibration == session_.calibrations.end()) {
-    throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
-  }
-  const Trace trace = LoadTrace(session_, calibration->trace, calibration->photo, key + ".trace");
-  try {
-    return std::make_shared<const CalibrationResult>(CalibratePhotocell(
-        trace, pendulum_, calibration->initial_displacement, CalibrationOptions{}));
-  } catch (const std::exception& e) {
-    throw InputError(
-        {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
-         std::nullopt},
-        e.what());
-  }
-}
+namespace {
 
 // Adds the seconds `work` takes to `total`.
 template <class Work>
@@ -155,6 +121,64 @@ auto Timed(double& total, Work&& work) {
     }
   } add{total, start};
   return work();
+}
+
+}  // namespace
+
+const CalibratedCell& CalibrationCache::Get(const std::string& id, StageSeconds* charge) {
+  std::unique_lock lock(mutex_);
+  if (const auto it = entries_.find(id); it != entries_.end()) {
+    const Entry entry = it->second;
+    lock.unlock();
+    return *entry.get();  // rethrows the calibration's error, if it had one
+  }
+  std::promise<std::shared_ptr<const CalibratedCell>> promise;
+  const Entry entry = promise.get_future().share();
+  entries_.emplace(id, entry);
+  lock.unlock();
+  try {
+    promise.set_value(Compute(id, charge));
+  } catch (...) {
+    promise.set_exception(std::current_exception());
+  }
+  return *entry.get();
+}
+
+std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::string& id,
+                                                                StageSeconds* charge) const {
+  const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
+                                        [&](const Calibration& c) { return c.id == id; });
+  const std::string key = fmt::format("calibration \"{}\"", id);
+  if (calibration == session_.calibrations.end()) {
+    throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
+  }
+  StageSeconds ignored;
+  StageSeconds& seconds = charge ? *charge : ignored;
+  auto cell = std::make_shared<CalibratedCell>();
+  Trace trace;
+  if (!calibration->trace.csv && calibration->photo) {
+    DigitizedPhoto digitized = Timed(seconds.load, [&] {
+      return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}});
+    });
+    trace = std::move(digitized.traces.at("trace"));
+    cell->overlay = std::move(digitized.overlay);
+  } else {
+    trace = Timed(seconds.load, [&] {
+      return LoadTrace(session_, calibration->trace, calibration->photo, key + ".trace");
+    });
+  }
+  try {
+    cell->calibration = Timed(seconds.calibrate, [&] {
+      return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
+                                CalibrationOptions{});
+    });
+  } catch (const std::exception& e) {
+    throw InputError(
+        {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
+         std::nullopt},
+        e.what());
+  }
+  return cell;
 }
 
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
@@ -191,13 +215,12 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       throw InputError({session.manifest, key, std::nullopt},
                        fmt::format("no calibration is named for the {} cell", cell));
     }
-    const CalibrationResult& calibration =
-        Timed(out.seconds.calibrate,
-              [&]() -> const CalibrationResult& { return calibrations.Get(cal_it->second); });
+    const CalibratedCell& calibrated = calibrations.Get(cal_it->second, &out.seconds);
+    const CalibrationResult& calibration = calibrated.calibration;
     const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
     out.calibrations.push_back(
-        SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibration));
+        SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibrated));
     const Trace trace = trace_of(cell, trace_it->second);
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};

@@ -22,6 +22,12 @@ namespace impactlab {
 Trace LoadTrace(const Session& session, const TraceSettings& settings,
                 const std::optional<std::filesystem::path>& photo, const std::string& key);
 
+// A photocell calibration as reduce computed it, with its photo's overlay.
+struct CalibratedCell {
+  CalibrationResult calibration;
+  std::optional<PhotoOverlay> overlay;  // photo calibrations only
+};
+
 // Calibrations are shared by runs; each is computed once per reduce, by the
 // first run that needs it, while runs on other threads wait for it.
 class CalibrationCache {
@@ -29,11 +35,14 @@ class CalibrationCache {
   CalibrationCache(const Session& session, const Pendulum& pendulum)
       : session_(session), pendulum_(pendulum) {}
   // Throws InputError (file, key, reason) when the calibration cannot be made.
-  const CalibrationResult& Get(const std::string& calibration_id);
+  // The run that computes it is charged its digitizing (load) and fitting
+  // (calibrate) seconds in `charge`; runs that wait for it are not.
+  const CalibratedCell& Get(const std::string& calibration_id, StageSeconds* charge = nullptr);
 
  private:
-  using Entry = std::shared_future<std::shared_ptr<const CalibrationResult>>;
-  std::shared_ptr<const CalibrationResult> Compute(const std::string& calibration_id) const;
+  using Entry = std::shared_future<std::shared_ptr<const CalibratedCell>>;
+  std::shared_ptr<const CalibratedCell> Compute(const std::string& calibration_id,
+                                                StageSeconds* charge) const;
 
   const Session& session_;
   const Pendulum& pendulum_;
@@ -43,7 +52,7 @@ class CalibrationCache {
 
 // The calibration as the results file keeps it (points decimated to <= 500).
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
-                                     double release_x, const CalibrationResult& calibration);
+                                     double release_x, const CalibratedCell& calibrated);
 
 // Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
 // calibrations). Throws InputError or std::exception with the reason.

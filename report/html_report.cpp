@@ -61,6 +61,17 @@ std::string OverlayFigure(const PhotoOverlay& o) {
       EscapeHtml(o.photo), Base64(o.jpeg), o.graticule_residual_px, coverage, o.processing_ms);
 }
 
+// The calibration photos behind a run's curves, folded away: they matter
+// when a curve looks wrong, and a session has two per run.
+std::string CalibrationOverlays(const std::vector<CellCalibration>& calibrations) {
+  std::string figures;
+  for (const CellCalibration& c : calibrations) {
+    if (c.overlay) figures += OverlayFigure(*c.overlay);
+  }
+  if (figures.empty()) return "";
+  return "<details><summary>Calibration photos, digitized</summary>\n" + figures + "</details>\n";
+}
+
 std::string Figure(const Plot& plot, const std::string& caption) {
   return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderSvg(plot),
                      EscapeHtml(caption));
@@ -247,6 +258,7 @@ std::string RenderHtmlReport(const SessionResult& r) {
     html += RunFigure(run, u);
     if (!run.calibrations.empty()) html += CalibrationFigure(run, u);
     for (const PhotoOverlay& o : run.overlays) html += OverlayFigure(o);
+    html += CalibrationOverlays(run.calibrations);
   }
   return html + "</body>\n</html>\n";
 }

@@ -12,6 +12,8 @@
 
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
+#include "pipeline/results_file.h"
+#include "report/html_report.h"
 #include "synth/session_generator.h"
 #include "tests/support/temp_dir.h"
 
@@ -133,6 +135,32 @@ TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and
   }
   CHECK(ok == static_cast<int>(result.runs.size()) - 1);
   CHECK(ok >= 2);
+}
+
+TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the HTML report") {
+  testing::TempDir dir;
+  SynthOptions synth;
+  synth.preset = "quick";
+  synth.style = PhotoStyle::kPhone;
+  synth.seed = 4;
+  GenerateSession(dir.path() / "s", synth);
+  const Session session = ReadManifest(dir.path() / "s").session;
+  WriteResults(ReduceSession(session, {}), dir.path() / "r.h5");
+  const SessionResult read = ReadResults(dir.path() / "r.h5");
+  const std::string html = RenderHtmlReport(read);
+  int calibration_overlays = 0;
+  for (const RunResult& run : read.runs) {
+    REQUIRE(run.ok);
+    CHECK(run.overlays.size() == 1);
+    for (const CellCalibration& c : run.calibrations) {
+      REQUIRE(c.overlay);
+      CHECK(c.overlay->jpeg.size() > 1000);
+      CHECK_THAT(html, Catch::Contains(c.overlay->photo));
+      ++calibration_overlays;
+    }
+  }
+  CHECK(calibration_overlays == 2 * static_cast<int>(read.runs.size()));
+  CHECK_THAT(html, Catch::Contains("Calibration photos, digitized"));
 }
 
 }  // namespace
