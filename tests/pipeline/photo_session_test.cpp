@@ -33,16 +33,23 @@ double Median(std::vector<double> v) {
 
 double Worst(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
-// Reduces a quick generated session of `style` and compares it with the truth.
-Errors ReduceGenerated(PhotoStyle style, std::uint64_t seed) {
-  testing::TempDir dir;
+// A quick generated session (two photo runs, 1000 px) in `folder`.
+SynthSummary GenerateQuick(const std::filesystem::path& folder, PhotoStyle style,
+                           std::uint64_t seed, bool mixed) {
   SynthOptions synth;
   synth.preset = "quick";
   synth.style = style;
   synth.seed = seed;
-  synth.csv_run = true;
-  synth.typed_run = true;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  synth.csv_run = mixed;
+  synth.typed_run = mixed;
+  return GenerateSession(folder, synth);
+}
+
+// Reduces a quick generated session of `style`, mixed with a CSV-trace run and
+// a typed-in run, and compares it with the truth.
+Errors ReduceGenerated(PhotoStyle style, std::uint64_t seed) {
+  testing::TempDir dir;
+  const SynthSummary summary = GenerateQuick(dir.path() / "s", style, seed, true);
   ReduceOptions options;
   options.jobs = 2;
   const SessionResult result = ReduceSession(ReadManifest(dir.path() / "s").session, options);
@@ -105,12 +112,7 @@ TEST_CASE("photo_session: low-resolution photos reduce to the generator's maxima
 
 TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and the rest reduce") {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kClean;
-  synth.seed = 5;
-  synth.csv_run = true;
-  GenerateSession(dir.path() / "s", synth);
+  GenerateQuick(dir.path() / "s", PhotoStyle::kClean, 5, true);
   const Session session = ReadManifest(dir.path() / "s").session;
   const Run& victim = *std::find_if(session.runs.begin(), session.runs.end(),
                                     [](const Run& r) { return r.photo.has_value(); });
@@ -139,11 +141,7 @@ TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and
 
 TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the HTML report") {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kPhone;
-  synth.seed = 4;
-  GenerateSession(dir.path() / "s", synth);
+  GenerateQuick(dir.path() / "s", PhotoStyle::kPhone, 4, false);
   const Session session = ReadManifest(dir.path() / "s").session;
   WriteResults(ReduceSession(session, {}), dir.path() / "r.h5");
   const SessionResult read = ReadResults(dir.path() / "r.h5");
