@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <fmt/core.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -83,7 +84,9 @@ int main(int argc, char** argv) {
   app.add_option("--worst", worst, "List the N worst Xmax errors per style on stderr");
   CLI11_PARSE(app, argc, argv);
 
-  const auto scratch = std::filesystem::temp_directory_path() / "impactlab-bench-reduce";
+  // One folder per process: two benchmarks at once must not share sessions.
+  const auto scratch =
+      std::filesystem::temp_directory_path() / fmt::format("impactlab-bench-reduce-{}", ::getpid());
   fmt::print(
       "| style | runs ok | Xmax err median (% X0) | p95 | max | contact err median (%) | worst "
       "| decode s | reduce s | reduce/decode | load s | calibrate s | extract s | fit s |\n");
