@@ -157,26 +157,61 @@ double MedianSpacing(const std::vector<double>& t, std::size_t lo, std::size_t e
   return steps[steps.size() / 2];
 }
 
-// The release swing: from the history's start while X stays above a quarter
-// of the threshold (the bar is held at X0, then falls).
+// The release swing: the bar, held at X0, is let go at t_release and falls
+// as X0 cos(w (t - t_release)) to the first impact a half period later.
 struct ReleaseSwing {
-  std::size_t top = 0;        // its largest sample
-  std::size_t last_high = 0;  // its last sample above 90 % of that
-  double amplitude = 0.0;
+  double amplitude = 0.0;         // X0 as the history shows it
+  double t_release = 0.0;         // s
+  std::size_t first_falling = 0;  // the first sample after t_release
 };
 
-ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, double threshold) {
+// From the samples falling from the history's first stretch above the
+// threshold: its top, then on while X keeps falling (a rise of 5 % of the
+// top means the next rebound has begun, even where a gap hides the impact).
+// A digitized photo may miss the hold at X0 and the top of the fall, so the
+// fall's shape, not its largest sample, gives X0 and the release time: a
+// linear fit of a cos(w t) + b sin(w t) to the samples between 40 % and 98 %
+// of the top (below 40 % the next rebound's rise could hide in a gap; above
+// 98 % lies the hold).
+ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pendulum,
+                              double threshold) {
   const auto& x = h.displacement;
-  std::size_t i = 0;
-  while (i < x.size() && x[i] <= threshold) ++i;
-  ReleaseSwing swing;
-  swing.top = std::min(i, x.size() - 1);
-  for (; i < x.size() && x[i] > 0.25 * threshold; ++i) {
-    if (x[i] > x[swing.top]) swing.top = i;
-    if (x[i] > 0.9 * x[swing.top]) swing.last_high = i;
+  const auto& t = h.time_s;
+  std::size_t top = 0;
+  while (top < x.size() && x[top] <= threshold) ++top;
+  top = std::min(top, x.size() - 1);
+  std::size_t end = top;
+  for (double lowest = x[top]; end < x.size() && x[end] > 0.25 * threshold; ++end) {
+    if (x[end] > x[top] && lowest >= 0.95 * x[top]) top = end, lowest = x[end];
+    if (x[end] > lowest + 0.05 * x[top]) break;
+    lowest = std::min(lowest, x[end]);
   }
-  swing.last_high = std::max(swing.last_high, swing.top);
-  swing.amplitude = x[swing.top];
+  ReleaseSwing swing;
+  swing.amplitude = x[top];
+  swing.t_release = t[top];
+  for (int pass = 0; pass < 2; ++pass) {
+    const double omega = std::numbers::pi / HalfPeriod(pendulum, swing.amplitude);
+    Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    int used = 0;
+    for (std::size_t i = top; i < end; ++i) {
+      if (x[i] < 0.4 * x[top] || x[i] > 0.98 * x[top]) continue;
+      const Eigen::Vector2d basis(std::cos(omega * (t[i] - t[top])),
+                                  std::sin(omega * (t[i] - t[top])));
+      normal += basis * basis.transpose();
+      rhs += x[i] * basis;
+      ++used;
+    }
+    if (used < 3) break;  // too few to say: the top sample is the release
+    const Eigen::Vector2d ab = normal.ldlt().solve(rhs);
+    const double amplitude = std::hypot(ab(0), ab(1));
+    if (!(amplitude > 0.0) || ab(0) <= 0.0) break;
+    swing.amplitude = amplitude;
+    swing.t_release = t[top] + std::atan2(ab(1), ab(0)) / omega;
+  }
+  swing.first_falling =
+      static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), swing.t_release) - t.begin());
+  swing.first_falling = std::min(swing.first_falling, x.size() - 1);
   return swing;
 }
 
@@ -215,15 +250,10 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
     const double t = FlankCrossing(h, top, t_peak, step, amplitude, offset, half);
     return std::isfinite(t) ? t : t_peak + step * 0.5 * half;
   };
-  // The release is where the bar, held at X0 until then, starts to fall: the
-  // last sample still near X0 says when, through the swing's cosine shape.
-  const ReleaseSwing release = FindReleaseSwing(h, threshold);
+  const ReleaseSwing release = FindReleaseSwing(h, pendulum, threshold);
   double half_period = HalfPeriod(pendulum, release.amplitude);
-  const double release_level =
-      std::clamp(h.displacement[release.last_high] / release.amplitude, 0.0, 1.0);
-  const double t_release =
-      h.time_s[release.last_high] - std::acos(release_level) * half_period / std::numbers::pi;
-  double impact = crossing(release.last_high, t_release, +1, release.amplitude, 0.0, half_period);
+  double impact =
+      crossing(release.first_falling, release.t_release, +1, release.amplitude, 0.0, half_period);
   out.impact_times.push_back(impact);
 
   for (int number = 1;; ++number) {

@@ -35,7 +35,7 @@ struct ReboundExtractionOptions {
   double threshold_fraction = 0.03;
   // Half-width of the peak fit window as a fraction of the rebound's duration.
   // Wide windows average more samples; the model fits the whole swing shape.
-  double peak_window_fraction = 0.3;
+  double peak_window_fraction = 0.45;
   int min_samples_per_peak = 7;
 
   bool Check(std::string* error) const;

@@ -96,6 +96,24 @@ TEST_CASE("rebounds: gaps at an impact, at a peak or over a whole rebound keep t
   CHECK(numbers == std::vector<int>{1, 2, 3, 5});
 }
 
+TEST_CASE("rebounds: a history missing the release's top and its first impact is still numbered") {
+  Truth truth = Simulate(0.115, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  // The photo shows the fall only from 85 % of X0 on (0.135 s after release),
+  // and nothing around the first impact, so rebound 1's peak is the largest
+  // sample after the first one.
+  DropSamples(truth.history, -1.0, 0.135);
+  DropSamples(truth.history, s.impact_time[0] - 0.05, s.impact_time[0] + 0.05);
+
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(1e-3));
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+  }
+}
+
 TEST_CASE("rebounds: averaging right and left halves the difference between them") {
   const Truth right = Simulate(0.6, 1e-3, 0.0, 1);
   DisplacementHistory left = right.history;
