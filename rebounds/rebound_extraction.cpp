@@ -172,7 +172,7 @@ struct ReleaseSwing {
 // fall's shape, not its largest sample, gives X0 and the release time: a
 // linear fit of a cos(w t) + b sin(w t) to the samples between 40 % and 98 %
 // of the top (below 40 % the next rebound's rise could hide in a gap; above
-// 98 % lies the hold).
+// 98 % lies the hold), no later than a half period after the hold.
 ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pendulum,
                               double threshold) {
   const auto& x = h.displacement;
@@ -186,28 +186,49 @@ ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pend
     if (x[end] > lowest + 0.05 * x[top]) break;
     lowest = std::min(lowest, x[end]);
   }
+  // The fall lasts a half period from the release, which is no earlier than
+  // the last sample of the hold.
+  std::size_t last_hold = top;
+  for (std::size_t i = top; i < end; ++i) {
+    if (x[i] >= 0.98 * x[top]) last_hold = i;
+  }
+  const double fall_ends = t[last_hold] + 0.5 * HalfPeriod(pendulum, x[top]);
+  std::vector<std::size_t> fall;
+  for (std::size_t i = top; i < end && t[i] <= fall_ends; ++i) {
+    if (x[i] >= 0.4 * x[top] && x[i] <= 0.98 * x[top]) fall.push_back(i);
+  }
   ReleaseSwing swing;
   swing.amplitude = x[top];
   swing.t_release = t[top];
-  for (int pass = 0; pass < 2; ++pass) {
+  // A stray sample (the next rebound's, past a gap) misses the fitted fall
+  // by far more than the others: it is dropped and the fall fitted again.
+  for (int pass = 0; pass < 3 && fall.size() >= 3; ++pass) {
     const double omega = std::numbers::pi / HalfPeriod(pendulum, swing.amplitude);
+    const auto basis = [&](std::size_t i) {
+      return Eigen::Vector2d(std::cos(omega * (t[i] - t[top])), std::sin(omega * (t[i] - t[top])));
+    };
     Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
     Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-    int used = 0;
-    for (std::size_t i = top; i < end; ++i) {
-      if (x[i] < 0.4 * x[top] || x[i] > 0.98 * x[top]) continue;
-      const Eigen::Vector2d basis(std::cos(omega * (t[i] - t[top])),
-                                  std::sin(omega * (t[i] - t[top])));
-      normal += basis * basis.transpose();
-      rhs += x[i] * basis;
-      ++used;
+    for (const std::size_t i : fall) {
+      normal += basis(i) * basis(i).transpose();
+      rhs += x[i] * basis(i);
     }
-    if (used < 3) break;  // too few to say: the top sample is the release
     const Eigen::Vector2d ab = normal.ldlt().solve(rhs);
     const double amplitude = std::hypot(ab(0), ab(1));
-    if (!(amplitude > 0.0) || ab(0) <= 0.0) break;
+    if (!(amplitude > 0.0) || ab(0) <= 0.0) break;  // no fall to fit: the top is the release
     swing.amplitude = amplitude;
     swing.t_release = t[top] + std::atan2(ab(1), ab(0)) / omega;
+    std::vector<double> misses;
+    for (const std::size_t i : fall) misses.push_back(std::abs(x[i] - basis(i).dot(ab)));
+    std::vector<double> sorted = misses;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double limit = std::max(6.0 * 1.4826 * sorted[sorted.size() / 2], 1e-3 * amplitude);
+    std::vector<std::size_t> kept;
+    for (std::size_t k = 0; k < fall.size(); ++k) {
+      if (misses[k] <= limit) kept.push_back(fall[k]);
+    }
+    if (kept.size() == fall.size()) break;
+    fall = std::move(kept);
   }
   swing.first_falling =
       static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), swing.t_release) - t.begin());

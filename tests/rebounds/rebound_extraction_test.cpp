@@ -114,6 +114,23 @@ TEST_CASE("rebounds: a history missing the release's top and its first impact is
   }
 }
 
+TEST_CASE("rebounds: a gap from the release's fall into the next rebound's rise is no longer fall") {
+  Truth truth = Simulate(0.713, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  // Nothing from 65 % of the fall to 45 % of rebound 1's rise: the first
+  // sample after the gap is lower than the last before it, as if still falling.
+  DropSamples(truth.history, 0.205, s.impact_time[0] + 0.146);
+
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  CHECK(r.rebounds[0].number == 1);
+  CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(1e-3));
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+  }
+}
+
 TEST_CASE("rebounds: averaging right and left halves the difference between them") {
   const Truth right = Simulate(0.6, 1e-3, 0.0, 1);
   DisplacementHistory left = right.history;
