@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -25,6 +26,15 @@ constexpr double kFamilySpreadDeg = 20.0;
 // A grid line must lie within this fraction of the local spacing of where the
 // progression puts it.
 constexpr double kMatchTolerance = 0.15;
+// ... and run within this angle of the direction its neighbours' course puts
+// it at. A family's lines turn smoothly from one to the next (perspective);
+// a trace's slope or a scratch that happens to cross the transversal in step
+// does not, and without this check such junk fills in for faint grid lines
+// (a lattice of half the spacing then outscores the true one).
+constexpr double kDirectionToleranceDeg = 2.0;
+// A grid line's votes count at most this many times the lattice's typical
+// line's (the ridge points' own cap, applied to whole lines).
+constexpr double kLineVoteCap = 1.5;
 
 struct HoughLine {
   double theta_rad = 0.0;  // normal direction
@@ -238,17 +248,42 @@ struct FamilyMatch {
   bool window_certain = false;             // enough lines seen to place the window
 };
 
+// The lines' directions along the family, theta(n) = p + q n: near enough
+// for perspective, whose pencil of lines turns smoothly with n.
+struct DirectionCourse {
+  double p = 0.0, q = 0.0;
+  double operator()(double n) const { return p + q * n; }
+};
+
+DirectionCourse FitCourse(const std::vector<std::pair<int, double>>& directions) {
+  double sn = 0.0, st = 0.0, snn = 0.0, snt = 0.0;
+  for (const auto& [n, t] : directions) sn += n, st += t, snn += n * n, snt += n * t;
+  const double count = static_cast<double>(directions.size());
+  const double det = count * snn - sn * sn;
+  DirectionCourse course;
+  course.q = det > 0.0 ? (count * snt - sn * st) / det : 0.0;
+  course.p = (st - course.q * sn) / count;
+  return course;
+}
+
 // Grows a progression from candidates j (index 0) and k (index m) outward,
-// one index at a time, refitting as it goes.
-FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes, int j, int k,
-                 int m, int n_lines) {
+// one index at a time, refitting as it goes. `theta` is each candidate's
+// direction (radians, from the family's).
+FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& theta,
+                 const std::vector<double>& votes, int j, int k, int m, int n_lines) {
   std::vector<std::pair<int, double>> points = {{0, u[j]}, {m, u[k]}};
+  std::vector<std::pair<int, double>> directions = {{0, theta[j]}, {m, theta[k]}};
   std::vector<std::pair<int, int>> matched = {{0, j}, {m, k}};
+  const double direction_tolerance = kDirectionToleranceDeg * kDegree;
+  DirectionCourse course = FitCourse(directions);
   auto find = [&](const Progression1d& model, int n) {
     const double predicted = model(n), tolerance = kMatchTolerance * model.Spacing(n);
+    const double direction = course(n);
     int best = -1;
     for (std::size_t i = 0; i < u.size(); ++i) {
-      if (std::abs(u[i] - predicted) <= tolerance && (best < 0 || votes[i] > votes[best])) {
+      if (std::abs(u[i] - predicted) <= tolerance &&
+          std::abs(theta[i] - direction) <= direction_tolerance &&
+          (best < 0 || votes[i] > votes[best])) {
         best = static_cast<int>(i);
       }
     }
@@ -256,6 +291,7 @@ FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes,
   };
   auto add = [&](int n, int candidate) {
     points.emplace_back(n, u[candidate]);
+    directions.emplace_back(n, theta[candidate]);
     matched.emplace_back(n, candidate);
   };
   Progression1d model = FitProgression(points);
@@ -263,24 +299,30 @@ FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes,
     if (const int c = find(model, n); c >= 0) add(n, c);
   }
   model = FitProgression(points);
-  int lo = 0, hi = m, misses_lo = 0, misses_hi = 0;
+  course = FitCourse(directions);
+  // Outward one index at a time on either side, for as long as the lines
+  // matched could still be one grid's (n_lines, and one either side that the
+  // window drops). Unseen indices do not stop it: faint lines (glare, a
+  // fading print) leave gaps, and the lines beyond them are the grid's too.
+  int lo = 0, hi = m, seen_lo = 0, seen_hi = m;
   const int max_span = n_lines + 2;
-  while ((misses_lo < 2 || misses_hi < 2) && hi - lo + 1 < max_span) {
-    for (const bool upward : {true, false}) {
-      int& misses = upward ? misses_hi : misses_lo;
-      if (misses >= 2 || hi - lo + 1 >= max_span) continue;
+  bool open[2] = {true, true};  // upward, downward
+  while (open[0] || open[1]) {
+    for (int side = 0; side < 2; ++side) {
+      if (!open[side]) continue;
+      const bool upward = side == 0;
       const int n = upward ? ++hi : --lo;
       // Perspective must keep the lines in order and the spacing finite.
-      if (!(model.Spacing(n) > 0.0) || std::abs(model.c * n) > 0.8) {
-        misses = 2;
+      if ((upward ? n - seen_lo : seen_hi - n) + 1 > max_span || !(model.Spacing(n) > 0.0) ||
+          std::abs(model.c * n) > 0.8) {
+        open[side] = false;
         continue;
       }
       if (const int c = find(model, n); c >= 0) {
         add(n, c);
         model = FitProgression(points);
-        misses = 0;
-      } else {
-        ++misses;
+        course = FitCourse(directions);
+        (upward ? seen_hi : seen_lo) = n;
       }
     }
   }
@@ -291,11 +333,23 @@ FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes,
   const int span = matched.back().first + 1;
   FamilyMatch result;
   result.lines = matched;
+  // A window's score: its lines' votes, each at most kLineVoteCap times the
+  // window's typical line (the median over its indices, an unseen line
+  // counting 0). Otherwise one long bright line in step by a stretch of the
+  // tolerance (the bezel's lip 0.3 division beyond the grid, a trace's flat
+  // stretch) outvotes the grid lines a wrong progression gives up for it.
+  std::vector<double> window_votes(n_lines);
   for (int start = std::min(0, span - n_lines); start <= std::max(0, span - n_lines); ++start) {
-    double score = 0.0;
+    std::fill(window_votes.begin(), window_votes.end(), 0.0);
     for (const auto& [n, c] : matched) {
-      if (n >= start && n < start + n_lines) score += votes[c];
+      if (n >= start && n < start + n_lines) window_votes[n - start] = votes[c];
     }
+    std::vector<double> sorted = window_votes;
+    const auto middle = sorted.begin() + n_lines / 2;
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    const double cap = kLineVoteCap * *middle;
+    double score = 0.0;
+    for (const double v : window_votes) score += std::min(v, cap);
     if (score > result.score) result.score = score, result.window_start = start;
   }
   result.window_certain = span >= n_lines;
@@ -306,9 +360,10 @@ FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& votes,
 std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, double theta_rad,
                                        int n_lines, double min_spacing_px, double max_spacing_px) {
   // Positions along the transversal through the centre, across the family.
-  std::vector<double> u, votes;
+  std::vector<double> u, theta, votes;
   for (const HoughLine& line : lines) {
     u.push_back(line.rho_px / std::cos(line.theta_rad - theta_rad));
+    theta.push_back(line.theta_rad - theta_rad);
     votes.push_back(line.votes);
   }
   std::optional<FamilyMatch> best;
@@ -319,7 +374,7 @@ std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, doub
       for (int m = 1; m <= 3; ++m) {
         const double spacing = (u[k] - u[j]) / m;
         if (spacing < min_spacing_px || spacing > max_spacing_px) continue;
-        FamilyMatch match = Grow(u, votes, j, k, m, n_lines);
+        FamilyMatch match = Grow(u, theta, votes, j, k, m, n_lines);
         if (!best || match.score > best->score) best = std::move(match);
       }
     }
@@ -383,20 +438,26 @@ double LineEvidence(const cv::Mat1f& ridge, cv::Point2d from, cv::Point2d to, do
 }
 
 // Places a family's window of n_lines indices when fewer lines were seen:
-// the window whose unseen lines show the most ridge along their predicted
-// course (between the other family's outermost seen lines).
+// the window whose unseen lines stand out most along their predicted course
+// (between the other family's outermost seen lines). A line stands out by
+// the ridge on its course less that a quarter division either side: the
+// ridge alone is as high in a noisy surround (a phone's front panel, the
+// bezel) as on a faint grid line, and would pull the window off the screen.
 void PlaceWindow(FamilyMatch& match, const Pencil& pencil, const Pencil& other, int other_lo,
                  int other_hi, int n_lines, const cv::Mat1f& ridge, double scale) {
   if (match.window_certain) return;
   const int span = match.lines.back().first + 1;
-  double best = -1.0;
+  auto along = [&](double n) {
+    const cv::Vec3d line = pencil(n);
+    return LineEvidence(ridge, Intersect(line, other(other_lo)), Intersect(line, other(other_hi)),
+                        scale);
+  };
+  double best = -std::numeric_limits<double>::infinity();
   for (int start = span - n_lines; start <= 0; ++start) {
     double evidence = 0.0;
     for (int n = start; n < start + n_lines; ++n) {
       if (n >= 0 && n < span) continue;
-      const cv::Vec3d line = pencil(n);
-      evidence += LineEvidence(ridge, Intersect(line, other(other_lo)),
-                               Intersect(line, other(other_hi)), scale);
+      evidence += along(n) - 0.5 * (along(n - 0.25) + along(n + 0.25));
     }
     if (evidence > best) best = evidence, match.window_start = start;
   }
@@ -526,6 +587,17 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
       }
       screen.emplace_back(i, 0.5 * divisions[1] - j);
       image.push_back(centre + p * scale);
+      // A grid seen in the photo lies in it, or a division or two beyond
+      // where the window was placed past the lines seen. Far beyond, a wrong
+      // progression's perspective has flung it out, and measuring it on the
+      // full photo would take minutes: a division there spans thousands of
+      // pixels, and so do the profiles across its lines.
+      const cv::Point2d& q = image.back();
+      if (!(std::abs(q.x - centre.x) < 1.5 * ridge.cols &&
+            std::abs(q.y - centre.y) < 1.5 * ridge.rows)) {
+        *why = "the lattice found runs far outside the photo";
+        return std::nullopt;
+      }
     }
   }
   Lattice lattice;

@@ -5,10 +5,11 @@
 // lines (near vertical, near horizontal) are the two directions whose votes
 // concentrate most. Within a family the grid is the longest run of lines
 // whose positions along a transversal follow a projective progression
-// u(n) = (a n + b) / (c n + 1) (a perspective view of equal spacing); traces,
-// scratches and the bezel's edge fall out of step with it. Each family's
-// lines are then fitted as a pencil l(n) = A + n B (the image of the screen
-// lines x = n under a homography), and their crossings give the homography.
+// u(n) = (a n + b) / (c n + 1) (a perspective view of equal spacing) and
+// whose directions turn smoothly with n; traces, scratches and the bezel's
+// edge fall out of step with it. Each family's lines are then fitted as a
+// pencil l(n) = A + n B (the image of the screen lines x = n under a
+// homography), and their crossings give the homography.
 #pragma once
 
 #include <array>
