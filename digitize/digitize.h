@@ -293,10 +293,21 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
 std::vector<TraceRequest> TraceRequestsOf(const Run& run);
 std::vector<TraceRequest> TraceRequestsOf(const Calibration& calibration);
 
+struct OverlayOptions {
+  // Width of the overlay, pixels: a wider photo is drawn shrunk to it, marks
+  // and text scaled alike (a report's page needs no more, and drawing small
+  // is cheap); the insets still show the photo's own pixels. 0: the photo's
+  // own size.
+  int max_width_px = 0;
+
+  bool Check(std::string* error) const;
+};
+
 // The photo (8-bit BGR) with the fitted graticule, the bands, the traces'
 // samples (coloured by confidence) and the contact pulse's edges drawn on it,
-// and a legend.
-cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result);
+// a legend, and magnified insets of the pulse's edges.
+cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result,
+                    const OverlayOptions& options = {});
 
 // Writes `image` (PNG, JPEG by extension); throws InputError naming the file.
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image);

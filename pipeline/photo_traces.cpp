@@ -1,7 +1,6 @@
 #include "pipeline/photo_traces.h"
 
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
 #include "io/errors.h"
@@ -10,13 +9,14 @@ namespace impactlab {
 namespace {
 
 // The overlay at a size a report page shows well, as JPEG: a few hundred kB
-// per photo instead of megabytes of PNG.
-std::vector<unsigned char> EncodeOverlay(const cv::Mat& overlay) {
-  cv::Mat small;
-  const double scale = std::min(1.0, 1200.0 / overlay.cols);
-  cv::resize(overlay, small, cv::Size(), scale, scale, cv::INTER_AREA);
+// per photo instead of megabytes of PNG. Drawn at that size, not shrunk
+// afterwards: a full-size overlay cost about as much as the digitizing.
+constexpr int kOverlayWidthPx = 1200;
+
+std::vector<unsigned char> EncodeOverlay(const Photo& photo, const DigitizeResult& result) {
   std::vector<unsigned char> jpeg;
-  cv::imencode(".jpg", small, jpeg, {cv::IMWRITE_JPEG_QUALITY, 82});
+  cv::imencode(".jpg", DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx}), jpeg,
+               {cv::IMWRITE_JPEG_QUALITY, 82});
   return jpeg;
 }
 
@@ -32,7 +32,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
 
   DigitizedPhoto out;
   out.overlay.photo = std::filesystem::relative(path, session.folder).string();
-  out.overlay.jpeg = EncodeOverlay(DrawOverlay(photo, result));
+  out.overlay.jpeg = EncodeOverlay(photo, result);
   out.overlay.graticule_residual_px = result.graticule.residual_px;
   out.overlay.processing_ms = result.ProcessingMs();
   for (std::size_t i = 0; i < result.traces.size(); ++i) {

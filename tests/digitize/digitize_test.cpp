@@ -1,9 +1,12 @@
 // The digitizer against the renderer's truth, in every photo style: the
 // graticule's mapping, each trace's centre line (pixels and % of full scale),
 // the contact pulse's width, and that no sample lies off the true trace.
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 #include <opencv2/core/utility.hpp>
@@ -175,6 +178,47 @@ TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
   cv::Mat grey;
   cv::cvtColor(overlay, grey, cv::COLOR_BGR2GRAY);
   CHECK(cv::countNonZero(grey != photo.image) > 1000);  // lines, labels, insets
+}
+
+TEST_CASE("digitize: an overlay drawn smaller keeps the photo's aspect and the trace's place") {
+  const testing::RunScene run = StandardRunScene();
+  RenderOptions options;
+  options.width_px = 1000;
+  options.grey = true;
+  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const Photo input{photo.image, "p.png"};
+  const DigitizeResult result = DigitizePhoto(input, {10, 8}, run.requests, {});
+  constexpr int kWidth = 400;
+  const cv::Mat overlay = DrawOverlay(input, result, {.max_width_px = kWidth});
+  REQUIRE(overlay.type() == CV_8UC3);
+  CHECK(overlay.cols == kWidth);
+  CHECK(overlay.rows ==
+        std::lround(static_cast<double>(kWidth) * photo.image.rows / photo.image.cols));
+
+  // The first trace's centre line is drawn red (BGR 60, 60, 255, dimmed by
+  // confidence) on a grey photo: nothing else there is that red.
+  std::vector<cv::Mat1b> bgr;
+  cv::split(overlay, bgr);
+  cv::Mat1b red = (bgr[2] > bgr[1] + 80) & (bgr[2] > bgr[0] + 80);
+  CHECK(cv::countNonZero(red) < 0.02 * overlay.total());
+  cv::Mat1f distance;
+  cv::distanceTransform(~red, distance, cv::DIST_L2, 3);
+  const double scale = static_cast<double>(kWidth) / photo.image.cols;
+  const DigitizedTrace& trace = result.traces[0];
+  std::vector<float> distances;
+  for (std::size_t i = 0; i < trace.centre_px.size(); ++i) {
+    if (trace.screen_div[i].x < 1.0 || trace.screen_div[i].x > 9.0) continue;  // clear of labels
+    // Pixel centres at whole coordinates in both images.
+    const cv::Point2d at =
+        (trace.centre_px[i] + cv::Point2d(0.5, 0.5)) * scale - cv::Point2d(0.5, 0.5);
+    distances.push_back(distance(cv::Point(at)));
+  }
+  REQUIRE(distances.size() > 100);
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  CHECK(distances[distances.size() / 2] < 1.0);
+
+  CHECK(DrawOverlay(input, result, {.max_width_px = 5000}).size() == photo.image.size());
+  CHECK_THROWS_AS(DrawOverlay(input, result, {.max_width_px = -1}), std::invalid_argument);
 }
 
 TEST_CASE("digitize: options outside their ranges are refused before any work") {
