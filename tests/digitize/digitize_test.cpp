@@ -164,14 +164,26 @@ TEST_CASE("digitize: the mapping's inverse undoes it") {
   CHECK(mapping.PixelsPerDivisionAt({5.0, 0.0}) > 100.0);
 }
 
-TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
+// The standard run scene as a grey 1000 px photo, digitized.
+struct DigitizedScene {
+  RenderedPhoto photo;
+  Photo input;
+  DigitizeResult result;
+};
+
+DigitizedScene DigitizeGreyScene() {
   const testing::RunScene run = StandardRunScene();
   RenderOptions options;
   options.width_px = 1000;
   options.grey = true;
-  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
-  const Photo input{photo.image, "p.png"};
-  const DigitizeResult result = DigitizePhoto(input, {10, 8}, run.requests, {});
+  DigitizedScene out{RenderOscillograph(run.scene, options), {}, {}};
+  out.input = Photo{out.photo.image, "p.png"};
+  out.result = DigitizePhoto(out.input, {10, 8}, run.requests, {});
+  return out;
+}
+
+TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
+  const auto [photo, input, result] = DigitizeGreyScene();
   const cv::Mat overlay = DrawOverlay(input, result);
   CHECK(overlay.type() == CV_8UC3);
   CHECK(overlay.size() == photo.image.size());
@@ -181,13 +193,7 @@ TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
 }
 
 TEST_CASE("digitize: an overlay drawn smaller keeps the photo's aspect and the trace's place") {
-  const testing::RunScene run = StandardRunScene();
-  RenderOptions options;
-  options.width_px = 1000;
-  options.grey = true;
-  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
-  const Photo input{photo.image, "p.png"};
-  const DigitizeResult result = DigitizePhoto(input, {10, 8}, run.requests, {});
+  const auto [photo, input, result] = DigitizeGreyScene();
   constexpr int kWidth = 400;
   const cv::Mat overlay = DrawOverlay(input, result, {.max_width_px = kWidth});
   REQUIRE(overlay.type() == CV_8UC3);
