@@ -78,7 +78,8 @@ Errors ReduceGenerated(PhotoStyle style, std::uint64_t seed) {
 
 // The quick preset's photos are 1000 px wide (lowres 500 px), half the
 // thesis preset's, so a pixel's error weighs twice as much; the tolerances
-// leave 1.5 to 2 times the errors these seeds give. bench_reduce measures the
+// leave 1.4 to 2.6 times the errors this seed gives (the contact time's worst
+// is often the CSV run's, measured on its samples). bench_reduce measures the
 // thesis preset against the benchmark's targets (docs/benchmarks.md).
 void CheckStyle(PhotoStyle style, double xmax_median, double xmax_worst, double contact_worst) {
   const Errors e = ReduceGenerated(style, 11);
@@ -91,23 +92,23 @@ void CheckStyle(PhotoStyle style, double xmax_median, double xmax_worst, double 
 }
 
 TEST_CASE("photo_session: clean photos reduce to the generator's maxima and contact time") {
-  CheckStyle(PhotoStyle::kClean, 0.1, 0.3, 0.3);
+  CheckStyle(PhotoStyle::kClean, 0.08, 0.2, 0.15);
 }
 
 TEST_CASE("photo_session: polaroid photos reduce to the generator's maxima and contact time") {
-  CheckStyle(PhotoStyle::kPolaroid, 0.1, 0.3, 0.6);
+  CheckStyle(PhotoStyle::kPolaroid, 0.08, 0.3, 0.6);
 }
 
 TEST_CASE("photo_session: phone photos reduce to the generator's maxima and contact time") {
-  CheckStyle(PhotoStyle::kPhone, 0.1, 0.4, 0.6);
+  CheckStyle(PhotoStyle::kPhone, 0.08, 0.4, 0.2);
 }
 
 TEST_CASE("photo_session: negative photos reduce to the generator's maxima and contact time") {
-  CheckStyle(PhotoStyle::kNegative, 0.1, 0.3, 0.8);
+  CheckStyle(PhotoStyle::kNegative, 0.08, 0.2, 0.15);
 }
 
 TEST_CASE("photo_session: low-resolution photos reduce to the generator's maxima and contact") {
-  CheckStyle(PhotoStyle::kLowres, 0.15, 0.5, 1.2);
+  CheckStyle(PhotoStyle::kLowres, 0.1, 0.4, 1.2);
 }
 
 TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and the rest reduce") {
