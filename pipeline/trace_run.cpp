@@ -96,17 +96,6 @@ BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
 
 }  // namespace
 
-Trace LoadTrace(const Session& session, const TraceSettings& settings,
-                const std::optional<std::filesystem::path>& photo, const std::string& key) {
-  if (settings.csv) return ReadTraceCsv(*settings.csv);
-  if (photo) {
-    const DigitizedPhoto digitized = DigitizeSessionPhoto(*photo, session, {{"trace", settings}});
-    return digitized.traces.at("trace");
-  }
-  throw InputError({session.manifest, key, std::nullopt},
-                   "the trace has neither a csv nor a photo");
-}
-
 namespace {
 
 // Adds the seconds `work` takes to `total`.
@@ -155,17 +144,19 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   StageSeconds ignored;
   StageSeconds& seconds = charge ? *charge : ignored;
   auto cell = std::make_shared<CalibratedCell>();
+  // Its CSV when given, otherwise its photo digitized (the overlay kept).
   Trace trace;
-  if (!calibration->trace.csv && calibration->photo) {
+  if (calibration->trace.csv) {
+    trace = Timed(seconds.load, [&] { return ReadTraceCsv(*calibration->trace.csv); });
+  } else if (calibration->photo) {
     DigitizedPhoto digitized = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}});
     });
     trace = std::move(digitized.traces.at("trace"));
     cell->overlay = std::move(digitized.overlay);
   } else {
-    trace = Timed(seconds.load, [&] {
-      return LoadTrace(session_, calibration->trace, calibration->photo, key + ".trace");
-    });
+    throw InputError({session_.manifest, key + ".trace", std::nullopt},
+                     "the trace has neither a csv nor a photo");
   }
   try {
     cell->calibration = Timed(seconds.calibrate, [&] {

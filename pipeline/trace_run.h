@@ -16,12 +16,6 @@
 
 namespace impactlab {
 
-// A trace as the manifest describes it: its CSV when given, otherwise the
-// photo digitized with the trace's settings. `key` names it in messages
-// (e.g. run "0.234".traces.right).
-Trace LoadTrace(const Session& session, const TraceSettings& settings,
-                const std::optional<std::filesystem::path>& photo, const std::string& key);
-
 // A photocell calibration as reduce computed it, with its photo's overlay.
 struct CalibratedCell {
   CalibrationResult calibration;
