@@ -43,7 +43,8 @@ struct Photo {
   std::filesystem::path source;  // the file, named in every error message
 };
 
-// Decodes a PNG, JPEG or TIFF file, 8 or 16 bit, grey or colour. Throws
+// Decodes a PNG, JPEG or TIFF file, 8 or 16 bit, grey or colour; a JPEG to
+// its luma only (grey), the one thing the digitizer reads from it. Throws
 // InputError naming the file when it is missing, unreadable, truncated, not an
 // image, or too small to hold a graticule.
 Photo LoadPhoto(const std::filesystem::path& path);
@@ -294,10 +295,10 @@ std::vector<TraceRequest> TraceRequestsOf(const Run& run);
 std::vector<TraceRequest> TraceRequestsOf(const Calibration& calibration);
 
 struct OverlayOptions {
-  // Width of the overlay, pixels: a wider photo is drawn shrunk to it, marks
-  // and text scaled alike (a report's page needs no more, and drawing small
-  // is cheap); the insets still show the photo's own pixels. 0: the photo's
-  // own size.
+  // Widest overlay, pixels: a wider photo is drawn shrunk by the smallest
+  // whole factor that fits (2000 px into 1200 gives 1000), marks and text
+  // scaled alike (a report's page needs no more, and drawing small is cheap);
+  // the insets still show the photo's own pixels. 0: the photo's own size.
   int max_width_px = 0;
 
   bool Check(std::string* error) const;

@@ -102,8 +102,14 @@ Photo LoadPhoto(const std::filesystem::path& path) {
   CheckComplete(path, bytes);
   Photo photo;
   photo.source = path;
+  // A JPEG stores luma and colour apart, and the digitizer reads only luma
+  // (BT.601, the same weights JPEG uses): decoding just the luma skips the
+  // colour upsampling and conversion and halves the decode.
+  const int flags = StartsWith(bytes, {0xFF, 0xD8, 0xFF})
+                        ? cv::IMREAD_GRAYSCALE
+                        : cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR;
   try {
-    photo.image = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    photo.image = cv::imdecode(bytes, flags);
   } catch (const cv::Exception& e) {
     Refuse(path, fmt::format("cannot decode the photo: {}", e.what()));
   }

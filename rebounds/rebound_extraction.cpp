@@ -57,11 +57,25 @@ double FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_pe
 }
 
 // The exact pendulum's rebound shape, symmetric about its peak: X at `tau`
-// from the peak of a rebound of amplitude `amplitude`.
-double PeakShape(const Pendulum& p, double amplitude, double tau) {
-  const double half = 0.5 * HalfPeriod(p, amplitude);
-  return ReboundDisplacement(p, SpeedFromAmplitude(p, amplitude), half + tau);
-}
+// from the peak of a rebound of amplitude `amplitude`. What depends on the
+// amplitude alone (a complete elliptic integral, the exit speed) is worked
+// out once, not once a sample: a peak fit evaluates the shape thousands of
+// times at a few amplitudes.
+class PeakShape {
+ public:
+  PeakShape(const Pendulum& p, double amplitude)
+      : pendulum_(p),
+        half_(0.5 * HalfPeriod(p, amplitude)),
+        speed_(SpeedFromAmplitude(p, amplitude)) {}
+
+  double operator()(double tau) const {
+    return ReboundDisplacement(pendulum_, speed_, half_ + tau);
+  }
+
+ private:
+  const Pendulum& pendulum_;
+  double half_, speed_;
+};
 
 struct PeakFit {
   Estimate xmax, t_peak;
@@ -91,14 +105,15 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   Eigen::MatrixXd jac(n, 3);
   Eigen::VectorXd r(n);
   const auto residuals = [&](const Eigen::Vector3d& params, Eigen::VectorXd& out) {
-    for (int k = 0; k < n; ++k) {
-      out(k) = w(k) * (params(2) + PeakShape(p, params(0), t(k) - params(1)) - x(k));
-    }
+    const PeakShape shape(p, params(0));
+    for (int k = 0; k < n; ++k) out(k) = w(k) * (params(2) + shape(t(k) - params(1)) - x(k));
   };
   for (int iteration = 0; iteration < 8; ++iteration) {
     residuals(q, r);
-    for (int j = 0; j < 3; ++j) {
-      const double step = j == 0 ? 1e-7 * q(0) : (j == 1 ? 1e-7 / omega : 1e-7 * q(0));
+    // Amplitude and peak time by central differences; the offset enters
+    // linearly, its column is the weights.
+    for (int j = 0; j < 2; ++j) {
+      const double step = j == 0 ? 1e-7 * q(0) : 1e-7 / omega;
       Eigen::Vector3d up = q, down = q;
       up(j) += step;
       down(j) -= step;
@@ -107,6 +122,7 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
       residuals(down, rd);
       jac.col(j) = (ru - rd) / (2.0 * step);
     }
+    jac.col(2) = w;
     const Eigen::Vector3d delta = jac.colPivHouseholderQr().solve(-r);
     q += delta;
     if (std::abs(delta(0)) < 1e-13 * q(0) && std::abs(delta(1)) * omega < 1e-13) break;
@@ -123,7 +139,8 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   fit.amplitude = q(0);
   fit.offset = q(2);
   double rss = 0.0;
-  for (int k = 0; k < n; ++k) rss += std::pow(q(2) + PeakShape(p, q(0), t(k) - q(1)) - x(k), 2);
+  const PeakShape shape(p, q(0));
+  for (int k = 0; k < n; ++k) rss += std::pow(q(2) + shape(t(k) - q(1)) - x(k), 2);
   fit.rms = std::sqrt(rss / n);
   return fit;
 }

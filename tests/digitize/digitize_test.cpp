@@ -192,14 +192,15 @@ TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
   CHECK(cv::countNonZero(grey != photo.image) > 1000);  // lines, labels, insets
 }
 
-TEST_CASE("digitize: an overlay drawn smaller keeps the photo's aspect and the trace's place") {
+TEST_CASE(
+    "digitize: an overlay drawn smaller shrinks by a whole factor and keeps the trace's place") {
   const auto [photo, input, result] = DigitizeGreyScene();
-  constexpr int kWidth = 400;
-  const cv::Mat overlay = DrawOverlay(input, result, {.max_width_px = kWidth});
+  const int factor = 3;
+  const int max_width = photo.image.cols / factor + 1;  // 2 is too little, 3 fits
+  const cv::Mat overlay = DrawOverlay(input, result, {.max_width_px = max_width});
   REQUIRE(overlay.type() == CV_8UC3);
-  CHECK(overlay.cols == kWidth);
-  CHECK(overlay.rows ==
-        std::lround(static_cast<double>(kWidth) * photo.image.rows / photo.image.cols));
+  CHECK(overlay.cols == photo.image.cols / factor);
+  CHECK(overlay.rows == photo.image.rows / factor);
 
   // The first trace's centre line is drawn red (BGR 60, 60, 255, dimmed by
   // confidence) on a grey photo: nothing else there is that red.
@@ -209,7 +210,7 @@ TEST_CASE("digitize: an overlay drawn smaller keeps the photo's aspect and the t
   CHECK(cv::countNonZero(red) < 0.02 * overlay.total());
   cv::Mat1f distance;
   cv::distanceTransform(~red, distance, cv::DIST_L2, 3);
-  const double scale = static_cast<double>(kWidth) / photo.image.cols;
+  const double scale = 1.0 / factor;
   const DigitizedTrace& trace = result.traces[0];
   std::vector<float> distances;
   for (std::size_t i = 0; i < trace.centre_px.size(); ++i) {
