@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 
@@ -145,14 +146,15 @@ void CopyMeasurement(const RunResult& from, RunResult& to) {
   to.overlays = from.overlays;
 }
 
+// `fingerprint`: the run's, when already worked out.
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                     Separation separation, CalibrationCache& calibrations,
-                    const ReduceOptions& options) {
+                    const ReduceOptions& options, const std::optional<std::string>& fingerprint) {
   RunResult out;
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
-  out.fingerprint = RunFingerprint(run, session, options.producer);
+  out.fingerprint = fingerprint ? *fingerprint : RunFingerprint(run, session, options.producer);
   if (const RunResult* old = Reusable(options, run.id, out.fingerprint)) {
     CopyMeasurement(*old, out);
     out.reused = true;
@@ -175,9 +177,10 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
 // One run, never throwing: a failure becomes the run's status.
 RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum& pendulum,
                           Separation separation, CalibrationCache& calibrations,
-                          const ReduceOptions& options) {
+                          const ReduceOptions& options,
+                          const std::optional<std::string>& fingerprint) {
   try {
-    return ReduceRun(run, session, pendulum, separation, calibrations, options);
+    return ReduceRun(run, session, pendulum, separation, calibrations, options, fingerprint);
   } catch (const std::exception& error) {
     RunResult failed;
     failed.id = run.id;
@@ -190,6 +193,34 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
             : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
     return failed;
   }
+}
+
+// What the runs' reduce will measure: each run's fingerprint (none when its
+// inputs cannot be read: the run fails with the reason when it comes), and
+// the calibrations the runs to be measured name. Reused and typed-in runs
+// need none.
+struct MeasurementPlan {
+  std::vector<std::optional<std::string>> fingerprints;
+  std::vector<std::string> calibrations;
+};
+
+MeasurementPlan PlanMeasurement(const Session& session, const ReduceOptions& options) {
+  MeasurementPlan plan;
+  std::set<std::string> named;
+  for (const Run& run : session.runs) {
+    std::optional<std::string> fingerprint;
+    try {
+      fingerprint = RunFingerprint(run, session, options.producer);
+    } catch (const std::exception&) {
+      // Reported by the run itself.
+    }
+    plan.fingerprints.push_back(fingerprint);
+    if (!fingerprint || run.HasTypedRebounds() || Reusable(options, run.id, *fingerprint)) continue;
+    for (const auto& [cell, id] : run.calibration) {
+      if (named.insert(id).second) plan.calibrations.push_back(id);
+    }
+  }
+  return plan;
 }
 
 // Calls `work(i)` for i in [0, count) on `jobs` threads.
@@ -302,12 +333,27 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
     return result;
   }
 
+  // A photo is the unit of work, not a run: the calibrations' photos are
+  // tasks of their own, ahead of the runs, so that no run waits long for a
+  // calibration and the threads finish within a photo of each other. (A run
+  // with its two calibrations is three photos.) Their errors reach the runs.
+  const MeasurementPlan plan = PlanMeasurement(session, options);
   std::vector<RunResult> runs(session.runs.size());
   std::mutex progress_mutex;
   std::size_t finished = 0;
-  ForEachInParallel(runs.size(), options.jobs, [&](std::size_t i) {
+  const std::size_t ahead = plan.calibrations.size();
+  ForEachInParallel(ahead + runs.size(), options.jobs, [&](std::size_t task) {
+    if (task < ahead) {
+      try {
+        calibrations.Get(plan.calibrations[task]);
+      } catch (const std::exception&) {
+        // Kept in the cache; every run that names it reports it.
+      }
+      return;
+    }
+    const std::size_t i = task - ahead;
     runs[i] = ReduceRunOrFail(session.runs[i], session, pendulum, result.separation, calibrations,
-                              options);
+                              options, plan.fingerprints[i]);
     if (options.on_run_done) {
       std::lock_guard lock(progress_mutex);
       options.on_run_done(runs[i], ++finished, runs.size());

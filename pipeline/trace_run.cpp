@@ -115,35 +115,39 @@ auto Timed(double& total, Work&& work) {
 }  // namespace
 
 const CalibratedCell& CalibrationCache::Get(const std::string& id, StageSeconds* charge) {
-  std::unique_lock lock(mutex_);
-  if (const auto it = entries_.find(id); it != entries_.end()) {
-    const Entry entry = it->second;
-    lock.unlock();
-    return *entry.get();  // rethrows the calibration's error, if it had one
-  }
   std::promise<std::shared_ptr<const CalibratedCell>> promise;
-  const Entry entry = promise.get_future().share();
-  entries_.emplace(id, entry);
+  std::unique_lock lock(mutex_);
+  const auto [it, first] = entries_.try_emplace(id);
+  if (first) it->second = promise.get_future().share();
+  const Entry entry = it->second;
   lock.unlock();
-  try {
-    promise.set_value(Compute(id, charge));
-  } catch (...) {
-    promise.set_exception(std::current_exception());
+  if (first) {
+    try {
+      promise.set_value(Compute(id));
+    } catch (...) {
+      promise.set_exception(std::current_exception());
+    }
   }
-  return *entry.get();
+  const CalibratedCell& cell = *entry.get();  // rethrows the calibration's error, if it had one
+  if (charge != nullptr) {
+    const std::lock_guard guard(mutex_);
+    if (charged_.insert(id).second) {
+      charge->load += cell.cost.load;
+      charge->calibrate += cell.cost.calibrate;
+    }
+  }
+  return cell;
 }
 
-std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::string& id,
-                                                                StageSeconds* charge) const {
+std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::string& id) const {
   const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
                                         [&](const Calibration& c) { return c.id == id; });
   const std::string key = fmt::format("calibration \"{}\"", id);
   if (calibration == session_.calibrations.end()) {
     throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
   }
-  StageSeconds ignored;
-  StageSeconds& seconds = charge ? *charge : ignored;
   auto cell = std::make_shared<CalibratedCell>();
+  StageSeconds& seconds = cell->cost;
   // Its CSV when given, otherwise its photo digitized (the overlay kept).
   Trace trace;
   if (calibration->trace.csv) {

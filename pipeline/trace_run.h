@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include "calibration/photocell_calibration.h"
@@ -20,28 +21,30 @@ namespace impactlab {
 struct CalibratedCell {
   CalibrationResult calibration;
   std::optional<PhotoOverlay> overlay;  // photo calibrations only
+  StageSeconds cost;                    // its digitizing (load) and fitting (calibrate)
 };
 
-// Calibrations are shared by runs; each is computed once per reduce, by the
-// first run that needs it, while runs on other threads wait for it.
+// Calibrations are shared by runs; each is computed once per reduce, by
+// whichever thread asks first (reduce asks ahead of the runs), while others
+// wait for it.
 class CalibrationCache {
  public:
   CalibrationCache(const Session& session, const Pendulum& pendulum)
       : session_(session), pendulum_(pendulum) {}
   // Throws InputError (file, key, reason) when the calibration cannot be made.
-  // The run that computes it is charged its digitizing (load) and fitting
-  // (calibrate) seconds in `charge`; runs that wait for it are not.
+  // The first caller that passes `charge` is charged the calibration's cost;
+  // later ones are not, so a session's stage times add up.
   const CalibratedCell& Get(const std::string& calibration_id, StageSeconds* charge = nullptr);
 
  private:
   using Entry = std::shared_future<std::shared_ptr<const CalibratedCell>>;
-  std::shared_ptr<const CalibratedCell> Compute(const std::string& calibration_id,
-                                                StageSeconds* charge) const;
+  std::shared_ptr<const CalibratedCell> Compute(const std::string& calibration_id) const;
 
   const Session& session_;
   const Pendulum& pendulum_;
   std::mutex mutex_;
   std::map<std::string, Entry> entries_;
+  std::set<std::string> charged_;
 };
 
 // The calibration as the results file keeps it (points decimated to <= 500).
