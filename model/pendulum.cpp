@@ -30,10 +30,12 @@ double Modulus(const Pendulum& p, double xmax) { return std::sin(0.5 * SwingAngl
 // cos(theta/2) = dn(u) = sqrt(1 - k^2 sn^2): taken from sn because Boost 1.74's
 // dn is wrong at the quarter period u = K (by 2e-3 at k = 0.2), and k^2 sn^2
 // <= 1/2 leaves the square root well conditioned.
+// Elliptic functions in double, not promoted to long double: they are on the
+// rebound peak fit's hot path, and long-double argument reduction costs 10x
+// for ~1 ulp.
+using NoPromotion = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
+
 double DisplacementFromSn(const Pendulum& p, double k, double u) {
-  // In double, not promoted to long double: this is on the rebound peak fit's
-  // hot path, and long-double argument reduction costs 10x for ~1 ulp.
-  using NoPromotion = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
   const double sin_half_theta = k * boost::math::jacobi_sn(k, u, NoPromotion());
   return 2.0 * p.length * sin_half_theta *
          std::sqrt((1.0 - sin_half_theta) * (1.0 + sin_half_theta));
@@ -111,6 +113,19 @@ double ReboundDisplacement(const Pendulum& p, double speed, double t) {
   const double w0 = NaturalFrequency(p);
   if (IsThesis(p)) return speed / w0 * std::sin(w0 * t);
   return DisplacementFromSn(p, speed / (2.0 * std::sqrt(p.gravity * p.length)), w0 * t);
+}
+
+SwingState ReboundState(const Pendulum& p, double speed, double t) {
+  const double w0 = NaturalFrequency(p);
+  if (IsThesis(p)) return {speed / w0 * std::sin(w0 * t), speed * std::cos(w0 * t)};
+  const double k = speed / (2.0 * std::sqrt(p.gravity * p.length));
+  double cn = 0.0, dn = 0.0;  // dn unused: Boost 1.74's is wrong at u = K (see above)
+  const double sn = boost::math::jacobi_elliptic(k, w0 * t, &cn, &dn, NoPromotion());
+  const double sin_half_theta = k * sn;
+  const double cos_half_theta = std::sqrt((1.0 - sin_half_theta) * (1.0 + sin_half_theta));
+  const double cos_theta = 1.0 - 2.0 * sin_half_theta * sin_half_theta;
+  return {2.0 * p.length * sin_half_theta * cos_half_theta,
+          p.length * cos_theta * 2.0 * k * w0 * cn};
 }
 
 }  // namespace impactlab

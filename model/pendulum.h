@@ -53,4 +53,15 @@ double ReleaseSwingDisplacement(const Pendulum& pendulum, double release_x, doub
 // HalfPeriod (positive, back to 0 at the end).
 double ReboundDisplacement(const Pendulum& pendulum, double speed, double t);
 
+// X and dX/dt together.
+struct SwingState {
+  double displacement = 0.0;  // X, length units
+  double velocity = 0.0;      // dX/dt, length units per second
+};
+
+// ReboundDisplacement and its time derivative, from one evaluation of the
+// elliptic functions: a rebound's peak fit needs both at every sample.
+// Exact: sin(theta/2) = k sn(w0 t), theta' = 2 k w0 cn(w0 t), X' = L cos(theta) theta'.
+SwingState ReboundState(const Pendulum& pendulum, double speed, double t);
+
 }  // namespace impactlab

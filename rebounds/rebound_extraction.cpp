@@ -68,9 +68,8 @@ class PeakShape {
         half_(0.5 * HalfPeriod(p, amplitude)),
         speed_(SpeedFromAmplitude(p, amplitude)) {}
 
-  double operator()(double tau) const {
-    return ReboundDisplacement(pendulum_, speed_, half_ + tau);
-  }
+  // X and dX/dtau.
+  SwingState At(double tau) const { return ReboundState(pendulum_, speed_, half_ + tau); }
 
  private:
   const Pendulum& pendulum_;
@@ -102,32 +101,32 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   const Eigen::Vector3d lin = (w.asDiagonal() * a).colPivHouseholderQr().solve(w.cwiseProduct(x));
   Eigen::Vector3d q(std::hypot(lin(0), lin(1)), std::atan2(lin(1), lin(0)) / omega, lin(2));
 
+  // Gauss-Newton. The Jacobian: the peak time's column from the shape's
+  // slope, the offset's from the weights (it enters linearly), the
+  // amplitude's by a forward difference. Two shape evaluations a sample an
+  // iteration; the Jacobian's small errors slow convergence, not the answer.
   Eigen::MatrixXd jac(n, 3);
-  Eigen::VectorXd r(n);
-  const auto residuals = [&](const Eigen::Vector3d& params, Eigen::VectorXd& out) {
+  Eigen::VectorXd r(n), r_up(n);
+  const auto residuals = [&](const Eigen::Vector3d& params, Eigen::VectorXd& out,
+                             Eigen::MatrixXd* jacobian) {
     const PeakShape shape(p, params(0));
-    for (int k = 0; k < n; ++k) out(k) = w(k) * (params(2) + shape(t(k) - params(1)) - x(k));
+    for (int k = 0; k < n; ++k) {
+      const SwingState state = shape.At(t(k) - params(1));
+      out(k) = w(k) * (params(2) + state.displacement - x(k));
+      if (jacobian) (*jacobian)(k, 1) = -w(k) * state.velocity;
+    }
   };
   for (int iteration = 0; iteration < 8; ++iteration) {
-    residuals(q, r);
-    // Amplitude and peak time by central differences; the offset enters
-    // linearly, its column is the weights.
-    for (int j = 0; j < 2; ++j) {
-      const double step = j == 0 ? 1e-7 * q(0) : 1e-7 / omega;
-      Eigen::Vector3d up = q, down = q;
-      up(j) += step;
-      down(j) -= step;
-      Eigen::VectorXd ru(n), rd(n);
-      residuals(up, ru);
-      residuals(down, rd);
-      jac.col(j) = (ru - rd) / (2.0 * step);
-    }
+    residuals(q, r, &jac);
+    const double step = 1e-7 * q(0);
+    residuals(q + Eigen::Vector3d(step, 0.0, 0.0), r_up, nullptr);
+    jac.col(0) = (r_up - r) / step;
     jac.col(2) = w;
     const Eigen::Vector3d delta = jac.colPivHouseholderQr().solve(-r);
     q += delta;
     if (std::abs(delta(0)) < 1e-13 * q(0) && std::abs(delta(1)) * omega < 1e-13) break;
   }
-  residuals(q, r);
+  residuals(q, r, nullptr);
   const double dof = std::max(1, n - 3);
   const double scatter = r.squaredNorm() / dof;
   const Eigen::Matrix3d cov = scatter * (jac.transpose() * jac).inverse();
@@ -140,7 +139,7 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   fit.offset = q(2);
   double rss = 0.0;
   const PeakShape shape(p, q(0));
-  for (int k = 0; k < n; ++k) rss += std::pow(q(2) + shape(t(k) - q(1)) - x(k), 2);
+  for (int k = 0; k < n; ++k) rss += std::pow(q(2) + shape.At(t(k) - q(1)).displacement - x(k), 2);
   fit.rms = std::sqrt(rss / n);
   return fit;
 }

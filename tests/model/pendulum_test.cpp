@@ -52,6 +52,25 @@ TEST_CASE("pendulum: release swing starts at X0 and reaches equilibrium after a 
   CHECK(ReboundDisplacement(p, v, 0.5 * HalfPeriod(p, x0)) == Approx(x0).epsilon(1e-13));
 }
 
+TEST_CASE("pendulum: a rebound's state is its displacement and that displacement's rate") {
+  for (auto convention : {PendulumConvention::kExact, PendulumConvention::kThesis}) {
+    const Pendulum p{22.0, kG, convention};
+    for (double x : {0.115, 1.519, 15.0}) {
+      const double v = SpeedFromAmplitude(p, x), half = HalfPeriod(p, x);
+      CHECK(ReboundState(p, v, 0.0).velocity == Approx(v).epsilon(1e-13));
+      CHECK(ReboundState(p, v, 0.5 * half).velocity == Approx(0.0).margin(1e-9 * v));
+      for (double f : {0.1, 0.3, 0.49, 0.51, 0.8, 0.97}) {
+        const double t = f * half, h = 1e-6 * half;
+        const SwingState state = ReboundState(p, v, t);
+        CHECK(state.displacement == Approx(ReboundDisplacement(p, v, t)).epsilon(1e-15));
+        const double rate =
+            (ReboundDisplacement(p, v, t + h) - ReboundDisplacement(p, v, t - h)) / (2.0 * h);
+        CHECK(state.velocity == Approx(rate).margin(1e-7 * v));
+      }
+    }
+  }
+}
+
 TEST_CASE("pendulum: amplitude beyond the horizontal is a domain error") {
   const Pendulum p{1.0, 9.81, PendulumConvention::kExact};
   CHECK_THROWS_AS(SwingAngle(p, 1.0), std::domain_error);
