@@ -50,6 +50,33 @@ double DecodeSeconds(const std::filesystem::path& session) {
   return Seconds(start);
 }
 
+// An existing session (no truth): decoding its photos against reducing it,
+// `repeats` times each, alternating, medians. Both run in this process, so
+// neither pays the program's start.
+int TimeSession(const std::filesystem::path& folder, int repeats, int jobs) {
+  const Session session = ReadManifest(folder).session;
+  std::vector<double> decode, reduce;
+  for (int i = 0; i < repeats; ++i) {
+    decode.push_back(DecodeSeconds(folder));
+    ReduceOptions options;
+    options.jobs = jobs;
+    const auto start = std::chrono::steady_clock::now();
+    const SessionResult result = ReduceSession(session, options);
+    reduce.push_back(Seconds(start));
+    const auto failed = std::count_if(result.runs.begin(), result.runs.end(),
+                                      [](const RunResult& run) { return !run.ok; });
+    if (failed > 0) fmt::print(stderr, "{} run(s) failed\n", failed);
+  }
+  const double d = Percentile(decode, 0.5), r = Percentile(reduce, 0.5);
+  fmt::print("| session | decode s (1 thread) | reduce s ({} threads) | reduce/decode |\n", jobs);
+  fmt::print("|---|---|---|---|\n");
+  fmt::print("| {} | {:.3f} | {:.3f} | {:.2f} |\n", folder.string(), d, r, r / d);
+  fmt::print("medians of {} (decode min {:.3f}, max {:.3f}; reduce min {:.3f}, max {:.3f})\n",
+             repeats, Percentile(decode, 0.0), Percentile(decode, 1.0), Percentile(reduce, 0.0),
+             Percentile(reduce, 1.0));
+  return 0;
+}
+
 // One rebound's error, kept so --worst can say where the worst ones are.
 struct XmaxError {
   double pct = 0.0;
@@ -84,7 +111,14 @@ int main(int argc, char** argv) {
   app.add_option("--jobs", jobs);
   app.add_flag("--csv-run", synth.csv_run);
   app.add_option("--worst", worst, "List the N worst Xmax errors per style on stderr");
+  std::string session;
+  int repeats = 7;
+  app.add_option("--session", session,
+                 "Time an existing session folder instead (decode against reduce, no truth)");
+  app.add_option("--repeats", repeats, "With --session: timed repetitions (medians shown)")
+      ->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
+  if (!session.empty()) return TimeSession(session, repeats, jobs);
 
   // One folder per process: two benchmarks at once must not share sessions.
   const auto scratch =
@@ -129,6 +163,11 @@ int main(int argc, char** argv) {
         if (run->contact_time) {
           const double tau = truth["contact"]["duration_s"];
           f.contact_error_pct.push_back(100.0 * std::abs(*run->contact_time - tau) / tau);
+          if (worst > 0) {
+            fmt::print(stderr, "  {} seed {} run {} contact: {:+.4f} % (sigma {:.4f} %)\n", style,
+                       synth.seed, run->id, 100.0 * (*run->contact_time - tau) / tau,
+                       100.0 * run->contact_time_sigma / tau);
+          }
         }
       }
     }
