@@ -22,6 +22,7 @@
 #include "digitize/ink_sampler.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
+#include "digitize/select.h"
 
 namespace impactlab {
 
@@ -29,6 +30,7 @@ namespace {
 
 using digitize::FitStroke;
 using digitize::GridCrossings;
+using digitize::ImageFromScreen;
 using digitize::InkSampler;
 using digitize::Profile;
 using digitize::ReadProfile;
@@ -38,15 +40,12 @@ using digitize::StrokeNeighbour;
 using digitize::StrokeSearch;
 
 double Median(std::vector<double> values) {
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  return digitize::SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
 }
 
 double Quantile(std::vector<double> values, double q) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
+  return digitize::SelectNth(values.begin(), at, values.end());
 }
 
 // Splits the heights into two groups with the largest between-group variance
@@ -125,7 +124,7 @@ class RowReader {
     for (int j = 0; j < count; ++j) {
       const double y = y0 + (y1 - y0) * (j + 0.5) / count;
       if (std::abs((y + half_ny) - std::round(y + half_ny)) < line_clear_div) continue;
-      Profile p = ReadProfile(ink_, mapping.ImageFromScreen({x_div, y}), Along(x_div, y),
+      Profile p = ReadProfile(ink_, ImageFromScreen(mapping, {x_div, y}), Along(x_div, y),
                               half_length_px, 0.5);
       const int n = static_cast<int>(p.values.size());
       grid_.AddTo(p, screen_from_pixel_(p.PointAt(p.OffsetAt(0))),
@@ -143,8 +142,8 @@ class RowReader {
   // The unit vector along the screen's x at a screen point, in the photo.
   cv::Point2d Along(double x_div, double y_div) const {
     constexpr double kDeltaDiv = 0.01;
-    const cv::Point2d d = graticule_.mapping.ImageFromScreen({x_div + kDeltaDiv, y_div}) -
-                          graticule_.mapping.ImageFromScreen({x_div - kDeltaDiv, y_div});
+    const cv::Point2d d = ImageFromScreen(graticule_.mapping, {x_div + kDeltaDiv, y_div}) -
+                          ImageFromScreen(graticule_.mapping, {x_div - kDeltaDiv, y_div});
     return d / cv::norm(d);
   }
 

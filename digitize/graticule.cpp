@@ -16,6 +16,7 @@
 #include "digitize/ink_sampler.h"
 #include "digitize/lattice.h"
 #include "digitize/line_profile.h"
+#include "digitize/screen_geometry.h"
 #include "io/errors.h"
 
 namespace impactlab {
@@ -24,6 +25,7 @@ namespace {
 
 using digitize::CentreSettings;
 using digitize::FindLineCentre;
+using digitize::ImageFromScreen;
 using digitize::InkSampler;
 using digitize::LineCentre;
 using digitize::Profile;
@@ -99,17 +101,17 @@ std::vector<LineSample> MeasureGridLines(const InkSampler& ink, const GraticuleM
             family == 0 ? cv::Point2d(line_div, along - 0.5 * ny) : cv::Point2d(along, line_div);
         const cv::Point2d across =
             family == 0 ? cv::Point2d(kStepDiv, 0) : cv::Point2d(0, kStepDiv);
-        const cv::Point2d a = mapping.ImageFromScreen(sample.nominal_div - across);
-        const cv::Point2d b = mapping.ImageFromScreen(sample.nominal_div + across);
+        const cv::Point2d a = ImageFromScreen(mapping, sample.nominal_div - across);
+        const cv::Point2d b = ImageFromScreen(mapping, sample.nominal_div + across);
         const double length = cv::norm(b - a);
         if (!(length > 0.0)) continue;
         sample.px_per_div = length / (2.0 * kStepDiv);
-        const cv::Point2d origin = mapping.ImageFromScreen(sample.nominal_div);
+        const cv::Point2d origin = ImageFromScreen(mapping, sample.nominal_div);
         Profile profile = ReadProfile(ink, origin, (b - a) / length, half_length_px, 0.5);
         const cv::Point2d on_line =
             family == 0 ? cv::Point2d(0, kStepDiv) : cv::Point2d(kStepDiv, 0);
-        const cv::Point2d along_px = mapping.ImageFromScreen(sample.nominal_div + on_line) -
-                                     mapping.ImageFromScreen(sample.nominal_div - on_line);
+        const cv::Point2d along_px = ImageFromScreen(mapping, sample.nominal_div + on_line) -
+                                     ImageFromScreen(mapping, sample.nominal_div - on_line);
         const int parallels =
             static_cast<int>(0.5 * average_div * sample.px_per_div / kParallelStepPx);
         if (parallels > 0) {
@@ -170,9 +172,8 @@ class NormalisedModel {
     return mapping;
   }
 
-  // Screen divisions of an image point under parameters p; `inverse_h` is
-  // Homography(p).inv(), computed once per evaluation.
-  cv::Point2d ScreenOf(cv::Point2d image_px, double k1, const cv::Matx33d& inverse_h) const {
+  // An image point in normalised coordinates with the radial term k1 undone.
+  cv::Point2d Undistorted(cv::Point2d image_px, double k1) const {
     cv::Point2d u = (image_px - centre_) * (1.0 / radius_);
     if (k1 != 0.0) {
       const double distorted = std::hypot(u.x, u.y);
@@ -184,7 +185,13 @@ class NormalisedModel {
       }
       if (distorted > 0.0) u *= r / distorted;
     }
-    const cv::Vec3d s = inverse_h * cv::Vec3d(u.x, u.y, 1.0);
+    return u;
+  }
+
+  // Screen divisions of an undistorted point; `inverse_h` is
+  // Homography(p).inv(), computed once per evaluation.
+  cv::Point2d ScreenOf(cv::Point2d undistorted, const cv::Matx33d& inverse_h) const {
+    const cv::Vec3d s = inverse_h * cv::Vec3d(undistorted.x, undistorted.y, 1.0);
     return {s[0] / s[2] * screen_scale_ + screen_offset_x_, s[1] / s[2] * screen_scale_};
   }
 
@@ -214,19 +221,36 @@ class NormalisedModel {
   double radius_;
 };
 
+// The samples' measured points with the radial term k1 undone. The
+// homography's parameters do not enter: a fit varying only them reuses these.
+std::vector<cv::Point2d> Undistorted(const NormalisedModel& model, double k1,
+                                     const std::vector<const LineSample*>& samples) {
+  std::vector<cv::Point2d> points(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    points[i] = model.Undistorted(samples[i]->measured_px, k1);
+  }
+  return points;
+}
+
 // Signed distances (pixels, along each profile) of the used samples from
-// their lines under parameters p.
+// their lines under parameters p, given their points undistorted by p[8].
 Eigen::VectorXd Residuals(const NormalisedModel& model, const NormalisedModel::Params& p,
-                          const std::vector<const LineSample*>& samples) {
+                          const std::vector<const LineSample*>& samples,
+                          const std::vector<cv::Point2d>& undistorted) {
   const cv::Matx33d inverse_h = NormalisedModel::Homography(p).inv();
   Eigen::VectorXd r(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const LineSample& s = *samples[i];
-    const cv::Point2d screen = model.ScreenOf(s.measured_px, p[8], inverse_h);
+    const cv::Point2d screen = model.ScreenOf(undistorted[i], inverse_h);
     r[static_cast<Eigen::Index>(i)] =
         ((s.family == 0 ? screen.x : screen.y) - s.line_div) * s.px_per_div;
   }
   return r;
+}
+
+Eigen::VectorXd Residuals(const NormalisedModel& model, const NormalisedModel::Params& p,
+                          const std::vector<const LineSample*>& samples) {
+  return Residuals(model, p, samples, Undistorted(model, p[8], samples));
 }
 
 struct MappingFit {
@@ -240,7 +264,10 @@ MappingFit FitMapping(const NormalisedModel& model, NormalisedModel::Params p,
                       const std::vector<const LineSample*>& samples, bool radial) {
   const int n_params = radial ? 9 : 8;
   if (!radial) p[8] = 0.0;
-  Eigen::VectorXd r = Residuals(model, p, samples);
+  // The points undistorted by p[8]: most evaluations change only the
+  // homography, and undoing the radial term is most of an evaluation's work.
+  std::vector<cv::Point2d> undistorted = Undistorted(model, p[8], samples);
+  Eigen::VectorXd r = Residuals(model, p, samples, undistorted);
   double cost = r.squaredNorm();
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 30; ++iteration) {
@@ -249,7 +276,9 @@ MappingFit FitMapping(const NormalisedModel& model, NormalisedModel::Params p,
       NormalisedModel::Params q = p;
       const double step = 1e-7 * std::max(1.0, std::abs(p[k]));
       q[k] += step;
-      jacobian.col(k) = (Residuals(model, q, samples) - r) / step;
+      const Eigen::VectorXd rq =
+          q[8] == p[8] ? Residuals(model, q, samples, undistorted) : Residuals(model, q, samples);
+      jacobian.col(k) = (rq - r) / step;
     }
     const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
     const Eigen::VectorXd jtr = jacobian.transpose() * r;
@@ -260,10 +289,14 @@ MappingFit FitMapping(const NormalisedModel& model, NormalisedModel::Params p,
       const Eigen::VectorXd delta = damped.ldlt().solve(-jtr);
       NormalisedModel::Params q = p;
       q.head(n_params) += delta;
-      const Eigen::VectorXd rq = Residuals(model, q, samples);
+      const bool radial_moved = q[8] != p[8];
+      std::vector<cv::Point2d> moved;  // q's points when its k1 differs
+      if (radial_moved) moved = Undistorted(model, q[8], samples);
+      const Eigen::VectorXd rq = Residuals(model, q, samples, radial_moved ? moved : undistorted);
       const double cost_q = rq.squaredNorm();
       if (std::isfinite(cost_q) && cost_q < cost) {
         const double gain = (cost - cost_q) / std::max(cost, 1e-300);
+        if (radial_moved) undistorted = std::move(moved);
         p = q, r = rq, cost = cost_q;
         lambda = std::max(1e-9, lambda * 0.3);
         improved = true;
@@ -366,7 +399,7 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
           family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
       double brightest = 0.0, darkest = 1.0;
       for (int k = -10; k <= 10; ++k) {
-        const double v = ink(fit.mapping.ImageFromScreen(on + across * k));
+        const double v = ink(ImageFromScreen(fit.mapping, on + across * k));
         brightest = std::max(brightest, v), darkest = std::min(darkest, v);
       }
       hidden += brightest - darkest > 2.5 * fit.line_contrast;
@@ -442,12 +475,14 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   // Two rounds: a wide look from the lattice, a narrow one from the first fit.
   constexpr int kRounds = 2;
   for (int round = 0; round < kRounds; ++round) {
+    const bool last = round == kRounds - 1;
+    // The wide look only places the narrow one, which measures the lines
+    // afresh: averaging along them would triple its reading for nothing.
     samples = MeasureGridLines(ink, model.ToMapping(params), divisions, GridLines(divisions),
                                options.samples_per_div, half_length_px, search_px,
-                               options.line_average_div);
+                               last ? options.line_average_div : 0.0);
     if (samples.size() < 12) NotFound(photo, divisions, "the grid lines cannot be measured");
     SelectLineLike(samples);
-    const bool last = round == kRounds - 1;
     fit = last ? RobustFit(model, params, samples, try_radial, 0.3)
                : FitMapping(model, params, Used(samples), try_radial);
     if (last && options.radial == RadialModel::kAuto && fit.params[8] != 0.0) {

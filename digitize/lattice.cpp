@@ -1,13 +1,18 @@
 #include "digitize/lattice.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "digitize/line_profile.h"
+#include "digitize/select.h"
 
 namespace impactlab::digitize {
 
@@ -60,11 +65,9 @@ std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) 
     for (int col = ridge.cols / 5; col < ridge.cols * 4 / 5; col += 2) sample.push_back(p[col]);
   }
   const auto middle = sample.begin() + sample.size() / 2;
-  std::nth_element(sample.begin(), middle, sample.end());
-  const float median = *middle;
+  const float median = SelectNth(sample.begin(), middle, sample.end());
   for (float& v : sample) v = std::abs(v - median);
-  std::nth_element(sample.begin(), middle, sample.end());
-  const float sigma = 1.4826f * *middle;
+  const float sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
   const float threshold = std::max(median + 3.0f * sigma, 0.005f);
 
   const float cx = 0.5f * (ridge.cols - 1), cy = 0.5f * (ridge.rows - 1);
@@ -85,8 +88,7 @@ std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) 
   std::vector<float> weights;
   for (const RidgePoint& p : points) weights.push_back(p.weight);
   const auto mid = weights.begin() + weights.size() / 2;
-  std::nth_element(weights.begin(), mid, weights.end());
-  const float cap = 1.5f * *mid;
+  const float cap = 1.5f * SelectNth(weights.begin(), mid, weights.end());
   for (RidgePoint& p : points) p.weight = std::min(p.weight, cap);
   *unit_weight = *mid;
   return points;
@@ -94,23 +96,34 @@ std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) 
 
 class Accumulator {
  public:
-  // Votes in the directions (bins) where `fill` is set, every `stride`th
-  // direction of those; the others stay empty.
-  Accumulator(const std::vector<RidgePoint>& points, cv::Size size, float unit_weight,
-              const std::vector<bool>& fill, int stride)
+  Accumulator(const std::vector<RidgePoint>& points, cv::Size size, float unit_weight)
       : rho_offset_(static_cast<int>(std::ceil(0.5 * std::hypot(size.width, size.height))) + 1),
         rho_bins_(2 * rho_offset_ + 1),
         unit_(unit_weight),
-        votes_(kThetaBins, rho_bins_, 0.0f) {
-    for (int t = 0; t < kThetaBins; t += stride) {
-      if (!fill[t]) continue;
-      const float c = static_cast<float>(std::cos(Theta(t))),
-                  s = static_cast<float>(std::sin(Theta(t)));
-      float* row = votes_.ptr<float>(t);
-      const float offset = rho_offset_ + 0.5f;
-      for (const RidgePoint& p : points)
-        row[static_cast<int>(p.x * c + p.y * s + offset)] += p.weight;
+        votes_(kThetaBins, rho_bins_, 0.0f),
+        voted_(kThetaBins, false) {
+    for (const RidgePoint& p : points) {
+      xs_.push_back(p.x), ys_.push_back(p.y), weights_.push_back(p.weight);
     }
+  }
+
+  // Holds the votes in the directions (bins) where `fill` is set, every
+  // `stride`th direction of those, and no others. A direction voted in by an
+  // earlier, coarser pass keeps its votes: they would come out the same.
+  void Hold(const std::vector<bool>& fill, int stride) {
+    std::vector<int> bins;
+    for (int t = 0; t < kThetaBins; ++t) {
+      const bool wanted = fill[t] && t % stride == 0;
+      if (wanted && !voted_[t]) bins.push_back(t);
+      if (!wanted && voted_[t]) votes_.row(t).setTo(0.0f);
+      voted_[t] = wanted;
+    }
+    // Several directions at a time: consecutive points along a line vote in
+    // the same cell, and each addition would wait for the one before.
+    constexpr int kTogether = 8;
+    std::size_t i = 0;
+    for (; i + kTogether <= bins.size(); i += kTogether) VoteIn<kTogether>(&bins[i]);
+    for (; i < bins.size(); ++i) VoteIn<1>(&bins[i]);
   }
 
   static double Theta(double bin) { return (kThetaFirstDeg + bin * kThetaStepDeg) * kDegree; }
@@ -163,7 +176,7 @@ class Accumulator {
     }
     // At least the votes of a short stretch of line.
     const float floor_votes = std::max(8.0f * unit_, static_cast<float>(min_share * strongest));
-    constexpr int kThetaReach = 2, kRhoReach = 3;
+    constexpr int kRhoReach = 3;  // and two directions either side
     std::vector<HoughLine> peaks;
     for (int t = lo; t <= hi; ++t) {
       const float* row = votes_.ptr<float>(t);
@@ -171,7 +184,9 @@ class Accumulator {
         const float v = row[r];
         if (v < floor_votes) continue;
         bool is_max = true;
-        for (int dt = -kThetaReach; dt <= kThetaReach && is_max; ++dt) {
+        // Its own direction first: most cells fail there, next to it in memory.
+        for (const int dt : {0, -1, 1, -2, 2}) {
+          if (!is_max) break;
           const int tt = t + dt;
           if (tt < 0 || tt >= kThetaBins) continue;
           const float* other = votes_.ptr<float>(tt);
@@ -206,10 +221,44 @@ class Accumulator {
   }
 
  private:
+  // Every point's vote in directions bins[0 .. kCount), a block of points
+  // at a time: their cells first, which has no dependencies and vectorises,
+  // then the additions, in the points' order.
+  template <int kCount>
+  void VoteIn(const int* bins) {
+    std::array<float, kCount> c, s;
+    std::array<float*, kCount> rows;
+    for (int k = 0; k < kCount; ++k) {
+      c[k] = static_cast<float>(std::cos(Theta(bins[k])));
+      s[k] = static_cast<float>(std::sin(Theta(bins[k])));
+      rows[k] = votes_.ptr<float>(bins[k]);
+    }
+    const float offset = rho_offset_ + 0.5f;
+    constexpr int kBlock = 64;
+    std::array<std::array<int, kBlock>, kCount> cells;
+    const int n = static_cast<int>(xs_.size());
+    for (int from = 0; from < n; from += kBlock) {
+      const int m = std::min(kBlock, n - from);
+      const float* x = xs_.data() + from;
+      const float* y = ys_.data() + from;
+      const float* w = weights_.data() + from;
+      for (int k = 0; k < kCount; ++k) {
+        for (int i = 0; i < m; ++i) {
+          cells[k][i] = static_cast<int>(x[i] * c[k] + y[i] * s[k] + offset);
+        }
+      }
+      for (int i = 0; i < m; ++i) {
+        for (int k = 0; k < kCount; ++k) rows[k][cells[k][i]] += w[i];
+      }
+    }
+  }
+
   int rho_offset_;
   int rho_bins_;
   float unit_;  // a typical vote
   cv::Mat1f votes_;
+  std::vector<bool> voted_;               // per direction: holds its votes
+  std::vector<float> xs_, ys_, weights_;  // the ridge points, each quantity apart
 };
 
 // u(n) = (a n + b) / (c n + 1): equally spaced lines seen in perspective.
@@ -266,28 +315,54 @@ DirectionCourse FitCourse(const std::vector<std::pair<int, double>>& directions)
   return course;
 }
 
+// A family's candidate lines: position along the transversal, direction
+// (radians, from the family's) and votes, and their order along the
+// transversal, so that a line is looked for only among those near where a
+// progression puts it (Grow looks thousands of times per photo).
+struct Candidates {
+  std::vector<double> u, theta, votes;
+  std::vector<int> by_u;           // indices, in order of u
+  std::vector<double> u_in_order;  // u[by_u[i]]
+
+  // The candidate with the most votes (the first of equals) within
+  // `tolerance` of `predicted` and `direction_tolerance` of `direction`; -1
+  // when none.
+  int Find(double predicted, double tolerance, double direction, double direction_tolerance) const {
+    std::size_t from = 0, to = u.size();
+    // Bounds a little wide of the exact test below, which decides.
+    const double margin = 1e-9 * (1.0 + std::abs(predicted) + tolerance);
+    const double lo = predicted - tolerance - margin, hi = predicted + tolerance + margin;
+    if (lo <= hi) {
+      from = std::lower_bound(u_in_order.begin(), u_in_order.end(), lo) - u_in_order.begin();
+      to = std::upper_bound(u_in_order.begin(), u_in_order.end(), hi) - u_in_order.begin();
+    }
+    int best = -1;
+    for (std::size_t k = from; k < to; ++k) {
+      const int i = by_u[k];
+      if (std::abs(u[i] - predicted) <= tolerance &&
+          std::abs(theta[i] - direction) <= direction_tolerance &&
+          (best < 0 || votes[i] > votes[best] || (votes[i] == votes[best] && i < best))) {
+        best = i;
+      }
+    }
+    return best;
+  }
+};
+
 // Grows a progression from candidates j (index 0) and k (index m) outward,
-// one index at a time, refitting as it goes. `theta` is each candidate's
-// direction (radians, from the family's).
-FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& theta,
-                 const std::vector<double>& votes, int j, int k, int m, int n_lines) {
+// one index at a time, refitting as it goes.
+FamilyMatch Grow(const Candidates& candidates, int j, int k, int m, int n_lines) {
+  const std::vector<double>& u = candidates.u;
+  const std::vector<double>& theta = candidates.theta;
+  const std::vector<double>& votes = candidates.votes;
   std::vector<std::pair<int, double>> points = {{0, u[j]}, {m, u[k]}};
   std::vector<std::pair<int, double>> directions = {{0, theta[j]}, {m, theta[k]}};
   std::vector<std::pair<int, int>> matched = {{0, j}, {m, k}};
   const double direction_tolerance = kDirectionToleranceDeg * kDegree;
   DirectionCourse course = FitCourse(directions);
   auto find = [&](const Progression1d& model, int n) {
-    const double predicted = model(n), tolerance = kMatchTolerance * model.Spacing(n);
-    const double direction = course(n);
-    int best = -1;
-    for (std::size_t i = 0; i < u.size(); ++i) {
-      if (std::abs(u[i] - predicted) <= tolerance &&
-          std::abs(theta[i] - direction) <= direction_tolerance &&
-          (best < 0 || votes[i] > votes[best])) {
-        best = static_cast<int>(i);
-      }
-    }
-    return best;
+    return candidates.Find(model(n), kMatchTolerance * model.Spacing(n), course(n),
+                           direction_tolerance);
   };
   auto add = [&](int n, int candidate) {
     points.emplace_back(n, u[candidate]);
@@ -360,12 +435,18 @@ FamilyMatch Grow(const std::vector<double>& u, const std::vector<double>& theta,
 std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, double theta_rad,
                                        int n_lines, double min_spacing_px, double max_spacing_px) {
   // Positions along the transversal through the centre, across the family.
-  std::vector<double> u, theta, votes;
+  Candidates candidates;
+  std::vector<double>& u = candidates.u;
   for (const HoughLine& line : lines) {
     u.push_back(line.rho_px / std::cos(line.theta_rad - theta_rad));
-    theta.push_back(line.theta_rad - theta_rad);
-    votes.push_back(line.votes);
+    candidates.theta.push_back(line.theta_rad - theta_rad);
+    candidates.votes.push_back(line.votes);
   }
+  candidates.by_u.resize(u.size());
+  std::iota(candidates.by_u.begin(), candidates.by_u.end(), 0);
+  std::stable_sort(candidates.by_u.begin(), candidates.by_u.end(),
+                   [&](int a, int b) { return u[a] < u[b]; });
+  for (const int i : candidates.by_u) candidates.u_in_order.push_back(u[i]);
   std::optional<FamilyMatch> best;
   const int anchors = std::min<int>(static_cast<int>(lines.size()), 24);
   for (int j = 0; j < anchors; ++j) {
@@ -374,7 +455,7 @@ std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, doub
       for (int m = 1; m <= 3; ++m) {
         const double spacing = (u[k] - u[j]) / m;
         if (spacing < min_spacing_px || spacing > max_spacing_px) continue;
-        FamilyMatch match = Grow(u, theta, votes, j, k, m, n_lines);
+        FamilyMatch match = Grow(candidates, j, k, m, n_lines);
         if (!best || match.score > best->score) best = std::move(match);
       }
     }
@@ -515,19 +596,20 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   for (int f = 0; f < 2; ++f) {
     for (int t = family_lo[f]; t <= family_hi[f]; ++t) fill[t] = t % kCoarse == 0;
   }
+  // The fine pass reuses the coarse pass's directions: a direction's votes
+  // are the same whichever pass casts them.
+  Accumulator accumulator(points, ridge.size(), unit_weight);
+  accumulator.Hold(fill, kCoarse);
   int dominant[2];
-  {
-    const Accumulator coarse(points, ridge.size(), unit_weight, fill, kCoarse);
-    for (int f = 0; f < 2; ++f) {
-      const int first = (family_lo[f] + kCoarse - 1) / kCoarse * kCoarse;
-      int best = first;
-      double best_energy = -1.0;
-      for (int t = first; t <= family_hi[f]; t += kCoarse) {
-        const double e = coarse.Energy(t);
-        if (e > best_energy) best_energy = e, best = t;
-      }
-      dominant[f] = best;
+  for (int f = 0; f < 2; ++f) {
+    const int first = (family_lo[f] + kCoarse - 1) / kCoarse * kCoarse;
+    int best = first;
+    double best_energy = -1.0;
+    for (int t = first; t <= family_hi[f]; t += kCoarse) {
+      const double e = accumulator.Energy(t);
+      if (e > best_energy) best_energy = e, best = t;
     }
+    dominant[f] = best;
   }
   const int spread = static_cast<int>(kFamilySpreadDeg / kThetaStepDeg);
   std::fill(fill.begin(), fill.end(), false);
@@ -537,7 +619,7 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
       fill[t] = true;
     }
   }
-  const Accumulator accumulator(points, ridge.size(), unit_weight, fill, 1);
+  accumulator.Hold(fill, 1);
   for (int f = 0; f < 2; ++f) {
     dominant[f] = accumulator.DominantBin(std::max(0, dominant[f] - kCoarse),
                                           std::min(kThetaBins - 1, dominant[f] + kCoarse));

@@ -1,17 +1,28 @@
 #include "digitize/line_profile.h"
+#include "digitize/select.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace impactlab::digitize {
 
 namespace {
 
-float MedianOf(std::vector<float> values) {
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+float MedianOf(std::vector<float>& values) {
+  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
+}
+
+// The indices in [first, last] whose offsets may lie within [lo, hi]: a
+// sample more either way than rounding could move them. Loops over a part
+// of the profile take these bounds and keep their own exact test.
+std::pair<int, int> IndicesNear(const Profile& profile, double lo, double hi, int first, int last) {
+  const double a = std::floor((lo - profile.start_px) / profile.step_px) - 1.0;
+  const double b = std::ceil((hi - profile.start_px) / profile.step_px) + 1.0;
+  if (!(a <= b)) return {first, last};  // NaN bounds (no width found): the exact test decides
+  return {static_cast<int>(std::clamp(a, static_cast<double>(first), static_cast<double>(last))),
+          static_cast<int>(std::clamp(b, static_cast<double>(first), static_cast<double>(last)))};
 }
 
 // Linear interpolation of the profile at an offset; false off its ends.
@@ -113,9 +124,8 @@ Profile ReadProfile(const InkSampler& ink, cv::Point2d origin_px, cv::Point2d di
   const int half = static_cast<int>(std::ceil(half_length_px / step_px));
   profile.start_px = -half * step_px;
   profile.values.resize(2 * half + 1);
-  for (int i = 0; i <= 2 * half; ++i) {
-    profile.values[i] = ink(profile.PointAt(profile.OffsetAt(i)));
-  }
+  const auto point = [&](int i) { return profile.PointAt(profile.OffsetAt(i)); };
+  ink.Read(2 * half + 1, point, profile.values.data());
   return profile;
 }
 
@@ -129,6 +139,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
   // which a symmetric line's glow raises equally on both sides.
   const int fifth = std::max(1, n / 5);
   std::vector<float> left, right;
+  left.reserve(fifth), right.reserve(fifth);
   for (int i = 0; i < fifth; ++i) {
     if (!NearCrossing(profile.crossings, profile.OffsetAt(i))) left.push_back(v[i]);
     if (!NearCrossing(profile.crossings, profile.OffsetAt(n - 1 - i)))
@@ -148,7 +159,9 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
   // lines' light discounted.
   int peak = -1;
   double peak_height = 0.0;
-  for (int i = 1; i + 1 < n; ++i) {
+  const auto [search_first, search_last] =
+      IndicesNear(profile, -settings.search_px, settings.search_px, 1, n - 2);
+  for (int i = search_first; i <= search_last; ++i) {
     const double u = profile.OffsetAt(i);
     if (std::abs(u) > settings.search_px) continue;
     double smoothed = 0.25 * (v[i - 1] + 2.0 * v[i] + v[i + 1]) - background(u);
@@ -198,7 +211,8 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
       for (int iteration = 0; iteration < 4; ++iteration) {
         const double level = settings.centroid_level * peak_height;
         double sum = 0.0, moment = 0.0;
-        for (int i = 0; i < n; ++i) {
+        const auto [first, last] = IndicesNear(profile, centre - window, centre + window, 0, n - 1);
+        for (int i = first; i <= last; ++i) {
           const double u = profile.OffsetAt(i);
           if (std::abs(u - centre) > window) continue;
           const double w = v[i] - background(u) - level;
@@ -222,7 +236,8 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
         cv::Matx33d normal = cv::Matx33d::zeros();
         cv::Vec3d rhs(0.0, 0.0, 0.0);
         int weighed = 0;
-        for (int i = 0; i < n; ++i) {
+        const auto [first, last] = IndicesNear(profile, centre - window, centre + window, 0, n - 1);
+        for (int i = first; i <= last; ++i) {
           const double u = profile.OffsetAt(i);
           if (std::abs(u - centre) > window) continue;
           const double height = v[i] - background(u);

@@ -2,18 +2,12 @@
 #include <cmath>
 
 #include "digitize/digitize.h"
+#include "digitize/screen_geometry.h"
 
 namespace impactlab {
 
 cv::Point2d GraticuleMapping::ImageFromScreen(cv::Point2d screen_div) const {
-  const cv::Matx33d& h = homography;
-  const double w = h(2, 0) * screen_div.x + h(2, 1) * screen_div.y + h(2, 2);
-  const cv::Point2d q((h(0, 0) * screen_div.x + h(0, 1) * screen_div.y + h(0, 2)) / w,
-                      (h(1, 0) * screen_div.x + h(1, 1) * screen_div.y + h(1, 2)) / w);
-  if (radial_k1 == 0.0) return q;
-  const cv::Point2d d = q - distortion_centre_px;
-  const double r2 = d.dot(d) / (distortion_radius_px * distortion_radius_px);
-  return distortion_centre_px + d * (1.0 + radial_k1 * r2);
+  return digitize::ImageFromScreen(*this, screen_div);
 }
 
 cv::Point2d GraticuleMapping::ScreenFromImage(cv::Point2d image_px) const {

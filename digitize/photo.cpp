@@ -1,6 +1,7 @@
 // LoadPhoto and PreparePhoto: decoding with clear errors, and the small grey
 // working copy the searches run on.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "digitize/select.h"
 #include "io/errors.h"
 
 namespace impactlab {
@@ -66,10 +68,11 @@ void CheckUsable(const std::filesystem::path& path, const cv::Mat& image) {
   }
 }
 
-double Quantile(std::vector<float>& values, double q) {
+// The value of rank q (0..1) among `values`, looked for in [first, last)
+// only: those must be the values of ranks first .. last - 1, in some order.
+double Quantile(std::vector<float>& values, double q, std::size_t first, std::size_t last) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
+  return digitize::SelectNth(values.begin() + first, at, values.begin() + last);
 }
 
 // Dark traces when the photo's thin features stand further below the screen
@@ -82,9 +85,58 @@ bool LooksNegative(const cv::Mat1f& grey) {
     const float* p = grey.ptr<float>(row);
     values.insert(values.end(), p + middle.x, p + middle.x + middle.width);
   }
-  const double low = Quantile(values, 0.01), median = Quantile(values, 0.5);
-  const double high = Quantile(values, 0.99);
+  // The median first: it splits the values, and each outer quantile is then
+  // looked for in its half only.
+  const std::size_t n = values.size(), mid = static_cast<std::size_t>(0.5 * (n - 1));
+  const double median = Quantile(values, 0.5, 0, n);
+  const double low = Quantile(values, 0.01, 0, mid + 1);
+  const double high = Quantile(values, 0.99, mid, n);
   return median - low > high - median;
+}
+
+// The largest factor ShrinkByArea takes: its column sums of 8-bit pixels fit 16 bits.
+constexpr int kMaxShrinkByArea = 65535 / 255;
+
+// One row of the shrunk photo from the sums of f photo rows: each pixel the
+// mean of an f x f block, rounded as cv::resize rounds it.
+template <int kChannels>
+void MeanOfBlocks(const std::vector<ushort>& sums, int f, int width, uchar* out) {
+  const float scale = 1.0f / (f * f);
+  for (int x = 0; x < width; ++x) {
+    const ushort* block = sums.data() + x * f * kChannels;
+    std::array<int, kChannels> sum{};
+    for (int k = 0; k < f; ++k) {
+      for (int c = 0; c < kChannels; ++c) sum[c] += block[k * kChannels + c];
+    }
+    for (int c = 0; c < kChannels; ++c) {
+      out[x * kChannels + c] = cv::saturate_cast<uchar>(sum[c] * scale);
+    }
+  }
+}
+
+// An 8-bit photo shrunk by the whole factor f (2 < f <= kMaxShrinkByArea),
+// the same as cv::resize's area resampling gives. That has a vectorised path
+// only for halving; for larger factors it reads every pixel through an
+// offset table. Summing whole rows first, then blocks along them, takes less
+// than half the time.
+cv::Mat ShrinkByArea(const cv::Mat& photo, int f) {
+  const int channels = photo.channels();
+  const int width = photo.cols / f, height = photo.rows / f;
+  const int row_values = width * f * channels;
+  cv::Mat small(height, width, photo.type());
+  std::vector<ushort> sums(row_values);
+  for (int y = 0; y < height; ++y) {
+    std::fill(sums.begin(), sums.end(), 0);
+    for (int r = 0; r < f; ++r) {
+      const uchar* p = photo.ptr<uchar>(y * f + r);
+      for (int i = 0; i < row_values; ++i) sums[i] += p[i];
+    }
+    uchar* out = small.ptr<uchar>(y);
+    if (channels == 1) MeanOfBlocks<1>(sums, f, width, out);
+    if (channels == 3) MeanOfBlocks<3>(sums, f, width, out);
+    if (channels == 4) MeanOfBlocks<4>(sums, f, width, out);
+  }
+  return small;
 }
 
 }  // namespace
@@ -136,7 +188,9 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
   // and working pixel (u, v) covers photo pixels [f u, f u + f) exactly.
   cv::Mat small;
   const cv::Rect whole(0, 0, photo.image.cols / f * f, photo.image.rows / f * f);
-  if (f > 1) {
+  if (f > 2 && f <= kMaxShrinkByArea && photo.image.depth() == CV_8U) {
+    small = ShrinkByArea(photo.image(whole), f);
+  } else if (f > 1) {
     cv::resize(photo.image(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
                cv::INTER_AREA);
   } else {

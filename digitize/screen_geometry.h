@@ -1,5 +1,5 @@
 // Screen geometry used by several measurements (internal to digitize/):
-// the inverse mapping for many points, and which graticule lines cross a
+// the mapping both ways for many points, and which graticule lines cross a
 // profile.
 #pragma once
 
@@ -13,6 +13,19 @@
 #include "digitize/line_profile.h"
 
 namespace impactlab::digitize {
+
+// GraticuleMapping::ImageFromScreen (which calls this), inline for the loops
+// that map thousands of points: the call cost as much as the mapping.
+inline cv::Point2d ImageFromScreen(const GraticuleMapping& mapping, cv::Point2d screen_div) {
+  const cv::Matx33d& h = mapping.homography;
+  const double w = h(2, 0) * screen_div.x + h(2, 1) * screen_div.y + h(2, 2);
+  const cv::Point2d q((h(0, 0) * screen_div.x + h(0, 1) * screen_div.y + h(0, 2)) / w,
+                      (h(1, 0) * screen_div.x + h(1, 1) * screen_div.y + h(1, 2)) / w);
+  if (mapping.radial_k1 == 0.0) return q;
+  const cv::Point2d d = q - mapping.distortion_centre_px;
+  const double r2 = d.dot(d) / (mapping.distortion_radius_px * mapping.distortion_radius_px);
+  return mapping.distortion_centre_px + d * (1.0 + mapping.radial_k1 * r2);
+}
 
 // ScreenFromImage with the inverse homography computed once.
 class ScreenFromPixel {

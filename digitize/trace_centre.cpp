@@ -26,6 +26,7 @@ using digitize::Claims;
 using digitize::CoarsePath;
 using digitize::FindLineCentre;
 using digitize::GridCrossings;
+using digitize::ImageFromScreen;
 using digitize::InkSampler;
 using digitize::LineCentre;
 using digitize::Profile;
@@ -156,10 +157,10 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
     double y = 0.0, slope = 0.0;
     int piece = 0;
     if (!course.At(x, &y, &slope, &piece)) continue;
-    const cv::Point2d origin = mapping.ImageFromScreen({x, y});
+    const cv::Point2d origin = ImageFromScreen(mapping, {x, y});
     const cv::Point2d tangent =
-        mapping.ImageFromScreen({x + kTangentDiv, y + slope * kTangentDiv}) -
-        mapping.ImageFromScreen({x - kTangentDiv, y - slope * kTangentDiv});
+        ImageFromScreen(mapping, {x + kTangentDiv, y + slope * kTangentDiv}) -
+        ImageFromScreen(mapping, {x - kTangentDiv, y - slope * kTangentDiv});
     const double length = std::hypot(tangent.x, tangent.y);
     if (!(length > 0.0)) continue;
     const cv::Point2d normal(-tangent.y / length, tangent.x / length);

@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
+
+#include "digitize/line_profile.h"
+#include "digitize/screen_geometry.h"
+#include "digitize/select.h"
 
 namespace impactlab::digitize {
 
@@ -27,16 +32,13 @@ constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to
 
 double MedianOf(std::vector<float>& values) {
   if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
 }
 
 double QuantileOf(std::vector<float>& values, double q) {
   if (values.empty()) return 0.0;
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
+  return SelectNth(values.begin(), at, values.end());
 }
 
 struct Strip {
@@ -71,7 +73,7 @@ Strip CutStrip(const PreparedPhoto& photo, const GraticuleMapping& mapping,
     int previous_column = -1;
     for (int column = 0; column < grid.columns; column += kEvery) {
       const int c = std::min(column, grid.columns - 1);
-      const cv::Point2d w = photo.WorkingFromPhoto(mapping.ImageFromScreen({grid.XOf(c), y}));
+      const cv::Point2d w = photo.WorkingFromPhoto(ImageFromScreen(mapping, {grid.XOf(c), y}));
       mx[c] = static_cast<float>(w.x), my[c] = static_cast<float>(w.y);
       if (previous_column >= 0) {
         for (int k = previous_column + 1; k < c; ++k) {
@@ -97,11 +99,17 @@ Strip CutStrip(const PreparedPhoto& photo, const GraticuleMapping& mapping,
 // which no trace can cover for more than a few rows. Returns it.
 double SuppressGrid(Strip& strip, std::array<int, 2> divisions) {
   cv::Mat1f& image = strip.image;
-  std::vector<float> column(image.rows), medians(image.cols);
+  // Each column's median, from a copy with the columns laid out as rows: read
+  // down a column, every value would be a cache line of its own.
+  cv::Mat1f columns = image.t();
+  std::vector<float> medians(image.cols);
   for (int c = 0; c < image.cols; ++c) {
-    for (int r = 0; r < image.rows; ++r) column[r] = image(r, c);
-    medians[c] = static_cast<float>(MedianOf(column));
-    for (int r = 0; r < image.rows; ++r) image(r, c) -= medians[c];
+    float* p = columns.ptr<float>(c);
+    medians[c] = SelectNth(p, p + image.rows / 2, p + image.rows);
+  }
+  for (int r = 0; r < image.rows; ++r) {
+    float* p = image.ptr<float>(r);
+    for (int c = 0; c < image.cols; ++c) p[c] -= medians[c];
   }
   std::vector<float> heights;
   const int reach = std::max(2, static_cast<int>(std::lround(0.1 * strip.px_per_div)));
@@ -179,15 +187,17 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   // A trace is brighter than the graticule's lines, and stands out of the noise.
   const double floor = std::max({6.0 * sigma, 1.2 * line_height, 1e-3});
 
-  // Each column's peaks.
+  // Each column's peaks, read down the columns laid out as rows.
+  const cv::Mat1f across = image.t();
   std::vector<std::vector<Node>> columns(grid.columns);
   std::vector<float> column_maxima;
   for (int c = 0; c < image.cols; ++c) {
     std::vector<Node>& nodes = columns[c];
+    const float* column = across.ptr<float>(c);
     for (int r = 1; r + 1 < image.rows; ++r) {
-      const float v = image(r, c);
-      if (!(v > floor && v > image(r - 1, c) && v >= image(r + 1, c))) continue;
-      const double a = image(r - 1, c), b = v, d = image(r + 1, c);
+      const float v = column[r];
+      if (!(v > floor && v > column[r - 1] && v >= column[r + 1])) continue;
+      const double a = column[r - 1], b = v, d = column[r + 1];
       const double curvature = a - 2.0 * b + d;
       const double row = r + (curvature < 0.0 ? 0.5 * (a - d) / curvature : 0.0);
       if (claims.Taken(c, strip.YOf(row))) continue;
@@ -224,6 +234,10 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   first_of[grid.columns] = static_cast<int>(nodes.size());
   // best_up_to[c]: the best-scoring node in columns 0..c (index), for restarts.
   std::vector<int> best_up_to(grid.columns, -1);
+  // column_best[c]: the best score in column c. Leaving the course and gaps
+  // only cost, so no node of a column scores more than that less the gap:
+  // columns that cannot beat the best link so far are passed over.
+  std::vector<double> column_best(grid.columns, -std::numeric_limits<double>::infinity());
   const double dx_unit = 1.0 / grid.px_per_div;
   for (int c = 0; c < grid.columns; ++c) {
     for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
@@ -235,6 +249,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
       for (int d = 1; d <= max_gap && c - d >= 0; ++d) {
         const double dx = d * dx_unit;
         const double gap = kGapWeight * (d - 1) * dx_unit;
+        if (!(column_best[c - d] - gap > best)) continue;
         for (int j = first_of[c - d]; j < first_of[c - d + 1]; ++j) {
           const Node& from = nodes[j];
           // Rows grow downwards; slopes here are in rows' direction, div/div.
@@ -273,6 +288,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
       node.score = reward + best;
       node.previous = previous;
       node.link = link;
+      column_best[c] = std::max(column_best[c], node.score);
     }
     best_up_to[c] = c > 0 ? best_up_to[c - 1] : -1;
     for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
