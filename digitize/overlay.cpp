@@ -116,13 +116,15 @@ void DrawMarks(Canvas& canvas, const std::vector<Mark>& marks) {
 }
 
 // `font_scale` is the canvas's own; the dark halo that keeps text legible on
-// any photo shrinks with the canvas, as it would were the photo drawn on.
+// any photo shrinks with the canvas, as it would were the photo drawn on. The
+// halo is drawn without anti-aliasing: its edges lie on dark, where no one
+// sees them, and thick anti-aliased strokes cost 3x the rest of the text.
 void DrawText(Canvas& canvas, const std::string& text, cv::Point at, double font_scale,
               const cv::Scalar& colour) {
   const int thickness = std::max(1, static_cast<int>(std::lround(font_scale * 1.5)));
   const int halo = canvas.Px(2.0);
   cv::putText(canvas.image, text, at, cv::FONT_HERSHEY_SIMPLEX, font_scale, cv::Scalar(0, 0, 0),
-              thickness + halo, cv::LINE_AA);
+              thickness + halo, cv::LINE_8);
   cv::putText(canvas.image, text, at, cv::FONT_HERSHEY_SIMPLEX, font_scale, colour, thickness,
               cv::LINE_AA);
 }

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <vector>
 
@@ -149,7 +148,11 @@ Photo LoadPhoto(const std::filesystem::path& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) Refuse(path, "cannot open the photo");
-  std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uchar> bytes(std::filesystem::file_size(path, error));
+  if (error) Refuse(path, "cannot read the photo's size");
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) {
+    Refuse(path, "cannot read the photo");
+  }
   if (bytes.empty()) Refuse(path, "the photo file is empty");
   CheckComplete(path, bytes);
   Photo photo;
