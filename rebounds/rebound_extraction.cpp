@@ -137,10 +137,8 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   fit.t_peak = {h.time_s[top] + q(1), std::sqrt(std::max(0.0, cov(1, 1)))};
   fit.amplitude = q(0);
   fit.offset = q(2);
-  double rss = 0.0;
-  const PeakShape shape(p, q(0));
-  for (int k = 0; k < n; ++k) rss += std::pow(q(2) + shape.At(t(k) - q(1)).displacement - x(k), 2);
-  fit.rms = std::sqrt(rss / n);
+  // The unweighted residuals, from the weighted ones at the solution.
+  fit.rms = std::sqrt(r.cwiseQuotient(w).squaredNorm() / n);
   return fit;
 }
 
