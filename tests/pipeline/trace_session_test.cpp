@@ -13,6 +13,7 @@
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
 #include "pipeline/reduce.h"
+#include "pipeline/trace_run.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -209,6 +210,27 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
   const SessionResult fourth = ReduceSession(session, again);
   CHECK_FALSE(fourth.runs[0].reused);
   CHECK(fourth.runs[1].reused);
+}
+
+TEST_CASE("calibration cache: a calibration's cost is charged once, to the first run that asks") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  const Session session = ReadManifest(dir.path()).session;
+  const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,
+                          PendulumConvention::kExact};
+  CalibrationCache cache(session, pendulum);
+  // Computed ahead of the runs, as reduce does: nobody charged yet.
+  const CalibratedCell& ahead = cache.Get("R");
+  CHECK(ahead.cost.calibrate > 0.0);
+  StageSeconds first, second;
+  const CalibratedCell& asked = cache.Get("R", &first);
+  cache.Get("R", &second);
+  CHECK(&asked == &ahead);  // computed once
+  CHECK(first.calibrate == ahead.cost.calibrate);
+  CHECK(first.load == ahead.cost.load);
+  CHECK(second.calibrate == 0.0);
+  CHECK(second.load == 0.0);
+  CHECK_THROWS_AS(cache.Get("no such", &second), InputError);
 }
 
 TEST_CASE("parallel: two jobs give exactly the results of one") {
