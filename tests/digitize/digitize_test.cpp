@@ -3,6 +3,7 @@
 // the contact pulse's width, and that no sample lies off the true trace.
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -10,11 +11,13 @@
 
 #include <catch2/catch.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
 #include "render/oscillograph.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace impactlab {
 namespace {
@@ -132,6 +135,32 @@ TEST_CASE("digitize: grey and 16-bit photos give the same traces as 8-bit colour
     CHECK(sb.rms_px < 0.2);
     CHECK(std::abs(sa.rms_px - sb.rms_px) < 0.05);
   }
+}
+
+TEST_CASE("digitize: a colour JPEG is decoded to its luma, the grey the digitizer reads") {
+  const testing::TempDir dir;
+  RenderOptions options;
+  options.width_px = 800;
+  const cv::Mat colour = RenderOscillograph(StandardRunScene().scene, options).image;
+  REQUIRE(colour.type() == CV_8UC3);
+  std::vector<uchar> jpeg;
+  cv::imencode(".jpg", colour, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95});
+  const auto path = dir.path() / "photo.jpg";
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(jpeg.data()), static_cast<std::streamsize>(jpeg.size()));
+
+  const Photo photo = LoadPhoto(path);
+  REQUIRE(photo.image.type() == CV_8UC1);
+  // The same luma as the colour decode's BT.601 grey, but for rounding in the
+  // colour round trip.
+  cv::Mat grey;
+  cv::cvtColor(cv::imdecode(jpeg, cv::IMREAD_COLOR), grey, cv::COLOR_BGR2GRAY);
+  cv::Mat difference;
+  cv::absdiff(photo.image, grey, difference);
+  double largest = 0.0;
+  cv::minMaxLoc(difference, nullptr, &largest);
+  CHECK(largest <= 3.0);
+  CHECK(cv::mean(difference)[0] < 0.6);
 }
 
 TEST_CASE("digitize: a negative is recognised and read as such") {
