@@ -25,6 +25,7 @@ namespace {
 using testing::ScoreTrace;
 using testing::StandardRunScene;
 using testing::TraceScore;
+using testing::WorstMappingError;
 
 // Per style, about 1.5 times the worst seen over seeds 1..5 at these widths
 // (bench/digitize_bench.cpp measures them; docs/digitizing.md has the table).
@@ -40,17 +41,6 @@ const std::map<PhotoStyle, Tolerance> kTolerance = {
     {PhotoStyle::kPhone, {1600, 0.15, 0.3, 0.5}},  {PhotoStyle::kNegative, {1600, 0.15, 0.35, 0.5}},
     {PhotoStyle::kLowres, {1000, 0.45, 0.5, 1.0}},
 };
-
-double WorstMappingError(const GraticuleFit& fit, const RenderedPhoto& photo) {
-  double worst = 0.0;
-  for (double x = 0.0; x <= fit.divisions[0]; x += 0.5) {
-    for (double y = -0.5 * fit.divisions[1]; y <= 0.5 * fit.divisions[1]; y += 0.5) {
-      worst = std::max(
-          worst, cv::norm(fit.mapping.ImageFromScreen({x, y}) - photo.ImageFromScreen({x, y})));
-    }
-  }
-  return worst;
-}
 
 }  // namespace
 

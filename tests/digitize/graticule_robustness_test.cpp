@@ -13,6 +13,7 @@
 
 #include "digitize/digitize.h"
 #include "synth/session_generator.h"
+#include "tests/digitize/photo_scenes.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -26,19 +27,6 @@ GraticuleMapping MappingFromTruth(const nlohmann::json& mapping) {
                                  mapping["distortion_centre_px"][1].get<double>()};
   result.distortion_radius_px = mapping["distortion_radius_px"].get<double>();
   return result;
-}
-
-// The largest distance between the fitted and the true image of the screen's
-// points every half division.
-double WorstMappingError(const GraticuleFit& fit, const GraticuleMapping& truth) {
-  double worst = 0.0;
-  for (double x = 0.0; x <= fit.divisions[0]; x += 0.5) {
-    for (double y = -0.5 * fit.divisions[1]; y <= 0.5 * fit.divisions[1]; y += 0.5) {
-      worst = std::max(
-          worst, cv::norm(fit.mapping.ImageFromScreen({x, y}) - truth.ImageFromScreen({x, y})));
-    }
-  }
-  return worst;
 }
 
 }  // namespace
@@ -75,7 +63,7 @@ TEST_CASE("graticule: a long bright contact level and faint far grid lines do no
     const GraticuleFit fit = FindGraticule(PreparePhoto(photo, options), {10, 8}, options);
     CHECK(fit.residual_px < 0.5);
     // About 1.5 times the worst seen (0.17 px phone, 0.12 px polaroid).
-    CHECK(WorstMappingError(fit, truth) < 0.3);
+    CHECK(testing::WorstMappingError(fit, truth) < 0.3);
   }
 }
 

@@ -101,6 +101,21 @@ struct TraceScore {
   double coverage = 0.0;        // share of the drawn truth samples with a digitized sample near
 };
 
+// The largest distance between the fitted and the true image of the screen's
+// points every half division. `truth`: anything with ImageFromScreen (the
+// renderer's photo, a GraticuleMapping).
+template <typename Truth>
+double WorstMappingError(const GraticuleFit& fit, const Truth& truth) {
+  double worst = 0.0;
+  for (double x = 0.0; x <= fit.divisions[0]; x += 0.5) {
+    for (double y = -0.5 * fit.divisions[1]; y <= 0.5 * fit.divisions[1]; y += 0.5) {
+      worst = std::max(
+          worst, cv::norm(fit.mapping.ImageFromScreen({x, y}) - truth.ImageFromScreen({x, y})));
+    }
+  }
+  return worst;
+}
+
 // Distance from p to the polyline through `points`, whose segments are short.
 inline double DistanceToPolyline(const std::vector<cv::Point2d>& points, cv::Point2d p,
                                  std::size_t& hint) {
