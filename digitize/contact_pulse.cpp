@@ -12,6 +12,11 @@
 // line's own profile as read where the stroke is not (rows beyond the
 // levels), scaled by how much brighter the neighbouring grid lines are at
 // the stroke's height than there, and the stroke.
+//
+// The levels' ends time each edge too (level_jump.h): the bright level the
+// beam leaves ends where the one it reaches begins, and a grid line both
+// rows cross cancels in their difference. The two measures are weighed by
+// their variances.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -20,6 +25,8 @@
 #include "digitize/contact_stroke.h"
 #include "digitize/digitize.h"
 #include "digitize/ink_sampler.h"
+#include "digitize/interpolate.h"
+#include "digitize/level_jump.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
 #include "digitize/select.h"
@@ -28,6 +35,7 @@ namespace impactlab {
 
 namespace {
 
+using digitize::CatmullRom;
 using digitize::FitStroke;
 using digitize::GridCrossings;
 using digitize::ImageFromScreen;
@@ -183,19 +191,6 @@ std::vector<double> Background(const std::vector<double>& v) {
   return b;
 }
 
-// Catmull-Rom interpolation of equally spaced samples (0 beyond them): a
-// straight interpolation would blur a line reflected about a point between
-// samples.
-double Interpolate(const std::vector<double>& v, double position) {
-  const int i = static_cast<int>(std::floor(position));
-  const int n = static_cast<int>(v.size());
-  if (i < 1 || i + 2 >= n) return 0.0;
-  const double f = position - i, p0 = v[i - 1], p1 = v[i], p2 = v[i + 1], p3 = v[i + 2];
-  return p1 + 0.5 * f *
-                  (p2 - p0 +
-                   f * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + f * (3.0 * (p1 - p2) + p3 - p0)));
-}
-
 // A grid line's own light along a profile (ink above the screen), from rows
 // where nothing else is: each row less its straight background, the rows a
 // trace runs through (their background well above the others') left out, and
@@ -256,7 +251,7 @@ std::vector<double> LineTemplate(const std::vector<Rows>& sources, const Profile
     if (std::abs(u) <= r2) part[i] = median[i] - (a + b * u);
   }
   const double step = offsets[1] - offsets[0];
-  auto at = [&](double u) { return Interpolate(part, (u - offsets.front()) / step); };
+  auto at = [&](double u) { return CatmullRom(part, (u - offsets.front()) / step); };
   auto asymmetry = [&](double m) {
     double sum = 0.0;
     for (double d = step; d <= r1; d += step) {
@@ -425,10 +420,11 @@ struct StrokeHint {
 struct StrokeData {
   double guess_div = 0.0, mid_div = 0.0;
   double px_per_div = 0.0, reach_px = 0.0, width_px = 0.0;
-  Rows rows;                  // the stroke's rows
-  std::vector<double> total;  // their mean
-  double total_y = 0.0;       // and its height
-  Profile whole;              // the mean as a profile, with the lines it crosses
+  double half_length_px = 0.0;  // of every profile read
+  Rows rows;                    // the stroke's rows
+  std::vector<double> total;    // their mean
+  double total_y = 0.0;         // and its height
+  Profile whole;                // the mean as a profile, with the lines it crosses
   std::vector<StrokeNeighbour> neighbours;
 };
 
@@ -448,6 +444,7 @@ std::optional<StrokeData> ReadStroke(const RowReader& reader, const GraticuleFit
   d.reach_px = reach_div * d.px_per_div;
   // Room beyond the search for the stroke's flanks and a grid line beside it.
   const double half_length = d.reach_px + std::max(4.0 * width_px, 12.0);
+  d.half_length_px = half_length;
   const double span = std::abs(high_div - low_div);
   RowPlan plan;
   plan.bottom = std::min(low_div, high_div);
@@ -595,6 +592,44 @@ std::optional<StrokeEdge> FitEdge(const RowReader& reader, const GraticuleFit& g
   return out;
 }
 
+// The edge where the beam leaves the level at `leaving_div` and reaches the
+// one at `reaching_div` (level_jump.h): each level's mean profile across its
+// trace's core, on the stroke rows' offsets. Nullopt when a level has no
+// clear rows (a horizontal grid line along it) or no step shows.
+std::optional<PulseEdge> FitJump(const RowReader& reader, const GraticuleFit& graticule,
+                                 const StrokeData& d, double leaving_div, double reaching_div) {
+  const double half_width_div = 0.5 * d.width_px / d.px_per_div;
+  const int count = std::max(1, static_cast<int>(std::lround(2.0 * d.width_px)));
+  std::vector<double> profiles[2];
+  int k = 0;
+  for (const double level : {leaving_div, reaching_div}) {
+    const Rows rows = reader.Read(d.guess_div, level - half_width_div, level + half_width_div,
+                                  count, d.half_length_px);
+    if (rows.size() == 0 || rows.offsets != d.rows.offsets) return std::nullopt;
+    double y = 0.0;
+    profiles[k++] = rows.Mean(0, rows.size(), &y);
+  }
+  digitize::LevelJumpSearch search;
+  search.centre_lo_px = -d.reach_px;
+  search.centre_hi_px = d.reach_px;
+  search.half_window_px = 2.0 * d.width_px + 2.0;
+  for (const StrokeNeighbour& line : d.neighbours) search.lines.push_back(line.shape);
+  const digitize::LevelJump jump =
+      digitize::FitLevelJump(d.rows.offsets, profiles[0], profiles[1], search);
+  if (!jump.found) return std::nullopt;
+  // What the antisymmetry leaves misses the noise's correlation across rows
+  // (JPEG blocks, grain) and what of the lines does not cancel: three times
+  // its sigma keeps nine in ten edges within 1.7 sigmas of the truth in
+  // every photo style (measured against the renderer's, 5 styles x 4 seeds).
+  constexpr double kUnexplained = 3.0;
+  PulseEdge edge;
+  edge.from_image = true;
+  edge.time_s = reader.ScreenX(d.whole, jump.centre_px);  // screen x for now
+  edge.sigma_s = kUnexplained * jump.sigma_px / d.px_per_div;
+  edge.centre_px = graticule.mapping.ImageFromScreen({edge.time_s, d.mid_div});
+  return edge;
+}
+
 }  // namespace
 
 std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
@@ -705,7 +740,13 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
       if (!fall) fall = stroke_at(fall_before, fall_after, &hint);
     }
   }
-  auto finish = [&](int before, int after, const std::optional<StrokeEdge>& stroke) {
+  // The levels' ends measure each edge too (FitJump), from the bright
+  // levels rather than the faint stroke.
+  std::optional<PulseEdge> rise_jump, fall_jump;
+  if (rise_data) rise_jump = FitJump(reader, graticule, *rise_data, low_div, high_div);
+  if (fall_data) fall_jump = FitJump(reader, graticule, *fall_data, high_div, low_div);
+  auto finish = [&](int before, int after, const std::optional<StrokeEdge>& stroke,
+                    const std::optional<PulseEdge>& jump) {
     const double x0 = screen[before].x, x1 = screen[after].x;
     std::optional<PulseEdge> edge;
     if (stroke) edge = stroke->edge;
@@ -716,6 +757,18 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     if (stroke &&
         ((!stroke->line_measured && stroke->separation < kClear) || !stroke->line_as_expected)) {
       edge->sigma_s = std::hypot(edge->sigma_s, (x1 - x0) / std::sqrt(12.0));
+    }
+    // The stroke's and the levels' ends' measures, each weighed by the
+    // inverse of its variance.
+    if (edge && jump) {
+      const double w_stroke = 1.0 / (edge->sigma_s * edge->sigma_s);
+      const double w_jump = 1.0 / (jump->sigma_s * jump->sigma_s);
+      edge->time_s = (w_stroke * edge->time_s + w_jump * jump->time_s) / (w_stroke + w_jump);
+      edge->sigma_s = 1.0 / std::sqrt(w_stroke + w_jump);
+      edge->centre_px =
+          graticule.mapping.ImageFromScreen({edge->time_s, 0.5 * (low_div + high_div)});
+    } else if (jump) {
+      edge = jump;
     }
     if (!edge) {
       // No stroke to be seen: between the levels' ends, as a sampled trace would.
@@ -734,8 +787,8 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     return *edge;
   };
   ContactPulseFit fit;
-  fit.rise = finish(rise_before, rise_after, rise);
-  fit.fall = finish(fall_before, fall_after, fall);
+  fit.rise = finish(rise_before, rise_after, rise, rise_jump);
+  fit.fall = finish(fall_before, fall_after, fall, fall_jump);
   fit.width_s = fit.fall.time_s - fit.rise.time_s;
   fit.width_sigma_s = std::hypot(fit.rise.sigma_s, fit.fall.sigma_s);
   fit.low_volts = (std::min(low, high) - s.zero_div) * s.volts_per_div;

@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "digitize/minimize.h"
+
 namespace impactlab::digitize {
 
 namespace {
@@ -368,30 +370,6 @@ class Model {
   double vv_ = 0.0;
   double mid_ = 0.0, half_ = 1.0, step_ = 1.0;
 };
-
-// Refines a minimum of f along one coordinate: parabolas through the best
-// point and its neighbours `step` away, the step halved each time.
-template <typename F>
-double RefineMinimum(F f, double x, double step, double lo, double hi, int rounds) {
-  double fx = f(x);
-  for (int r = 0; r < rounds; ++r, step *= 0.5) {
-    const double a = std::max(lo, x - step), b = std::min(hi, x + step);
-    const double fa = f(a), fb = f(b);
-    double next = x;
-    if (fa < fx && fa <= fb) {
-      next = a;
-    } else if (fb < fx) {
-      next = b;
-    } else {
-      const double curvature = fa - 2.0 * fx + fb;
-      if (curvature > 0.0 && a < x && x < b) next = x + 0.5 * step * (fa - fb) / curvature;
-    }
-    next = std::clamp(next, lo, hi);
-    const double fn = f(next);
-    if (fn < fx) x = next, fx = fn;
-  }
-  return x;
-}
 
 }  // namespace
 

@@ -245,7 +245,8 @@ struct PulseEdge {
   double time_s = 0.0;      // where the beam crosses half way between the levels, s
   double sigma_s = 0.0;     // one standard deviation, s
   cv::Point2d centre_px;    // the crossing in the photo
-  bool from_image = false;  // measured on the faint edge itself, else between the level ends
+  bool from_image = false;  // measured in the photo (the stroke, the levels' ends), else put
+                            // between the last samples of each level
 };
 
 struct ContactPulseFit {
