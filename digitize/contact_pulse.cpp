@@ -619,7 +619,7 @@ std::optional<PulseEdge> FitJump(const RowReader& reader, const GraticuleFit& gr
   if (!jump.found) return std::nullopt;
   // What the antisymmetry leaves misses the noise's correlation across rows
   // (JPEG blocks, grain) and what of the lines does not cancel: three times
-  // its sigma keeps nine in ten edges within 1.7 sigmas of the truth in
+  // its sigma keeps nine in ten edges within 1.5 sigmas of the truth in
   // every photo style (measured against the renderer's, 5 styles x 4 seeds).
   constexpr double kUnexplained = 3.0;
   PulseEdge edge;
