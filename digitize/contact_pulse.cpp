@@ -595,7 +595,8 @@ std::optional<StrokeEdge> FitEdge(const RowReader& reader, const GraticuleFit& g
 // The edge where the beam leaves the level at `leaving_div` and reaches the
 // one at `reaching_div` (level_jump.h): each level's mean profile across its
 // trace's core, on the stroke rows' offsets. Nullopt when a level has no
-// clear rows (a horizontal grid line along it) or no step shows.
+// clear rows (a horizontal grid line or minor ticks along it) or no step
+// shows.
 std::optional<PulseEdge> FitJump(const RowReader& reader, const GraticuleFit& graticule,
                                  const StrokeData& d, double leaving_div, double reaching_div) {
   const double half_width_div = 0.5 * d.width_px / d.px_per_div;

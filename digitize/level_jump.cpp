@@ -14,8 +14,9 @@ namespace impactlab::digitize {
 namespace {
 
 // D's antisymmetry about trial centres, on pairs s = step, 2 step, ... out to
-// the window either side: r_k = D(m + s_k) + D(m - s_k) fitted as 2 mu plus
-// each line's share, L(m + s_k) + L(m - s_k) times its coefficient.
+// the window either side: r_k = D(m + s_k) + D(m - s_k) fitted as 2 mu plus,
+// for each line, c (L(m + s_k) - L(m - s_k)) times how differently bright
+// the two rows are at s_k as a share of the whole step; c in [0, 1].
 class Antisymmetry {
  public:
   Antisymmetry(const std::vector<double>& offsets, const std::vector<double>& difference,
@@ -36,9 +37,8 @@ class Antisymmetry {
     return fit.anti > 0.0 ? fit.rss / fit.anti : std::numeric_limits<double>::max();
   }
 
-  // The residuals' RMS and the centre's standard deviation (from the whole
-  // Jacobian, the lines' coefficients and mu too), the residuals' correlation
-  // along s allowed for.
+  // The residuals' RMS and the centre's standard deviation, the residuals'
+  // correlation along s allowed for.
   void Uncertainty(double m, double* rms, double* sigma) const {
     const Fit fit = Solve(m);
     *rms = std::sqrt(fit.rss / std::max(1, pairs_ - fit.parameters - 1));

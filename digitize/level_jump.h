@@ -17,8 +17,10 @@
 // A line cancels only as far as the photo adds light: where it crosses one
 // level's bright part and the other's dark background, a saturating tone
 // curve shows it fainter on the bright one. What is left of it in D is about
-// the line's own profile, of unknown height: a term of the fit, which costs
-// the centre precision only when the line lies within the beam's end.
+// the line's own profile times how differently bright the two rows are
+// there, times the share of the line that does not cancel (between none and
+// all of it): a term of the fit, which costs the centre precision only when
+// the line lies within the beam's end.
 #pragma once
 
 #include <vector>
