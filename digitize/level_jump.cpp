@@ -70,16 +70,16 @@ class Antisymmetry {
     // How differently bright the two rows are at each pair, as a share of
     // the levels' whole step: what is left of a line there in D.
     Eigen::VectorXd r(pairs_), share(pairs_);
-    double step = 0.0;
+    double whole_step = 0.0;  // the levels' step, not the samples'
     for (int k = 1; k <= pairs_; ++k) {
       const double a = At(m + k * step_), b = At(m - k * step_);
       r[k - 1] = a + b;
       share[k - 1] = b - a;
       fit.anti += (b - a) * (b - a);
-      step = std::max(step, b - a);
+      whole_step = std::max(whole_step, b - a);
     }
     for (int k = 0; k < pairs_; ++k) {
-      share[k] = step > 0.0 ? std::clamp(share[k] / step, -1.0, 1.0) : 0.0;
+      share[k] = whole_step > 0.0 ? std::clamp(share[k] / whole_step, -1.0, 1.0) : 0.0;
     }
     std::vector<Eigen::VectorXd> columns;
     for (const std::vector<double>& line : lines_) {
