@@ -1,6 +1,7 @@
 // AverageHistories: the thesis averaged the right and left bars' displacements
 // before reading the maxima; one bar's gap must not become the average's.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <utility>
@@ -11,10 +12,11 @@ namespace impactlab {
 namespace {
 
 // x of history h at time t, if t lies between two of its samples no further
-// apart than `max_span_s` (never across a gap). A cubic through the two
-// samples either side where they are as close, else a straight line: a
-// chord cuts under a peak by X'' h^2 / 8, which for a slow sweep's chopper
-// gaps is a tenth of a percent of the maximum.
+// apart than `max_span_s` (never across a gap), with its one-sigma. A cubic
+// through the two samples either side where they are as close and evenly
+// enough spaced, else a straight line: a chord cuts under a peak by
+// X'' h^2 / 8, which across a slow sweep's chopper gaps is a tenth of a
+// percent of the maximum.
 std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& h, double t,
                                                      double max_span_s) {
   const auto it = std::lower_bound(h.time_s.begin(), h.time_s.end(), t);
@@ -26,16 +28,25 @@ std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& 
   if (k == 0 || !joined(k)) return std::nullopt;
   const double sigma = std::max(sigma_at(k - 1), sigma_at(k));
   if (k >= 2 && k + 1 < h.time_s.size() && joined(k - 1) && joined(k + 1)) {
-    // Lagrange's cubic through samples k-2 .. k+1.
-    double x = 0.0;
-    for (std::size_t i = k - 2; i <= k + 1; ++i) {
-      double weight = 1.0;
-      for (std::size_t j = k - 2; j <= k + 1; ++j) {
-        if (j != i) weight *= (t - h.time_s[j]) / (h.time_s[i] - h.time_s[j]);
+    // Lagrange's cubic through samples k-2 .. k+1, unless its weights would
+    // amplify the samples' noise (two samples read at almost the same time).
+    std::array<double, 4> weight{1.0, 1.0, 1.0, 1.0};
+    for (std::size_t i = 0; i < 4; ++i) {
+      for (std::size_t j = 0; j < 4; ++j) {
+        const double ti = h.time_s[k - 2 + i], tj = h.time_s[k - 2 + j];
+        if (j != i) weight[i] *= (t - tj) / (ti - tj);
       }
-      x += weight * h.displacement[i];
     }
-    return std::pair{x, sigma};
+    // The noise gain, sqrt(sum of weights^2): under 1 on even spacing, 1.4
+    // across a gap three samples wide, thousands for two samples 1e-5 apart.
+    constexpr double kMaxNoiseGain = 2.0;
+    double gain2 = 0.0, x = 0.0, variance = 0.0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      gain2 += weight[i] * weight[i];
+      x += weight[i] * h.displacement[k - 2 + i];
+      variance += weight[i] * weight[i] * sigma_at(k - 2 + i) * sigma_at(k - 2 + i);
+    }
+    if (gain2 <= kMaxNoiseGain * kMaxNoiseGain) return std::pair{x, std::sqrt(variance)};
   }
   const double f = (t - h.time_s[k - 1]) / (h.time_s[k] - h.time_s[k - 1]);
   return std::pair{h.displacement[k - 1] + f * (h.displacement[k] - h.displacement[k - 1]), sigma};

@@ -167,6 +167,23 @@ TEST_CASE("rebounds: averaging chopped traces read at different times keeps the 
   }
 }
 
+TEST_CASE("rebounds: two samples read at almost the same time do not upset the average") {
+  // A cubic through them would weigh their difference by hundreds.
+  const Truth truth = Simulate(0.6, 8e-3, 0.0, 1);
+  DisplacementHistory right = truth.history;
+  const DisplacementHistory left = Simulate(0.6, 7e-3, 0.0, 1).history;  // read between them
+  for (double peak : {truth.sequence.peak_time[1], truth.sequence.peak_time[2]}) {
+    const auto at = static_cast<std::size_t>(
+        std::lower_bound(right.time_s.begin(), right.time_s.end(), peak) - right.time_s.begin());
+    right.time_s.insert(right.time_s.begin() + at + 1, right.time_s[at] + 1e-5);
+    right.displacement.insert(right.displacement.begin() + at + 1, right.displacement[at] + 1e-3);
+  }
+  const ReboundExtraction r = ExtractRebounds(AverageHistories(right, left), kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  CHECK(r.rebounds[0].xmax.value == Approx(truth.sequence.xmax[1]).epsilon(2e-4));
+  CHECK(r.rebounds[1].xmax.value == Approx(truth.sequence.xmax[2]).epsilon(2e-4));
+}
+
 TEST_CASE("contact_pulse: a sampled step gives its width to a fraction of the sample spacing") {
   Trace trace;
   const double rise = 123.4e-6, width = 353.35e-6, dt = 1e-6;
