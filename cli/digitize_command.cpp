@@ -137,8 +137,12 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
             g.radial_fitted ? fmt::format(", radial k1 {:.4f}", g.mapping.radial_k1) : "");
         for (std::size_t i = 0; i < result.traces.size(); ++i) {
           const DigitizedTrace& t = result.traces[i];
-          fmt::print("  {}: {} samples over {:.0f} % of the sweep, centre scatter {:.2f} px\n",
-                     t.name, t.trace.time_s.size(), 100.0 * t.coverage, t.noise_px);
+          fmt::print(
+              "  {}: {} samples over {:.0f} % of the sweep, centre scatter {:.2f} px{}\n", t.name,
+              t.trace.time_s.size(), 100.0 * t.coverage, t.noise_px,
+              t.spread_px2 > 0.0
+                  ? fmt::format(", spread {:.2f} px^2 (its curvature pull undone)", t.spread_px2)
+                  : "");
           if (result.pulses[i]) {
             const ContactPulseFit& p = *result.pulses[i];
             fmt::print("  {}: contact pulse {:.3f} +- {:.3f} us (rise {:.3f} us, fall {:.3f} us)\n",

@@ -227,7 +227,11 @@ struct DigitizedTrace {
   double width_px = 0.0;                // the trace's typical full width at half maximum
   double height = 0.0;                  // its typical height above the screen, ink units
   double noise_px = 0.0;                // robust scatter of the centre about its neighbours
-  int outliers = 0;                     // samples dropped as outliers
+  // s^2 of the trace's exposure about its path (spot and blur), measured from
+  // its width against writing speed; the curvature pull s^2 kappa / 2 it
+  // causes is taken out of screen_div and the trace (0: not measured).
+  double spread_px2 = 0.0;
+  int outliers = 0;  // samples dropped as outliers
 };
 
 // Throws InputError naming the photo and the trace when a trace is not found

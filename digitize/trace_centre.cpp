@@ -6,10 +6,12 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "digitize/beam_spread.h"
 #include "digitize/digitize.h"
 #include "digitize/ink_sampler.h"
 #include "digitize/line_profile.h"
@@ -28,6 +30,7 @@ using digitize::FindLineCentre;
 using digitize::GridCrossings;
 using digitize::ImageFromScreen;
 using digitize::InkSampler;
+using digitize::LevelHalfWidths;
 using digitize::LineCentre;
 using digitize::Profile;
 using digitize::ReadProfile;
@@ -129,6 +132,7 @@ struct Sample {
   double height = 0.0;
   double fwhm_px = 0.0;
   double crossing_share = 0.0;
+  LevelHalfWidths half_widths{};  // across the line at the spread's levels
   int piece = 0;
   bool keep = true;
   double confidence = 1.0;
@@ -140,6 +144,9 @@ struct MeasureSettings {
   double half_length_px = 10.0;
   double profile_step_px = 0.5;
   CentreSettings centre;
+  // The trace's typical height, for the half-widths at the spread's levels
+  // (0: not read).
+  double typical_height = 0.0;
 };
 
 // Measures across the trace at x = x0, x0 + step, ... wherever the course is known.
@@ -178,46 +185,62 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
     sample.height = centre.height;
     sample.fwhm_px = centre.fwhm_px;
     sample.crossing_share = centre.crossing_share;
+    if (settings.typical_height > 0.0) {
+      sample.half_widths =
+          digitize::MeasureLevelHalfWidths(profile, centre, settings.typical_height);
+    }
     sample.piece = piece;
     samples.push_back(sample);
   }
   return samples;
 }
 
+// A parabola y = c0 + c1 x + c2 x^2 (screen divisions, x and y from sample
+// i) through sample i's nearest `neighbours` either side on the same piece
+// within `reach_div`, not itself; a straight line with fewer than five,
+// nothing with fewer than three.
+std::optional<cv::Vec3d> LocalParabola(const std::vector<Sample>& samples, int i, double reach_div,
+                                       int neighbours = 10) {
+  const int kReach = neighbours;
+  const int n = static_cast<int>(samples.size());
+  const cv::Point2d centre = samples[i].screen_div;
+  cv::Matx33d normal = cv::Matx33d::zeros();
+  cv::Vec3d rhs(0.0, 0.0, 0.0);
+  int count = 0;
+  for (int j = std::max(0, i - kReach); j <= std::min(n - 1, i + kReach); ++j) {
+    const double x = samples[j].screen_div.x - centre.x, y = samples[j].screen_div.y - centre.y;
+    if (j == i || samples[j].piece != samples[i].piece || std::abs(x) > reach_div) continue;
+    const cv::Vec3d basis(1.0, x, x * x);
+    normal += basis * basis.t();
+    rhs += y * basis;
+    ++count;
+  }
+  if (count < 3) return std::nullopt;
+  if (count < 5) normal(2, 2) += 1e6 * (normal(1, 1) + 1e-12);  // a straight line
+  cv::Vec3d fit;
+  if (!cv::solve(normal, rhs, fit, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  return fit;
+}
+
+double OutlierReach(double step_div) { return std::max(0.1, 6.5 * step_div); }
+
 // Drops samples further than `sigmas` robust sigmas from a smooth curve
-// through their neighbours on the same piece (a parabola in x over the
-// nearest tenth of a division or so; a straight line with few neighbours);
-// returns that robust sigma across the trace, the centre's scatter (pixels).
-// A sample with fewer than three neighbours (its stretch otherwise dropped)
-// is not trusted.
+// through their neighbours on the same piece (LocalParabola over the nearest
+// tenth of a division or so); returns that robust sigma across the trace, the
+// centre's scatter (pixels). A sample with fewer than three neighbours (its
+// stretch otherwise dropped) is not trusted.
 double RejectOutliers(std::vector<Sample>& samples, double step_div, double px_per_div,
                       double sigmas, int* dropped) {
-  constexpr int kReach = 10;
-  const double reach_div = std::max(0.1, 6.5 * step_div);
   const int n = static_cast<int>(samples.size());
   std::vector<double> residuals(n, 0.0);
   for (int i = 0; i < n; ++i) {
-    const cv::Point2d centre = samples[i].screen_div;
-    cv::Matx33d normal = cv::Matx33d::zeros();
-    cv::Vec3d rhs(0.0, 0.0, 0.0);
-    int count = 0;
-    for (int j = std::max(0, i - kReach); j <= std::min(n - 1, i + kReach); ++j) {
-      const double x = samples[j].screen_div.x - centre.x, y = samples[j].screen_div.y - centre.y;
-      if (j == i || samples[j].piece != samples[i].piece || std::abs(x) > reach_div) continue;
-      const cv::Vec3d basis(1.0, x, x * x);
-      normal += basis * basis.t();
-      rhs += y * basis;
-      ++count;
-    }
-    if (count < 3) {
+    const std::optional<cv::Vec3d> fit = LocalParabola(samples, i, OutlierReach(step_div));
+    if (!fit) {
       residuals[i] = std::numeric_limits<double>::infinity();
       continue;
     }
-    if (count < 5) normal(2, 2) += 1e6 * (normal(1, 1) + 1e-12);  // a straight line
-    cv::Vec3d fit;
-    if (!cv::solve(normal, rhs, fit, cv::DECOMP_CHOLESKY)) continue;
     // Across the trace: the vertical miss shrunk by the slope.
-    residuals[i] = -fit[0] * px_per_div / std::sqrt(1.0 + fit[1] * fit[1]);
+    residuals[i] = -(*fit)[0] * px_per_div / std::sqrt(1.0 + (*fit)[1] * (*fit)[1]);
   }
   std::vector<double> magnitudes;
   for (const double r : residuals) {
@@ -336,6 +359,47 @@ void DropShortRuns(std::vector<Sample>& samples, double step_div, double width_p
   }
 }
 
+// Moves each sample out of its curve by the spread's pull, s^2 kappa / 2
+// along the normal (beam_spread.h), with s^2 measured on the trace itself;
+// returns s^2 (0 when it cannot be measured: too few samples or too narrow a
+// range of writing speeds, as on a fast sweep, which curves too little to
+// matter). In screen terms the pull moves y by s^2 y'' / (2 p^2 (1 + y'^2)).
+double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double px_per_div,
+                         double width_px) {
+  const int n = static_cast<int>(samples.size());
+  std::vector<std::optional<cv::Vec3d>> shape(n);
+  std::vector<digitize::SpreadPoint> points;
+  std::vector<double> xs(n);
+  for (int i = 0; i < n; ++i) xs[i] = samples[i].screen_div.x;  // increasing
+  for (int i = 0; i < n; ++i) {
+    // Near a slow sweep's peaks a chopper's gaps and the dropped corners
+    // leave few samples: reach further there for a curve, not a chord.
+    for (double reach = OutlierReach(step_div); reach < 0.5 && !shape[i]; reach *= 2.0) {
+      const int from =
+          static_cast<int>(std::lower_bound(xs.begin(), xs.end(), xs[i] - reach) - xs.begin());
+      const int to =
+          static_cast<int>(std::upper_bound(xs.begin(), xs.end(), xs[i] + reach) - xs.begin());
+      int count = 0;
+      for (int j = from; j < to; ++j) count += j != i && samples[j].piece == samples[i].piece;
+      if (count >= 6) shape[i] = LocalParabola(samples, i, reach, std::max(i - from, to - i));
+    }
+    if (!shape[i] || samples[i].crossing_share > 0.0) continue;
+    points.push_back({std::hypot(1.0, (*shape[i])[1]), samples[i].half_widths});
+  }
+  const digitize::SpreadEstimate spread = digitize::EstimateSpread(points);
+  // A concave tone curve only widens a line: its spread is at most what its
+  // width would give with none.
+  const double widest = std::pow(width_px / 2.354820045, 2);
+  if (!spread.found || spread.variance_px2 > widest) return 0.0;
+  const double pull = spread.variance_px2 / (2.0 * px_per_div * px_per_div);
+  for (int i = 0; i < n; ++i) {
+    if (!shape[i]) continue;
+    const double slope = (*shape[i])[1], second = 2.0 * (*shape[i])[2];
+    samples[i].screen_div.y -= pull * second / (1.0 + slope * slope);
+  }
+  return spread.variance_px2;
+}
+
 DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                             const TraceRequest& request, const CoarsePath& path,
                             const TraceOptions& options) {
@@ -360,11 +424,13 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   settings.half_length_px = settings.search_px + std::max(6.0, 0.08 * px_per_div);
   settings.profile_step_px = 0.5;
   const double step_div = 1.0 / (px_per_div * options.samples_per_px);
-  std::vector<double> widths;
+  std::vector<double> widths, first_heights;
   for (const Sample& s : MeasureAlong(ink, graticule, course, grid, settings, 10.0 * step_div)) {
     widths.push_back(s.fwhm_px);
+    first_heights.push_back(s.height);
   }
   const double width_px = std::max(1.0, Median(widths));
+  settings.typical_height = Median(first_heights);
 
   settings.half_length_px = settings.search_px + options.profile_half_widths * width_px;
   settings.profile_step_px = std::clamp(width_px / 6.0, 0.25, 1.0);
@@ -404,6 +470,7 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   std::erase_if(samples, [](const Sample& s) { return !s.keep; });
 
   std::erase_if(samples, [&](const Sample& s) { return s.confidence < options.min_confidence; });
+  result.spread_px2 = UndoCurvaturePull(samples, step_div, px_per_div, width_px);
 
   // Time must increase: where the trace runs back (it cannot, but a steep
   // stretch's samples may), the later sample goes.
