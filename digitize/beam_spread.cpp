@@ -9,19 +9,27 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-// Where the profile, walking from index `from` in direction `step` (+-1),
-// first falls below `level` above the background: an offset in pixels, or
-// NaN if it never does within the profile.
-double FallsBelow(const Profile& profile, double background, double level, int from, int step) {
+// Walks the profile from index `from` in direction `step` (+-1) and notes
+// where it first falls below each level above the background (offsets in
+// pixels, NaN for a level it never falls below). Levels ascend, so the walk
+// meets them from the last down, in one pass.
+std::array<double, kSpreadLevels.size()> FallsBelow(
+    const Profile& profile, double background,
+    const std::array<double, kSpreadLevels.size()>& level, int from, int step) {
+  std::array<double, kSpreadLevels.size()> at;
+  at.fill(std::numeric_limits<double>::quiet_NaN());
   const std::vector<float>& v = profile.values;
   const int n = static_cast<int>(v.size());
-  for (int i = from; i + step >= 0 && i + step < n; i += step) {
-    const double here = v[i] - background - level, next = v[i + step] - background - level;
-    if (here >= 0.0 && next < 0.0) {
-      return profile.OffsetAt(i) + step * profile.step_px * here / (here - next);
+  int j = static_cast<int>(level.size()) - 1;
+  for (int i = from; j >= 0 && i + step >= 0 && i + step < n; i += step) {
+    const double here = v[i] - background, next = v[i + step] - background;
+    for (; j >= 0 && next < level[j]; --j) {
+      if (here >= level[j]) {
+        at[j] = profile.OffsetAt(i) + step * profile.step_px * (here - level[j]) / (here - next);
+      }
     }
   }
-  return std::numeric_limits<double>::quiet_NaN();
+  return at;
 }
 
 struct Line {
@@ -72,14 +80,14 @@ LevelHalfWidths MeasureLevelHalfWidths(const Profile& profile, const LineCentre&
   const int middle = std::clamp(
       static_cast<int>(std::lround((centre.offset_px - profile.start_px) / profile.step_px)), 0,
       n - 1);
-  for (std::size_t j = 0; j < kSpreadLevels.size(); ++j) {
-    const double level = kSpreadLevels[j] * typical_height;
+  std::array<double, kSpreadLevels.size()> level;
+  for (std::size_t j = 0; j < level.size(); ++j) level[j] = kSpreadLevels[j] * typical_height;
+  const auto left = FallsBelow(profile, centre.background, level, middle, -1);
+  const auto right = FallsBelow(profile, centre.background, level, middle, +1);
+  for (std::size_t j = 0; j < level.size(); ++j) {
     // A level near the line's top would read the flat of a saturated core.
-    if (centre.height < 1.25 * level) continue;
-    const double left = FallsBelow(profile, centre.background, level, middle, -1);
-    const double right = FallsBelow(profile, centre.background, level, middle, +1);
-    if (std::isfinite(left) && std::isfinite(right)) {
-      out[j] = static_cast<float>(0.5 * (right - left));
+    if (centre.height >= 1.25 * level[j] && std::isfinite(left[j]) && std::isfinite(right[j])) {
+      out[j] = static_cast<float>(0.5 * (right[j] - left[j]));
     }
   }
   return out;
@@ -87,7 +95,6 @@ LevelHalfWidths MeasureLevelHalfWidths(const Profile& profile, const LineCentre&
 
 SpreadEstimate EstimateSpread(const std::vector<SpreadPoint>& points) {
   constexpr int kMinSamples = 30;
-  constexpr double kMinSpeedRatio = 1.5;
   SpreadEstimate best;
   for (std::size_t j = 0; j < kSpreadLevels.size(); ++j) {
     std::vector<double> x, y;

@@ -28,6 +28,9 @@ namespace impactlab::digitize {
 inline constexpr std::array<double, 8> kSpreadLevels = {0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.5, 0.6};
 using LevelHalfWidths = std::array<float, kSpreadLevels.size()>;
 
+// The spread is measured only over writing speeds at least this factor apart.
+inline constexpr double kMinSpeedRatio = 1.5;
+
 // Half-widths (pixels, across the line) where the profile falls to each level
 // times `typical_height` above its background; NaN where the line's peak is
 // not clearly above the level (the level would graze its top).
@@ -48,8 +51,8 @@ struct SpreadEstimate {
 };
 
 // s^2 from the half-widths' fall with writing speed, at whichever level gives
-// the tightest estimate. Not found unless the points span writing speeds a
-// factor 1.5 apart and the estimate is clearly above zero.
+// the tightest estimate. Not found unless the points span writing speeds
+// kMinSpeedRatio apart and the estimate is clearly above zero.
 SpreadEstimate EstimateSpread(const std::vector<SpreadPoint>& points);
 
 }  // namespace impactlab::digitize

@@ -217,8 +217,15 @@ std::optional<cv::Vec3d> LocalParabola(const std::vector<Sample>& samples, int i
   }
   if (count < 3) return std::nullopt;
   if (count < 5) normal(2, 2) += 1e6 * (normal(1, 1) + 1e-12);  // a straight line
+  // Cramer's rule: cv::solve's setup costs more than the 3 x 3 solve itself.
+  const double det = cv::determinant(normal);
+  if (!(std::abs(det) > 1e-300)) return std::nullopt;
   cv::Vec3d fit;
-  if (!cv::solve(normal, rhs, fit, cv::DECOMP_CHOLESKY)) return std::nullopt;
+  for (int k = 0; k < 3; ++k) {
+    cv::Matx33d replaced = normal;
+    for (int r = 0; r < 3; ++r) replaced(r, k) = rhs[r];
+    fit[k] = cv::determinant(replaced) / det;
+  }
   return fit;
 }
 
@@ -367,6 +374,19 @@ void DropShortRuns(std::vector<Sample>& samples, double step_div, double width_p
 double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double px_per_div,
                          double width_px) {
   const int n = static_cast<int>(samples.size());
+  // A trace that never writes 1.5 times faster than the sweep (a fast sweep,
+  // a contact pulse's levels) cannot measure its spread: spare the fits.
+  std::vector<double> slopes;
+  for (int i = 0; i + 1 < n; ++i) {
+    const cv::Point2d d = samples[i + 1].screen_div - samples[i].screen_div;
+    if (samples[i + 1].piece == samples[i].piece && d.x > 0.0 && d.x <= 3.0 * step_div) {
+      slopes.push_back(std::abs(d.y / d.x));
+    }
+  }
+  if (slopes.size() < 30) return 0.0;
+  const auto p90 = slopes.begin() + static_cast<std::ptrdiff_t>(0.9 * (slopes.size() - 1));
+  std::nth_element(slopes.begin(), p90, slopes.end());
+  if (std::hypot(1.0, *p90) < digitize::kMinSpeedRatio) return 0.0;
   std::vector<std::optional<cv::Vec3d>> shape(n);
   std::vector<digitize::SpreadPoint> points;
   std::vector<double> xs(n);
