@@ -201,13 +201,12 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
 // nothing with fewer than three.
 std::optional<cv::Vec3d> LocalParabola(const std::vector<Sample>& samples, int i, double reach_div,
                                        int neighbours = 10) {
-  const int kReach = neighbours;
   const int n = static_cast<int>(samples.size());
   const cv::Point2d centre = samples[i].screen_div;
   cv::Matx33d normal = cv::Matx33d::zeros();
   cv::Vec3d rhs(0.0, 0.0, 0.0);
   int count = 0;
-  for (int j = std::max(0, i - kReach); j <= std::min(n - 1, i + kReach); ++j) {
+  for (int j = std::max(0, i - neighbours); j <= std::min(n - 1, i + neighbours); ++j) {
     const double x = samples[j].screen_div.x - centre.x, y = samples[j].screen_div.y - centre.y;
     if (j == i || samples[j].piece != samples[i].piece || std::abs(x) > reach_div) continue;
     const cv::Vec3d basis(1.0, x, x * x);
@@ -366,34 +365,35 @@ void DropShortRuns(std::vector<Sample>& samples, double step_div, double width_p
   }
 }
 
-// Moves each sample out of its curve by the spread's pull, s^2 kappa / 2
-// along the normal (beam_spread.h), with s^2 measured on the trace itself;
-// returns s^2 (0 when it cannot be measured: too few samples or too narrow a
-// range of writing speeds, as on a fast sweep, which curves too little to
-// matter). In screen terms the pull moves y by s^2 y'' / (2 p^2 (1 + y'^2)).
-double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double px_per_div,
-                         double width_px) {
-  const int n = static_cast<int>(samples.size());
-  // A trace that never writes 1.5 times faster than the sweep (a fast sweep,
-  // a contact pulse's levels) cannot measure its spread: spare the fits.
+// Whether the trace somewhere writes kMinSpeedRatio times faster than its
+// sweep (a tenth of its steps at least): only then can it measure its spread.
+// A fast sweep or a contact pulse's levels cannot, and curve too little to
+// matter.
+bool WritesFastSomewhere(const std::vector<Sample>& samples, double step_div) {
   std::vector<double> slopes;
-  for (int i = 0; i + 1 < n; ++i) {
+  for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
     const cv::Point2d d = samples[i + 1].screen_div - samples[i].screen_div;
     if (samples[i + 1].piece == samples[i].piece && d.x > 0.0 && d.x <= 3.0 * step_div) {
       slopes.push_back(std::abs(d.y / d.x));
     }
   }
-  if (slopes.size() < 30) return 0.0;
+  if (slopes.size() < 30) return false;
   const auto p90 = slopes.begin() + static_cast<std::ptrdiff_t>(0.9 * (slopes.size() - 1));
   std::nth_element(slopes.begin(), p90, slopes.end());
-  if (std::hypot(1.0, *p90) < digitize::kMinSpeedRatio) return 0.0;
-  std::vector<std::optional<cv::Vec3d>> shape(n);
-  std::vector<digitize::SpreadPoint> points;
+  return std::hypot(1.0, *p90) >= digitize::kMinSpeedRatio;
+}
+
+// Each sample's local parabola (LocalParabola, at least six neighbours):
+// near a slow sweep's peaks a chopper's gaps and the dropped corners leave
+// few samples, so it reaches further there (up to 0.4 division) for a curve
+// rather than a chord.
+std::vector<std::optional<cv::Vec3d>> LocalShapes(const std::vector<Sample>& samples,
+                                                  double step_div) {
+  const int n = static_cast<int>(samples.size());
   std::vector<double> xs(n);
   for (int i = 0; i < n; ++i) xs[i] = samples[i].screen_div.x;  // increasing
+  std::vector<std::optional<cv::Vec3d>> shape(n);
   for (int i = 0; i < n; ++i) {
-    // Near a slow sweep's peaks a chopper's gaps and the dropped corners
-    // leave few samples: reach further there for a curve, not a chord.
     for (double reach = OutlierReach(step_div); reach < 0.5 && !shape[i]; reach *= 2.0) {
       const int from =
           static_cast<int>(std::lower_bound(xs.begin(), xs.end(), xs[i] - reach) - xs.begin());
@@ -403,6 +403,20 @@ double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double p
       for (int j = from; j < to; ++j) count += j != i && samples[j].piece == samples[i].piece;
       if (count >= 6) shape[i] = LocalParabola(samples, i, reach, std::max(i - from, to - i));
     }
+  }
+  return shape;
+}
+
+// Moves each sample out of its curve by the spread's pull, s^2 kappa / 2
+// along the normal (beam_spread.h), with s^2 measured on the trace itself;
+// returns s^2 (0 when it cannot be measured). In screen terms the pull moves
+// y by s^2 y'' / (2 p^2 (1 + y'^2)), p pixels per division.
+double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double px_per_div,
+                         double width_px) {
+  if (!WritesFastSomewhere(samples, step_div)) return 0.0;
+  const std::vector<std::optional<cv::Vec3d>> shape = LocalShapes(samples, step_div);
+  std::vector<digitize::SpreadPoint> points;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!shape[i] || samples[i].crossing_share > 0.0) continue;
     points.push_back({std::hypot(1.0, (*shape[i])[1]), samples[i].half_widths});
   }
@@ -412,7 +426,7 @@ double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double p
   const double widest = std::pow(width_px / 2.354820045, 2);
   if (!spread.found || spread.variance_px2 > widest) return 0.0;
   const double pull = spread.variance_px2 / (2.0 * px_per_div * px_per_div);
-  for (int i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!shape[i]) continue;
     const double slope = (*shape[i])[1], second = 2.0 * (*shape[i])[2];
     samples[i].screen_div.y -= pull * second / (1.0 + slope * slope);
