@@ -96,6 +96,27 @@ BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
 
 }  // namespace
 
+BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
+                       const BarRebounds& averaged) {
+  BarRebounds out;
+  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
+  for (std::size_t n = 0; n < both; ++n) {
+    out.xmax.push_back(0.5 * (right.xmax[n] + left.xmax[n]));
+    out.xmax_sigma.push_back(0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]));
+    out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
+    out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
+    out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
+  }
+  for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
+    out.xmax.push_back(averaged.xmax[n]);
+    out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
+    out.t_peak.push_back(averaged.t_peak[n]);
+    out.t_peak_sigma.push_back(averaged.t_peak_sigma[n]);
+    out.duration.push_back(averaged.duration[n]);
+  }
+  return out;
+}
+
 namespace {
 
 // Adds the seconds `work` takes to `total`.
@@ -238,7 +259,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   const DisplacementHistory average = histories.size() == 2
                                           ? AverageHistories(histories["right"], histories["left"])
                                           : histories.begin()->second;
-  const BarRebounds both = extract(average);
+  const BarRebounds both = histories.size() == 2
+                               ? MeanOfBars(*out.right, *out.left, extract(average))
+                               : extract(average);
   if (both.xmax.size() < 2) {
     throw InputError({session.manifest, RunKey(run), std::nullopt},
                      fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "

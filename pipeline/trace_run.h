@@ -51,6 +51,14 @@ class CalibrationCache {
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
                                      double release_x, const CalibratedCell& calibrated);
 
+// The session's maxima from both bars (session numbering, gap-free): the
+// mean of the bars' own where both have the rebound (the thesis's average of
+// the two displacements at its peak, without reading one bar at the other's
+// sample times), sigmas combined; past the last rebound both have, the
+// averaged history's own as long as it has them.
+BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
+                       const BarRebounds& averaged);
+
 // Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
 // calibrations). Throws InputError or std::exception with the reason.
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,

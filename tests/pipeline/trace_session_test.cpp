@@ -272,3 +272,33 @@ TEST_CASE("products: --only calibration and --only rebounds stop where asked") {
 
 }  // namespace
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("trace runs: the session's maxima are the bars' mean, then the average's own") {
+  const auto bar = [](std::vector<double> xmax, double sigma, double t0) {
+    BarRebounds b;
+    for (std::size_t n = 0; n < xmax.size(); ++n) {
+      b.xmax.push_back(xmax[n]);
+      b.xmax_sigma.push_back(sigma);
+      b.t_peak.push_back(t0 + 0.75 * n);
+      b.t_peak_sigma.push_back(0.1 * sigma);
+      b.duration.push_back(0.75 + 0.01 * n);
+    }
+    return b;
+  };
+  // The left bar lost its last rebound; the averaged history has one more.
+  const BarRebounds right = bar({0.50, 0.40, 0.32}, 3e-4, 0.75);
+  const BarRebounds left = bar({0.52, 0.42}, 4e-4, 0.76);
+  const BarRebounds averaged = bar({0.5101, 0.4102, 0.3203}, 2e-4, 0.755);
+  const BarRebounds both = MeanOfBars(right, left, averaged);
+  REQUIRE(both.xmax.size() == 3);
+  CHECK(both.xmax[0] == Approx(0.51));
+  CHECK(both.xmax[1] == Approx(0.41));
+  CHECK(both.xmax_sigma[0] == Approx(0.5 * std::hypot(3e-4, 4e-4)));  // 2.5e-4
+  CHECK(both.t_peak[1] == Approx(0.755 + 0.75));
+  CHECK(both.xmax[2] == Approx(0.3203));  // past what both bars have
+  CHECK(both.xmax_sigma[2] == Approx(2e-4));
+}
+
+}  // namespace impactlab
