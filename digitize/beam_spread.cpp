@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "digitize/select.h"
+
 namespace impactlab::digitize {
 namespace {
 
@@ -62,13 +64,6 @@ Line FitLine(const std::vector<double>& x, const std::vector<double>& y,
   return line;
 }
 
-double MedianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto middle = v.begin() + v.size() / 2;
-  std::nth_element(v.begin(), middle, v.end());
-  return *middle;
-}
-
 }  // namespace
 
 LevelHalfWidths MeasureLevelHalfWidths(const Profile& profile, const LineCentre& centre,
@@ -115,7 +110,7 @@ SpreadEstimate EstimateSpread(const std::vector<SpreadPoint>& points) {
     for (std::size_t i = 0; i < x.size(); ++i) {
       misses.push_back(std::abs(y[i] - line.intercept - line.slope * x[i]));
     }
-    const double limit = 3.5 * 1.4826 * MedianOf(misses);
+    const double limit = 3.5 * 1.4826 * Median(misses);
     for (std::size_t i = 0; i < x.size(); ++i) use[i] = misses[i] <= limit;
     line = FitLine(x, y, use);
     if (line.n < kMinSamples || !(line.slope_sigma > 0.0)) continue;

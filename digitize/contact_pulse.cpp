@@ -40,16 +40,13 @@ using digitize::FitStroke;
 using digitize::GridCrossings;
 using digitize::ImageFromScreen;
 using digitize::InkSampler;
+using digitize::Median;
 using digitize::Profile;
 using digitize::ReadProfile;
 using digitize::ScreenFromPixel;
 using digitize::StrokeFit;
 using digitize::StrokeNeighbour;
 using digitize::StrokeSearch;
-
-double Median(std::vector<double> values) {
-  return digitize::SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
-}
 
 double Quantile(std::vector<double> values, double q) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));

@@ -17,6 +17,7 @@
 #include "digitize/lattice.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
+#include "digitize/select.h"
 #include "io/errors.h"
 
 namespace impactlab {
@@ -28,6 +29,7 @@ using digitize::FindLineCentre;
 using digitize::ImageFromScreen;
 using digitize::InkSampler;
 using digitize::LineCentre;
+using digitize::Median;
 using digitize::Profile;
 using digitize::ReadProfile;
 
@@ -43,13 +45,6 @@ struct LineSample {
   double fwhm_px = 0.0;
   bool used = false;
 };
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // Positions along a line, per division, clear of the crossings and of the
 // centre axes' minor ticks (every 0.2 division): odd tenths for 5 per division.

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstddef>
 #include <iterator>
+#include <vector>
 
 namespace impactlab::digitize {
 
@@ -52,6 +53,16 @@ auto SelectNth(Iterator first, Iterator nth, Iterator last) {
   }
   std::sort(first, last);
   return *nth;
+}
+
+// The median of `values` (the upper middle one of an even count), 0 for none.
+// std::nth_element: these vectors are short, and GCC 12 warns, wrongly, on
+// SelectNth inlined into a caller that then frees the copy.
+inline double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
 }
 
 }  // namespace impactlab::digitize

@@ -16,6 +16,7 @@
 #include "digitize/ink_sampler.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
+#include "digitize/select.h"
 #include "digitize/trace_track.h"
 #include "io/errors.h"
 
@@ -32,17 +33,11 @@ using digitize::ImageFromScreen;
 using digitize::InkSampler;
 using digitize::LevelHalfWidths;
 using digitize::LineCentre;
+using digitize::Median;
 using digitize::Profile;
 using digitize::ReadProfile;
 using digitize::ScreenFromPixel;
 using digitize::TrackGrid;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // The coarse course as a function of screen x: the seen columns either side,
 // joined across gaps the tracking bridged (never across a step or a restart).
