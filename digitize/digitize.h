@@ -231,7 +231,8 @@ struct DigitizedTrace {
   // its width against writing speed; the curvature pull s^2 kappa / 2 it
   // causes is taken out of screen_div and the trace (0: not measured).
   double spread_px2 = 0.0;
-  int outliers = 0;  // samples dropped as outliers
+  double spread_sigma_px2 = 0.0;  // its one-sigma
+  int outliers = 0;               // samples dropped as outliers
 };
 
 // Throws InputError naming the photo and the trace when a trace is not found

@@ -404,11 +404,11 @@ std::vector<std::optional<cv::Vec3d>> LocalShapes(const std::vector<Sample>& sam
 
 // Moves each sample out of its curve by the spread's pull, s^2 kappa / 2
 // along the normal (beam_spread.h), with s^2 measured on the trace itself;
-// returns s^2 (0 when it cannot be measured). In screen terms the pull moves
-// y by s^2 y'' / (2 p^2 (1 + y'^2)), p pixels per division.
-double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double px_per_div,
-                         double width_px) {
-  if (!WritesFastSomewhere(samples, step_div)) return 0.0;
+// returns the spread used (not found: nothing moved). In screen terms the
+// pull moves y by s^2 y'' / (2 p^2 (1 + y'^2)), p pixels per division.
+digitize::SpreadEstimate UndoCurvaturePull(std::vector<Sample>& samples, double step_div,
+                                           double px_per_div, double width_px) {
+  if (!WritesFastSomewhere(samples, step_div)) return {};
   const std::vector<std::optional<cv::Vec3d>> shape = LocalShapes(samples, step_div);
   std::vector<digitize::SpreadPoint> points;
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -419,14 +419,14 @@ double UndoCurvaturePull(std::vector<Sample>& samples, double step_div, double p
   // A concave tone curve only widens a line: its spread is at most what its
   // width would give with none.
   const double widest = std::pow(width_px / 2.354820045, 2);
-  if (!spread.found || spread.variance_px2 > widest) return 0.0;
+  if (!spread.found || spread.variance_px2 > widest) return {};
   const double pull = spread.variance_px2 / (2.0 * px_per_div * px_per_div);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!shape[i]) continue;
     const double slope = (*shape[i])[1], second = 2.0 * (*shape[i])[2];
     samples[i].screen_div.y -= pull * second / (1.0 + slope * slope);
   }
-  return spread.variance_px2;
+  return spread;
 }
 
 DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
@@ -499,7 +499,12 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   std::erase_if(samples, [](const Sample& s) { return !s.keep; });
 
   std::erase_if(samples, [&](const Sample& s) { return s.confidence < options.min_confidence; });
-  result.spread_px2 = UndoCurvaturePull(samples, step_div, px_per_div, width_px);
+  const digitize::SpreadEstimate spread =
+      UndoCurvaturePull(samples, step_div, px_per_div, width_px);
+  if (spread.found) {
+    result.spread_px2 = spread.variance_px2;
+    result.spread_sigma_px2 = spread.sigma_px2;
+  }
 
   // Time must increase: where the trace runs back (it cannot, but a steep
   // stretch's samples may), the later sample goes.

@@ -40,6 +40,8 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
     out.traces[t.name] = t.trace;
     out.overlay.trace_names.push_back(t.name);
     out.overlay.trace_coverage.push_back(t.coverage);
+    out.overlay.trace_spread_px2.push_back(t.spread_px2);
+    out.overlay.trace_spread_sigma_px2.push_back(t.spread_sigma_px2);
     if (const auto& pulse = result.pulses[i]) {
       ContactPulse p;
       p.rise_s = {pulse->rise.time_s, pulse->rise.sigma_s};

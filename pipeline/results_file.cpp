@@ -55,6 +55,8 @@ void WriteOverlay(Hdf5File& f, const std::string& h, const PhotoOverlay& o) {
   f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
   f.WriteStrings(h + "/trace_names", o.trace_names);
   f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
+  f.WriteVector(h + "/trace_spread", o.trace_spread_px2, "px^2");
+  f.WriteVector(h + "/trace_spread_std_error", o.trace_spread_sigma_px2, "px^2");
   f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
 }
 
@@ -65,6 +67,10 @@ PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
   o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
   o.trace_names = f.ReadStrings(h + "/trace_names");
   o.trace_coverage = f.ReadVector(h + "/trace_coverage");
+  if (f.Exists(h + "/trace_spread")) {  // results written before it was measured have none
+    o.trace_spread_px2 = f.ReadVector(h + "/trace_spread");
+    o.trace_spread_sigma_px2 = f.ReadVector(h + "/trace_spread_std_error");
+  }
   o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
   return o;
 }

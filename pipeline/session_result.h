@@ -50,7 +50,10 @@ struct PhotoOverlay {
   double graticule_residual_px = 0;  // RMS residual of the grid fit, photo pixels
   std::vector<std::string> trace_names;
   std::vector<double> trace_coverage;  // fraction of the sweep with samples, per trace
-  double processing_ms = 0;            // digitizing beyond decoding
+  // Per trace, the spread s^2 whose curvature pull was undone, and its sigma,
+  // px^2 (0: not measured; digitize/beam_spread.h).
+  std::vector<double> trace_spread_px2, trace_spread_sigma_px2;
+  double processing_ms = 0;  // digitizing beyond decoding
 };
 
 // A sampled curve for the report's figures (decimated to a few thousand points).

@@ -48,17 +48,25 @@ std::string Base64(const std::vector<unsigned char>& bytes) {
 }
 
 std::string OverlayFigure(const PhotoOverlay& o) {
-  std::string coverage;
+  std::string coverage, spread;
   for (std::size_t i = 0; i < o.trace_names.size(); ++i) {
     coverage +=
         fmt::format("{}{} {:.0f} %", i ? ", " : "", o.trace_names[i], 100.0 * o.trace_coverage[i]);
+    if (i < o.trace_spread_px2.size() && o.trace_spread_px2[i] > 0.0) {
+      spread += fmt::format("{}{} {:.2f} ± {:.2f} px²", spread.empty() ? "" : ", ",
+                            o.trace_names[i], o.trace_spread_px2[i], o.trace_spread_sigma_px2[i]);
+    }
+  }
+  if (!spread.empty()) {
+    spread = "; spread whose pull inside curves was undone: " + spread;
   }
   return fmt::format(
       "<figure><img alt=\"digitized {0}\" style=\"max-width:100%\" "
       "src=\"data:image/jpeg;base64,{1}\"><figcaption>{0}: the graticule found (residual {2:.3f} "
-      "px RMS) and the traces followed; coverage of the sweep: {3}; {4:.0f} ms of digitizing "
+      "px RMS) and the traces followed; coverage of the sweep: {3}{5}; {4:.0f} ms of digitizing "
       "beyond decoding.</figcaption></figure>\n",
-      EscapeHtml(o.photo), Base64(o.jpeg), o.graticule_residual_px, coverage, o.processing_ms);
+      EscapeHtml(o.photo), Base64(o.jpeg), o.graticule_residual_px, coverage, o.processing_ms,
+      spread);
 }
 
 // The calibration photos behind a run's curves, folded away: they matter

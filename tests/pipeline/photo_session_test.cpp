@@ -147,10 +147,27 @@ TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the 
   WriteResults(ReduceSession(session, {}), dir.path() / "r.h5");
   const SessionResult read = ReadResults(dir.path() / "r.h5");
   const std::string html = RenderHtmlReport(read);
-  int calibration_overlays = 0;
+  int calibration_overlays = 0, spreads_measured = 0;
   for (const RunResult& run : read.runs) {
     REQUIRE(run.ok);
-    CHECK(run.overlays.size() == 1);
+    REQUIRE(run.overlays.size() == 1);
+    // The displacement traces' spread, kept with its sigma where measured; the
+    // contact pulse's levels never write fast enough to measure one.
+    const PhotoOverlay& o = run.overlays[0];
+    REQUIRE(o.trace_spread_px2.size() == o.trace_names.size());
+    REQUIRE(o.trace_spread_sigma_px2.size() == o.trace_names.size());
+    for (std::size_t i = 0; i < o.trace_names.size(); ++i) {
+      INFO(o.trace_names[i] << ": " << o.trace_spread_px2[i] << " +- "
+                            << o.trace_spread_sigma_px2[i] << " px^2");
+      if (o.trace_names[i] == "contact") {
+        CHECK(o.trace_spread_px2[i] == 0.0);
+      } else if (o.trace_spread_px2[i] > 0.0) {
+        ++spreads_measured;
+        CHECK(o.trace_spread_px2[i] < 10.0);
+        CHECK(o.trace_spread_sigma_px2[i] > 0.0);
+        CHECK(o.trace_spread_sigma_px2[i] < 0.5 * o.trace_spread_px2[i]);
+      }
+    }
     for (const CellCalibration& c : run.calibrations) {
       REQUIRE(c.overlay);
       CHECK(c.overlay->jpeg.size() > 1000);
@@ -160,6 +177,9 @@ TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the 
   }
   CHECK(calibration_overlays == 2 * static_cast<int>(read.runs.size()));
   CHECK_THAT(html, Catch::Contains("Calibration photos, digitized"));
+  // Most slow traces measure it (all but one of four here), and the report says so.
+  CHECK(spreads_measured >= static_cast<int>(read.runs.size()));
+  CHECK_THAT(html, Catch::Contains("spread whose pull inside curves was undone"));
 }
 
 }  // namespace
