@@ -449,17 +449,23 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   settings.centre.crossing_height = graticule.line_contrast;
   settings.centre.symmetric_near_crossings = options.grid_model;
 
-  // A first look at every tenth position gives the trace's width.
+  // A first look at every tenth position gives the trace's width, and tells
+  // whether it writes fast enough anywhere to measure its spread (a fast
+  // sweep's calibration trace does not: its half-widths are not read).
   settings.half_length_px = settings.search_px + std::max(6.0, 0.08 * px_per_div);
   settings.profile_step_px = 0.5;
   const double step_div = 1.0 / (px_per_div * options.samples_per_px);
+  const std::vector<Sample> first_look =
+      MeasureAlong(ink, graticule, course, grid, settings, 10.0 * step_div);
   std::vector<double> widths, first_heights;
-  for (const Sample& s : MeasureAlong(ink, graticule, course, grid, settings, 10.0 * step_div)) {
+  for (const Sample& s : first_look) {
     widths.push_back(s.fwhm_px);
     first_heights.push_back(s.height);
   }
   const double width_px = std::max(1.0, Median(widths));
-  settings.typical_height = Median(first_heights);
+  if (WritesFastSomewhere(first_look, 10.0 * step_div)) {
+    settings.typical_height = Median(first_heights);
+  }
 
   settings.half_length_px = settings.search_px + options.profile_half_widths * width_px;
   settings.profile_step_px = std::clamp(width_px / 6.0, 0.25, 1.0);
