@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "io/errors.h"
+#include "io/session_file.h"
 
 namespace impactlab {
 namespace {
@@ -346,10 +347,13 @@ LogReadReport ReadLogCsv(const fs::path& file, const std::string& time_column,
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("LogReadOptions: " + error);
   }
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file.c_str(), "rb"), &std::fclose);
+  // Opened without blocking and refused unless a regular file inside the session.
+  SessionFile opened(options.session_folder, file);
+  const auto file_bytes = static_cast<double>(opened.size());
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(::fdopen(opened.descriptor(), "rb"),
+                                                     &std::fclose);
   if (!in) throw InputError({file, "", std::nullopt}, "cannot open the log file");
-  std::error_code size_error;
-  const auto file_bytes = static_cast<double>(fs::file_size(file, size_error));
+  opened.Release();  // the stream owns the descriptor now
 
   LogReadReport report;
   report.file = file;

@@ -60,6 +60,9 @@ struct LogReadOptions {
   std::size_t max_fill_samples = 16;      // longest run of missing samples filled by interpolation
   double max_bad_fraction = 0.01;         // largest fraction of data rows that may be dropped
   std::size_t max_listed_issues = 50;     // issues kept with their line; the rest only counted
+  // When set, the file must lie inside this folder and is opened beneath it
+  // (io/session_file.h); a log named by a manifest is read so.
+  std::filesystem::path session_folder = {};
 
   bool Check(std::string* error) const;
 };

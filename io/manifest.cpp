@@ -14,17 +14,18 @@
 
 #include "io/manifest.h"
 
+#include "io/session_file.h"
+
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <string_view>
 #include <utility>
 
@@ -34,6 +35,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr long long kMaxInt = std::numeric_limits<int>::max();
+// A manifest is typed by hand: a few kB. Anything near this is not one.
+constexpr std::uintmax_t kMaxManifestBytes = 16u << 20;
 
 // ---------------------------------------------------------------------------
 // Describing values and keys in messages.
@@ -465,6 +468,13 @@ class TableReader {
     if (fs::is_directory(status)) {
       Fail(key, fmt::format("expected a file, found a folder at {}", Quote(text)));
     }
+    if (!fs::is_regular_file(status)) {
+      // A named pipe would block the reducer in open(); a device never ends.
+      Fail(key,
+           fmt::format("expected a regular file, found {} at {}",
+                       fs::is_fifo(status) ? "a named pipe" : "a special file (device or socket)",
+                       Quote(text)));
+    }
     return resolved;
   }
 
@@ -603,6 +613,36 @@ TraceSettings ReadTrace(const TableReader& table, TraceKind kind, const Scope& s
   return trace;
 }
 
+// Plausible ranges of the apparatus. They catch a number in the wrong units
+// (gravity 9.81 in an in-lbf-s session) or mistyped by orders of magnitude,
+// which would otherwise reduce to absurd results without a word.
+constexpr double kGravityTolerance = 0.05;  // gravity within 5 % of standard (Earth: +-0.3 %)
+constexpr double kMinLengthMetres = 0.01, kMaxLengthMetres = 100.0;
+constexpr double kMinReleaseFraction = 1e-6;  // X0 / L
+
+double MetresPerLengthUnit(UnitSystem units) { return units == UnitSystem::kSI ? 1.0 : 0.0254; }
+
+void CheckPlausible(const TableReader& table, const Apparatus& apparatus, UnitSystem units) {
+  const UnitLabels labels = LabelsFor(units);
+  const double standard = StandardGravity(units);
+  if (std::abs(apparatus.gravity / standard - 1.0) > kGravityTolerance) {
+    table.Fail("gravity",
+               fmt::format("expected the acceleration of gravity in {}, within {:g} % of the "
+                           "standard {} {}, found {}",
+                           labels.acceleration, 100.0 * kGravityTolerance, FormatNumber(standard),
+                           labels.acceleration, FormatNumber(apparatus.gravity)));
+  }
+  const double scale = MetresPerLengthUnit(units);
+  const double metres = apparatus.pendulum_length * scale;
+  if (!(metres >= kMinLengthMetres && metres <= kMaxLengthMetres)) {
+    table.Fail("pendulum_length",
+               fmt::format("expected a pendulum length between {:g} and {:g} {} (1 cm to 100 m), "
+                           "found {}",
+                           kMinLengthMetres / scale, kMaxLengthMetres / scale, labels.length,
+                           FormatNumber(apparatus.pendulum_length)));
+  }
+}
+
 Apparatus ReadApparatus(const TableReader& table, UnitSystem units) {
   table.WarnUnknownKeys({"pendulum_length", "weight", "mass", "gravity", "arrangement"});
   const UnitLabels labels = LabelsFor(units);
@@ -627,9 +667,56 @@ Apparatus ReadApparatus(const TableReader& table, UnitSystem units) {
   }
   apparatus.mass = mass ? *mass : *weight / apparatus.gravity;
 
+  // The thesis's pendulum formulas are for two identical penduli meeting
+  // half way; against a rigid stop the relative motion, the effective mass and
+  // the calibration swing all differ, and nothing here models them yet.
   const std::string arrangement = table.Choice("arrangement", {"pair", "wall"}).value_or("pair");
-  apparatus.arrangement = arrangement == "wall" ? Arrangement::kWall : Arrangement::kPair;
+  if (arrangement == "wall") {
+    table.Fail("arrangement",
+               "expected \"pair\" (two identical penduli), found \"wall\": one pendulum against a "
+               "rigid stop is not supported yet, and reducing it as a pair would be wrong");
+  }
+  apparatus.arrangement = Arrangement::kPair;
+  CheckPlausible(table, apparatus, units);
   return apparatus;
+}
+
+// A release displacement X0: positive, and shorter than the pendulum, since
+// X = L sin(theta) (a longer one is no swing at all); not so small against
+// L that the pendulum formulas lose their digits.
+double ReadReleaseDisplacement(const TableReader& table, UnitSystem units,
+                               const std::optional<Apparatus>& apparatus) {
+  const std::string length = LabelsFor(units).length;
+  const std::string_view key = "initial_displacement";
+  const double x0 = table.RequiredNumber(
+      key, {Sign::kPositive, fmt::format("a positive displacement X0 ({})", length)});
+  if (!apparatus) return x0;
+  const double l = apparatus->pendulum_length;
+  if (!(x0 < l) || !(x0 >= kMinReleaseFraction * l)) {
+    table.Fail(key, fmt::format("expected a displacement X0 between {} and {} {} (from {:g} times "
+                                "the pendulum length L = {} {} up to L), found {}",
+                                FormatNumber(kMinReleaseFraction * l), FormatNumber(l), length,
+                                kMinReleaseFraction, FormatNumber(l), length, FormatNumber(x0)));
+  }
+  return x0;
+}
+
+// Ids name groups in the results file, rows of the report and arguments on the
+// command line, so they keep to characters that are safe in all three: no
+// '/', no "." or "..", no spaces, quotes or markup.
+constexpr std::string_view kSafeIdRule =
+    "1 to 64 letters, digits and '.', '_', '-', '+', beginning with a letter, a digit or '_'";
+
+bool IsSafeId(std::string_view id) {
+  const auto alphanumeric = [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
+  };
+  if (id.empty() || id.size() > 64 || !(alphanumeric(id.front()) || id.front() == '_')) {
+    return false;
+  }
+  return std::all_of(id.begin(), id.end(), [&](char c) {
+    return alphanumeric(c) || c == '.' || c == '_' || c == '-' || c == '+';
+  });
 }
 
 // Remembers the ids of one kind of table and refuses a second use of one.
@@ -638,7 +725,11 @@ class IdRegistry {
   explicit IdRegistry(std::string_view kind) : kind_(kind) {}
 
   std::string Read(const TableReader& table) {
-    const std::string id = table.RequiredString("id", fmt::format("a {} id (a string)", kind_));
+    const std::string what = fmt::format("a {} id (a string)", kind_);
+    const std::string id = table.RequiredString("id", what);
+    if (!IsSafeId(id)) {
+      table.Fail("id", fmt::format("expected {} of {}, found {}", what, kSafeIdRule, Quote(id)));
+    }
     const std::optional<long long> line = LineOf(*table.Find("id"));
     const auto [it, inserted] = first_line_.emplace(id, line);
     if (!inserted) {
@@ -655,16 +746,14 @@ class IdRegistry {
   std::map<std::string, std::optional<long long>> first_line_;
 };
 
-Calibration ReadCalibration(const TableReader& table, UnitSystem units, const Scope& scope,
-                            IdRegistry& ids) {
+Calibration ReadCalibration(const TableReader& table, std::string id, UnitSystem units,
+                            const std::optional<Apparatus>& apparatus, const Scope& scope) {
   table.WarnUnknownKeys({"id", "cell", "initial_displacement", "photo", "trace"});
   Calibration calibration;
-  calibration.id = ids.Read(table);
+  calibration.id = std::move(id);
   if (!table.Has("cell")) table.Missing("cell", ChoiceList({"right", "left"}));
   calibration.cell = *table.Choice("cell", {"right", "left"});
-  calibration.initial_displacement = table.RequiredNumber(
-      "initial_displacement",
-      {Sign::kPositive, fmt::format("a positive displacement X0 ({})", LabelsFor(units).length)});
+  calibration.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
   calibration.photo = table.Path("photo");
   calibration.trace = ReadTrace(table.TableOrEmpty("trace"), TraceKind::kCalibration, scope,
                                 calibration.photo.has_value());
@@ -674,8 +763,9 @@ Calibration ReadCalibration(const TableReader& table, UnitSystem units, const Sc
 // calibration = { right = "R-0.234", left = "L-0.234" }: each must name a
 // calibration of that very cell, or the displacements would be converted with
 // the other photocell's curve.
-std::map<std::string, std::string> ReadRunCalibrations(const TableReader& run,
-                                                       const std::vector<Calibration>& known) {
+std::map<std::string, std::string> ReadRunCalibrations(
+    const TableReader& run, const std::vector<Calibration>& known,
+    const std::map<std::string, std::string>& rejected) {
   std::map<std::string, std::string> result;
   const std::optional<TableReader> table = run.Table("calibration");
   if (!table) return result;
@@ -684,6 +774,10 @@ std::map<std::string, std::string> ReadRunCalibrations(const TableReader& run,
     const std::string what = fmt::format("the id of a [[calibration]] for the {} cell", cell);
     const std::optional<std::string> id = table->String(cell, what);
     if (!id) continue;
+    if (const auto bad = rejected.find(*id); bad != rejected.end()) {
+      table->Fail(cell, fmt::format("expected {}, found {}, which cannot be used: {}", what,
+                                    Quote(*id), bad->second));
+    }
     const auto match =
         std::find_if(known.begin(), known.end(), [&](const Calibration& c) { return c.id == *id; });
     if (match == known.end()) {
@@ -749,18 +843,18 @@ void ReadTypedIn(const TableReader& table, UnitSystem units, Run& run) {
   run.fit_rebounds = {static_cast<int>((*fit)[0]), static_cast<int>((*fit)[1])};
 }
 
-Run ReadRun(const TableReader& table, UnitSystem units, const Scope& scope,
-            const std::vector<Calibration>& calibrations, IdRegistry& ids) {
+Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
+            const std::optional<Apparatus>& apparatus, const Scope& scope,
+            const std::vector<Calibration>& calibrations,
+            const std::map<std::string, std::string>& rejected_calibrations) {
   table.WarnUnknownKeys({"id", "initial_displacement", "photo", "calibration", "first_rebound",
                          "traces", "rebounds", "contact_time", "fit_rebounds",
                          "rebound_uncertainty", "contact_time_uncertainty"});
   Run run;
-  run.id = ids.Read(table);
-  run.initial_displacement = table.RequiredNumber(
-      "initial_displacement",
-      {Sign::kPositive, fmt::format("a positive displacement X0 ({})", LabelsFor(units).length)});
+  run.id = std::move(id);
+  run.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
   run.photo = table.Path("photo");
-  run.calibration = ReadRunCalibrations(table, calibrations);
+  run.calibration = ReadRunCalibrations(table, calibrations, rejected_calibrations);
   run.first_rebound = static_cast<int>(
       table.Integer("first_rebound", {0, kMaxInt, "a rebound number >= 0"}).value_or(1));
   run.traces = ReadRunTraces(table, scope, run.photo.has_value());
@@ -806,10 +900,11 @@ LogChannel ReadChannel(const TableReader& table, std::string name) {
   return channel;
 }
 
-Log ReadLog(const TableReader& table, IdRegistry& ids) {
+Log ReadLog(const TableReader& table, std::string id) {
   table.WarnUnknownKeys({"id", "experiment", "simulation", "time_column", "channels"});
   Log log;
-  log.id = ids.Read(table);
+  log.id = std::move(id);
+  log.folder = table.context().folder;
   log.experiment = table.RequiredPath("experiment");
   log.simulation = table.Path("simulation");
   log.time_column = table.String("time_column", "a CSV column name").value_or("t");
@@ -823,6 +918,11 @@ Log ReadLog(const TableReader& table, IdRegistry& ids) {
       return std::pair(a.first.line, a.first.column) < std::pair(b.first.line, b.first.column);
     });
     for (const auto& [position, name] : names) {
+      // A channel names a group in the results file, as an id does.
+      if (!IsSafeId(name)) {
+        channels->Fail(
+            name, fmt::format("expected a channel name of {}, found {}", kSafeIdRule, Quote(name)));
+      }
       log.channels.push_back(ReadChannel(*channels->Table(name), name));
     }
   }
@@ -846,7 +946,8 @@ bool HasRebounds(const Run& run) {
   return run.HasTypedRebounds() || run.traces.count("right") || run.traces.count("left");
 }
 
-Prediction ReadPrediction(const TableReader& table, const std::vector<Run>& runs) {
+Prediction ReadPrediction(const TableReader& table, const std::vector<Run>& runs,
+                          const std::vector<RejectedEntry>& rejected) {
   table.WarnUnknownKeys({"source_run", "target_run", "start_rebound"});
   const auto run_key = [&](std::string_view key) -> const Run& {
     constexpr std::string_view kWhat = "the id of a [[run]] with rebounds";
@@ -854,7 +955,14 @@ Prediction ReadPrediction(const TableReader& table, const std::vector<Run>& runs
     const auto run =
         std::find_if(runs.begin(), runs.end(), [&](const Run& r) { return r.id == id; });
     if (run == runs.end()) {
-      table.Fail(key, fmt::format("expected {}, found {}, which no run has", kWhat, Quote(id)));
+      const auto bad = std::find_if(rejected.begin(), rejected.end(), [&](const RejectedEntry& e) {
+        return e.table == "run" && e.id == id;
+      });
+      table.Fail(
+          key,
+          bad != rejected.end()
+              ? fmt::format("expected {}, found {}, a run that cannot be reduced", kWhat, Quote(id))
+              : fmt::format("expected {}, found {}, which no run has", kWhat, Quote(id)));
     }
     if (!HasRebounds(*run)) {
       table.Fail(key, fmt::format("expected {}, found {}, which has neither typed-in `rebounds` "
@@ -893,6 +1001,26 @@ toml::table ParseToml(const std::string& text, const fs::path& manifest) {
   }
 }
 
+// Reads each [[kind]] table with `read(table, id)`. An entry whose id cannot
+// be used (missing, unsafe, or already taken) or whose reading throws an
+// InputError is rejected alone, with the reason, under its id or "#N".
+void ReadEntries(const TableReader& root, std::string_view kind,
+                 std::vector<RejectedEntry>& rejected,
+                 const std::function<void(const TableReader&, std::string)>& read) {
+  IdRegistry ids(kind);
+  const std::vector<TableReader> tables = root.ArrayOfTables(kind);
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    std::string label = fmt::format("#{}", i + 1);
+    try {
+      std::string id = ids.Read(tables[i]);
+      label = id;
+      read(tables[i], std::move(id));
+    } catch (const InputError& error) {
+      rejected.push_back({std::string(kind), label, i, error.where(), error.problem()});
+    }
+  }
+}
+
 Session ReadSession(const TableReader& root) {
   const Context& context = root.context();
   Session session;
@@ -917,16 +1045,24 @@ Session ReadSession(const TableReader& root) {
   session.divisions = scope.divisions;
 
   // Calibrations first: runs refer to them wherever they stand in the file.
-  IdRegistry calibration_ids("calibration");
-  for (const TableReader& table : root.ArrayOfTables("calibration")) {
-    session.calibrations.push_back(ReadCalibration(table, session.units, scope, calibration_ids));
-  }
-  IdRegistry run_ids("run");
+  // Each entry is read on its own: a mistake in one fails that entry alone.
+  std::map<std::string, std::string> rejected_calibrations;  // id -> why
+  ReadEntries(root, "calibration", session.rejected, [&](const TableReader& table, std::string id) {
+    const std::string key = id;
+    try {
+      session.calibrations.push_back(
+          ReadCalibration(table, std::move(id), session.units, session.apparatus, scope));
+    } catch (const InputError& error) {
+      rejected_calibrations.emplace(key, FormatLocation(error.where()) + ": " + error.problem());
+      throw;
+    }
+  });
   const std::vector<TableReader> run_tables = root.ArrayOfTables("run");
-  for (const TableReader& table : run_tables) {
-    session.runs.push_back(ReadRun(table, session.units, scope, session.calibrations, run_ids));
-  }
-  if (!session.runs.empty() && !session.apparatus) {
+  ReadEntries(root, "run", session.rejected, [&](const TableReader& table, std::string id) {
+    session.runs.push_back(ReadRun(table, std::move(id), session.units, session.apparatus, scope,
+                                   session.calibrations, rejected_calibrations));
+  });
+  if (!run_tables.empty() && !session.apparatus) {
     const TableReader& first = run_tables.front();
     const std::string where = first.line() ? fmt::format(" at line {}", *first.line()) : "";
     root.Missing("apparatus",
@@ -934,13 +1070,18 @@ Session ReadSession(const TableReader& root) {
                              "run is {}{})",
                              first.path(), where));
   }
-  IdRegistry log_ids("log");
-  for (const TableReader& table : root.ArrayOfTables("log")) {
-    session.logs.push_back(ReadLog(table, log_ids));
-  }
+  ReadEntries(root, "log", session.rejected, [&](const TableReader& table, std::string id) {
+    session.logs.push_back(ReadLog(table, std::move(id)));
+  });
   if (auto reduction = root.Table("reduction")) session.reduction = ReadReduction(*reduction);
-  for (const TableReader& table : root.ArrayOfTables("prediction")) {
-    session.predictions.push_back(ReadPrediction(table, session.runs));
+  const std::vector<TableReader> predictions = root.ArrayOfTables("prediction");
+  for (std::size_t i = 0; i < predictions.size(); ++i) {
+    try {
+      session.predictions.push_back(ReadPrediction(predictions[i], session.runs, session.rejected));
+    } catch (const InputError& error) {
+      session.rejected.push_back(
+          {"prediction", fmt::format("#{}", i + 1), i, error.where(), error.problem()});
+    }
   }
   return session;
 }
@@ -968,18 +1109,16 @@ ManifestReadResult ReadManifest(const std::filesystem::path& session_folder) {
     throw InputError(InputLocation{session_folder, "", std::nullopt},
                      "expected a session folder, found no folder there");
   }
-  if (!fs::is_regular_file(manifest, error)) {
+  if (!fs::exists(fs::symlink_status(manifest, error))) {
     throw InputError(InputLocation{manifest, "", std::nullopt},
                      "expected the session manifest session.toml in the session folder, found "
                      "no such file");
   }
-  std::ifstream in(manifest, std::ios::binary);
-  if (!in) {
-    throw InputError(InputLocation{manifest, "", std::nullopt}, "cannot open the manifest");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseManifest(text.str(), manifest);
+  // Opened like every file the manifest names: a manifest that is a link out
+  // of the folder, or a named pipe, is refused, not read.
+  const std::vector<unsigned char> bytes =
+      ReadSessionFile(session_folder, manifest, kMaxManifestBytes);
+  return ParseManifest(std::string(bytes.begin(), bytes.end()), manifest);
 }
 
 }  // namespace impactlab

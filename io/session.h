@@ -10,8 +10,10 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "io/errors.h"
 #include "io/units.h"
 
 namespace impactlab {
@@ -78,6 +80,7 @@ struct LogChannel {
 
 struct Log {
   std::string id;
+  std::filesystem::path folder;  // the session folder its files must lie in
   std::filesystem::path experiment;
   std::optional<std::filesystem::path> simulation;
   std::string time_column = "t";
@@ -103,6 +106,19 @@ struct Prediction {
   int start_rebound = 0;   // the target's measured rebound the prediction starts from
 };
 
+// An entry of the manifest ([[run]], [[calibration]], [[log]] or
+// [[prediction]]) that could not be read. It fails alone: the session keeps
+// the others, and the runs that need a rejected calibration are rejected too.
+struct RejectedEntry {
+  std::string table;     // "run", "calibration", "log" or "prediction"
+  std::string id;        // its id, or "#N" (1-based position) when it has no usable id
+  std::size_t position;  // 0-based among the tables of its kind in the manifest
+  InputLocation where;   // the manifest, the key and its line
+  std::string problem;   // what was expected and what was found
+
+  std::string Reason() const { return FormatLocation(where) + ": " + problem; }
+};
+
 struct Session {
   std::filesystem::path folder;    // the session folder (read-only to us)
   std::filesystem::path manifest;  // folder / "session.toml"
@@ -116,6 +132,16 @@ struct Session {
   std::vector<Log> logs;
   ReductionSettings reduction;
   std::vector<Prediction> predictions;
+  std::vector<RejectedEntry> rejected;  // in manifest order within each kind
+
+  // The rejected entries of one kind ("run", "calibration", ...).
+  std::vector<RejectedEntry> Rejected(std::string_view table) const {
+    std::vector<RejectedEntry> out;
+    for (const RejectedEntry& entry : rejected) {
+      if (entry.table == table) out.push_back(entry);
+    }
+    return out;
+  }
 };
 
 }  // namespace impactlab

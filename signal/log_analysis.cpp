@@ -29,6 +29,13 @@ const std::filesystem::path& FileOf(const Log& log, LogSource source) {
   return source == LogSource::kExperiment ? log.experiment : *log.simulation;
 }
 
+// A log's files are read from inside its session folder only.
+LogReadOptions ReadOptionsOf(const Log& log, const LogAnalysisOptions& options) {
+  LogReadOptions read = options.read;
+  read.session_folder = log.folder;
+  return read;
+}
+
 // Pass 1: every channel, decimated on the fly when the log would not fit.
 AnalysisSeries ReadForAnalysis(const Log& log, LogSource source,
                                const LogAnalysisOptions& options) {
@@ -36,7 +43,7 @@ AnalysisSeries ReadForAnalysis(const Log& log, LogSource source,
   series.values.resize(log.channels.size());
   std::vector<StreamingDecimator> decimators;
   series.read = ReadLogCsv(
-      FileOf(log, source), log.time_column, log.channels, source, options.read,
+      FileOf(log, source), log.time_column, log.channels, source, ReadOptionsOf(log, options),
       [&](const LogBlock& block) {
         if (decimators.empty()) {
           const auto budget = static_cast<long long>(options.max_analysis_samples);
@@ -81,7 +88,7 @@ ImpactEstimate RefineImpact(const Log& log, LogSource source, const AnalysisSeri
   const long long first = std::max<long long>(0, centre - reach), last = centre + reach;
   std::vector<std::vector<double>> window(log.channels.size());
   ReadLogCsv(
-      FileOf(log, source), log.time_column, log.channels, source, options.read,
+      FileOf(log, source), log.time_column, log.channels, source, ReadOptionsOf(log, options),
       [&](const LogBlock& block) {
         const long long begin = std::max(first, block.first_sample);
         const long long end =

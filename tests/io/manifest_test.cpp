@@ -15,36 +15,15 @@
 #include <string_view>
 
 #include "io/manifest.h"
-#include "tests/support/temp_dir.h"
+#include "tests/io/session_folder.h"
 
 namespace impactlab {
 namespace {
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
+using testing::SessionFolder;
 using testing::TempDir;
-
-// A session folder in a temporary directory: a manifest and the files it names.
-class SessionFolder {
- public:
-  fs::path path() const { return dir_.path(); }
-  fs::path manifest() const { return dir_.path() / "session.toml"; }
-
-  // Creates an (empty) file; the reader only checks that referenced files exist.
-  fs::path Touch(const fs::path& relative) const {
-    const fs::path full = dir_.path() / relative;
-    fs::create_directories(full.parent_path());
-    std::ofstream(full) << "";
-    return full;
-  }
-
-  void Write(const std::string& text) const { std::ofstream(manifest()) << text; }
-
-  ManifestReadResult Read() const { return ReadManifest(dir_.path()); }
-
- private:
-  TempDir dir_;
-};
 
 // The 1-based line of the `occurrence`-th (1-based) line containing `needle`.
 long long LineContaining(const std::string& text, std::string_view needle, int occurrence = 1) {
@@ -69,13 +48,19 @@ struct Failure {
   std::string what;
 };
 
+// The manifest's refusal: an InputError for the whole manifest, or else the
+// first entry rejected alone.
 Failure ReadFailure(const SessionFolder& folder) {
   try {
-    folder.Read();
+    const ManifestReadResult result = folder.Read();
+    if (!result.session.rejected.empty()) {
+      const RejectedEntry& entry = result.session.rejected.front();
+      return Failure{entry.where, entry.problem, entry.Reason()};
+    }
   } catch (const InputError& error) {
     return Failure{error.where(), error.problem(), error.what()};
   }
-  FAIL("the manifest was accepted, but an InputError was expected");
+  FAIL("the manifest was accepted, but an InputError or a rejected entry was expected");
   return {};
 }
 
@@ -328,7 +313,6 @@ units = "SI"
 [apparatus]
 pendulum_length = 0.56
 weight = 9.80665
-arrangement = "wall"
 [scope]
 divisions = [12, 10]
 time_per_div = 0.5
@@ -359,7 +343,7 @@ time_per_div = 1e-4
   REQUIRE(session.apparatus);
   CHECK(session.apparatus->gravity == 9.80665);
   CHECK(session.apparatus->mass == Approx(1.0).epsilon(1e-15));
-  CHECK(session.apparatus->arrangement == Arrangement::kWall);
+  CHECK(session.apparatus->arrangement == Arrangement::kPair);  // the default
   CHECK(session.divisions == std::array<int, 2>{12, 10});
 
   // The calibration has no trace table at all: everything comes from [scope].
@@ -970,13 +954,10 @@ TEST_CASE("manifest: a referenced file that does not exist is refused") {
 }
 
 TEST_CASE("manifest: a file missing below a relative, missing folder is reported as missing") {
-  try {
-    ParseManifest(kHeader + kPhotoRun, "no-such-folder/session.toml");
-    FAIL("accepted");
-  } catch (const InputError& error) {
-    CHECK(error.where().key == "run \"0.234\".photo");
-    CHECK_THAT(error.problem(), Contains("expected an existing file"));
-  }
+  const Session session = ParseManifest(kHeader + kPhotoRun, "no-such-folder/session.toml").session;
+  REQUIRE(session.rejected.size() == 1);
+  CHECK(session.rejected[0].where.key == "run \"0.234\".photo");
+  CHECK_THAT(session.rejected[0].problem, Contains("expected an existing file"));
 }
 
 TEST_CASE("manifest: a missing session folder or manifest is refused") {
