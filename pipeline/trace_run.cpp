@@ -15,6 +15,42 @@ namespace {
 
 std::string RunKey(const Run& run) { return fmt::format("run \"{}\"", run.id); }
 
+// The limits every trace's time axis is held to (ReboundExtractionOptions's).
+const TraceSpanLimits kSpanLimits = ReboundExtractionOptions{}.limits;
+
+// A photo's trace, before the photo is read: its sweep (time_per_div times
+// the horizontal divisions) against the pendulum's swings.
+void CheckPhotoSweep(const TraceSettings& settings, const Session& session,
+                     const Pendulum& pendulum, const InputLocation& where) {
+  const double sweep_s = settings.time_per_div * session.divisions[0];
+  if (const std::string problem = TraceSpanProblem(sweep_s, 0.0, 0, pendulum, kSpanLimits);
+      !problem.empty()) {
+    throw InputError(where, fmt::format("time_per_div = {:g} s over {} divisions: {}",
+                                        settings.time_per_div, session.divisions[0], problem));
+  }
+}
+
+// A trace as read (a CSV, or a photo digitized): its span against the
+// pendulum's swings and its sample interval; `rebounds`: a trace the
+// rebounds are read from, which must also resolve each swing.
+void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
+                    const InputLocation& where) {
+  if (trace.time_s.size() < 2) return;  // the stages say why
+  const double span_s = trace.time_s.back() - trace.time_s.front();
+  std::vector<double> steps;
+  steps.reserve(trace.time_s.size() - 1);
+  for (std::size_t i = 1; i < trace.time_s.size(); ++i) {
+    steps.push_back(trace.time_s[i] - trace.time_s[i - 1]);
+  }
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double interval_s = steps[steps.size() / 2];
+  if (const std::string problem = TraceSpanProblem(
+          span_s, interval_s, rebounds ? trace.time_s.size() : 0, pendulum, kSpanLimits);
+      !problem.empty()) {
+    throw InputError(where, problem);
+  }
+}
+
 // Volts to displacement through a cell's curve. Samples outside the
 // calibrated voltages are dropped, never extrapolated; too many of them means
 // the calibration does not cover what the run needs.
@@ -173,7 +209,11 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   Trace trace;
   if (calibration->trace.csv) {
     trace = Timed(seconds.load, [&] { return ReadTraceCsv(*calibration->trace.csv); });
+    CheckTraceSpan(trace, pendulum_, false,
+                   {*calibration->trace.csv, key + ".trace", std::nullopt});
   } else if (calibration->photo) {
+    CheckPhotoSweep(calibration->trace, session_, pendulum_,
+                    {session_.manifest, key + ".trace.time_per_div", std::nullopt});
     DigitizedPhoto digitized = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}});
     });
@@ -203,7 +243,12 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   // Every trace the run reads from its photo, in one pass over the photo.
   std::map<std::string, TraceSettings> from_photo;
   for (const auto& [name, settings] : run.traces) {
-    if (!settings.csv) from_photo[name] = settings;
+    if (settings.csv) continue;
+    // Before the photo is read: nothing may grow with a sweep of 1e300 s.
+    CheckPhotoSweep(settings, session, pendulum,
+                    {session.manifest, fmt::format("{}.traces.{}.time_per_div", RunKey(run), name),
+                     std::nullopt});
+    from_photo[name] = settings;
   }
   std::optional<DigitizedPhoto> photo;
   if (!from_photo.empty()) {
@@ -215,11 +260,17 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                   [&] { return DigitizeSessionPhoto(*run.photo, session, from_photo); });
     out.overlays.push_back(photo->overlay);
   }
+  // Every trace checked as read: its span against the pendulum's swings, and
+  // (right, left) that it resolves them.
   const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
-    if (settings.csv) {
-      return Timed(out.seconds.load, [&] { return ReadTraceCsv(*settings.csv); });
-    }
-    return photo->traces.at(name);
+    Trace trace = settings.csv
+                      ? Timed(out.seconds.load, [&] { return ReadTraceCsv(*settings.csv); })
+                      : photo->traces.at(name);
+    const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
+    CheckTraceSpan(trace, pendulum, name != "contact",
+                   {settings.csv.value_or(run.photo.value_or(session.manifest)),
+                    settings.csv ? key : key + ".time_per_div", std::nullopt});
+    return trace;
   };
   std::map<std::string, DisplacementHistory> histories;
   for (const char* cell : {"right", "left"}) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
 #include <Eigen/Dense>
 
 namespace impactlab {
@@ -148,7 +149,51 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
 
 }  // namespace
 
+bool TraceSpanLimits::Check(std::string* error) const {
+  if (!(max_half_swings >= 1.0 && max_half_swings <= 1e7) ||
+      !(max_samples >= 1.0 && max_samples <= 1e10) ||
+      !(min_samples_per_half_swing >= 0.0 && min_samples_per_half_swing <= 1e6)) {
+    *error =
+        "max_half_swings must be in [1, 1e7], max_samples in [1, 1e10] and "
+        "min_samples_per_half_swing in [0, 1e6]";
+    return false;
+  }
+  return true;
+}
+
+std::string TraceSpanProblem(double span_s, double sample_interval_s, std::size_t samples,
+                             const Pendulum& pendulum, const TraceSpanLimits& limits) {
+  if (!std::isfinite(span_s) || span_s < 0.0) {
+    return fmt::format("the trace spans {} s, not a finite time", span_s);
+  }
+  const double half_swing = HalfPeriod(pendulum, 0.0);
+  const double half_swings = span_s / half_swing;
+  if (!(half_swings <= limits.max_half_swings)) {
+    return fmt::format(
+        "the trace spans {:.4g} s, which is {:.4g} swings out and back of this pendulum ({:.4g} s "
+        "each); at most {:.4g} are expected (a wrong time unit or time_per_div?)",
+        span_s, half_swings, half_swing, limits.max_half_swings);
+  }
+  if (sample_interval_s > 0.0 && !(span_s / sample_interval_s <= limits.max_samples)) {
+    return fmt::format(
+        "the trace spans {:.4g} s at {:.4g} s a sample, which would need {:.4g} samples, more "
+        "than the limit {:.4g}",
+        span_s, sample_interval_s, span_s / sample_interval_s, limits.max_samples);
+  }
+  if (samples > 0 && half_swings >= 1.0 &&
+      static_cast<double>(samples) < limits.min_samples_per_half_swing * half_swings) {
+    return fmt::format(
+        "the trace's {} samples over {:.4g} s ({:.4g} swings out and back of this pendulum) "
+        "leave {:.3g} a swing; a rebound needs at least {:.4g} (too coarse a resolution, or a "
+        "wrong time unit or time_per_div?)",
+        samples, span_s, half_swings, static_cast<double>(samples) / half_swings,
+        limits.min_samples_per_half_swing);
+  }
+  return {};
+}
+
 bool ReboundExtractionOptions::Check(std::string* error) const {
+  if (!limits.Check(error)) return false;
   if (!(threshold_fraction > 0.0 && threshold_fraction < 0.5) ||
       !(peak_window_fraction > 0.0 && peak_window_fraction <= 0.5) || min_samples_per_peak < 4) {
     *error =
@@ -275,6 +320,19 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   const double largest = *std::max_element(h.displacement.begin(), h.displacement.end());
   if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");
   const double threshold = options.threshold_fraction * largest;
+  // The walk below takes a step of at least a part of a half swing per
+  // rebound: the span, bounded here, bounds its steps and the impacts kept.
+  const double span = h.time_s.back() - h.time_s.front();
+  if (const std::string problem = TraceSpanProblem(
+          span, MedianSpacing(h.time_s, 0, h.time_s.size()), 0, pendulum, options.limits);
+      !problem.empty()) {
+    throw std::invalid_argument(problem);
+  }
+  // A step is a half swing or a measured rebound, whose peak lies at least
+  // 0.05 of a half swing past its impact: the walk ends within span /
+  // min_step steps whatever the rounding.
+  const double min_step = 0.05 * HalfPeriod(pendulum, 0.0);
+  const auto max_steps = static_cast<long long>(std::ceil(span / min_step)) + 16;
 
   // The bars meet at the equilibrium position once every half period of the
   // pendulum (a contact lasts microseconds), so each rebound is the stretch
@@ -298,6 +356,13 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   for (int number = 1;; ++number) {
     // Rebound `number` lies between `impact` and the next impact.
     if (h.time_s.back() < impact + 0.9 * half_period) break;  // not complete in the history
+    // Times so large that a half swing no longer moves them (1e300 s), or a
+    // walk that no longer advances: stop rather than loop.
+    if (number > max_steps || !(impact + half_period > impact)) {
+      throw std::invalid_argument(
+          fmt::format("the rebounds' walk stopped advancing at t = {:.6g} s after {} step(s)",
+                      impact, number - 1));
+    }
     const auto [first, end] = SamplesWithin(h, impact, impact + half_period);
     double top_x = 0.0;
     for (std::size_t i = first; i < end; ++i) top_x = std::max(top_x, h.displacement[i]);

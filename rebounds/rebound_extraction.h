@@ -13,6 +13,7 @@
 // and it carries an uncertainty from the fit's residuals.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,32 @@ struct DisplacementHistory {
   std::vector<double> sigma;         // one-sigma per sample (length); empty when unknown
 };
 
+// Bounds on a trace's time axis, checked before any work that grows with its
+// span: a wrong unit or a typo (time_per_div = 1e8, a CSV's time column in
+// ns) would otherwise walk billions of empty swings. Generous for every real
+// session: a 22 in pendulum swings out and back in 0.75 s, a photo's 10
+// divisions at 0.5 s/div hold 7 of those, rebounds die out within tens.
+struct TraceSpanLimits {
+  // Most half swings (out and back at small amplitude, the shortest) of the
+  // pendulum a trace may span.
+  double max_half_swings = 1000.0;
+  // Most samples a trace may need at its median sample interval (span /
+  // interval): 1e8 is a deep-memory digital scope's whole record.
+  double max_samples = 1e8;
+  // Fewest samples per half swing a trace of rebounds needs (a peak fit
+  // takes at least 7 within 0.9 of a half swing).
+  double min_samples_per_half_swing = 8.0;
+
+  bool Check(std::string* error) const;
+};
+
+// Why a trace spanning `span_s` (s) at `sample_interval_s` (s; 0 when not yet
+// known, e.g. a photo before it is digitized) cannot be measured with this
+// pendulum, with the figures; empty when it can. `samples` (0: not known)
+// adds the resolution check for traces of rebounds.
+std::string TraceSpanProblem(double span_s, double sample_interval_s, std::size_t samples,
+                             const Pendulum& pendulum, const TraceSpanLimits& limits = {});
+
 struct ReboundExtractionOptions {
   // Rebounds end where their maximum falls below this fraction of the
   // largest X in the history; the release swing ends where X first falls
@@ -37,6 +64,8 @@ struct ReboundExtractionOptions {
   // Wide windows average more samples; the model fits the whole swing shape.
   double peak_window_fraction = 0.45;
   int min_samples_per_peak = 7;
+  // The history's span, checked before the rebounds are walked.
+  TraceSpanLimits limits;
 
   bool Check(std::string* error) const;
 };
@@ -61,8 +90,9 @@ struct ReboundExtraction {
   std::vector<double> impact_times;
 };
 
-// Throws std::invalid_argument for bad options or a history with fewer than two
-// rebounds' worth of samples.
+// Throws std::invalid_argument for bad options, a history with fewer than two
+// rebounds' worth of samples, or one whose span breaks `options.limits`
+// (memory and time stay bounded by the number of samples).
 ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pendulum& pendulum,
                                   const ReboundExtractionOptions& options);
 

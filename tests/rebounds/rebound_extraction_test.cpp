@@ -1,5 +1,6 @@
 #include "rebounds/rebound_extraction.h"
 
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -206,6 +207,60 @@ TEST_CASE("contact_pulse: a trace without a complete pulse is refused") {
     flat.volts.push_back(i < 50 ? 0.0 : 2.0);  // rises and never falls
   }
   CHECK_THROWS_WITH(MeasureContactPulse(flat), Catch::Contains("does not end"));
+}
+
+// Issue 14: a wrong unit or a typo in the time axis (time_per_div = 1e8, a
+// CSV's time column in ns) once walked billions of empty swings (16.9 GB and
+// 108 s before bad_alloc at 1e300). Refused at once, with the figures.
+double SecondsToRefuse(const DisplacementHistory& h, std::string* message) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    ExtractRebounds(h, kPendulum, {});
+  } catch (const std::invalid_argument& e) {
+    *message = e.what();
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+TEST_CASE("rebounds: a history spanning 1e9 s (time in ns) is refused at once, saying why") {
+  DisplacementHistory h = Simulate(0.405, 1e-3, 0.0, 1).history;
+  for (double& t : h.time_s) t *= 1e9;
+  std::string message;
+  CHECK(SecondsToRefuse(h, &message) < /*max_seconds=*/1.0);
+  CHECK_THAT(message, Catch::Contains("swings out and back of this pendulum") &&
+                          Catch::Contains("at most 1000 are expected"));
+}
+
+TEST_CASE(
+    "rebounds: a history at 1e300 s, where a half swing no longer moves the clock, is refused") {
+  for (const double scale : {1e8, 1e300}) {
+    DisplacementHistory h = Simulate(0.405, 1e-3, 0.0, 1).history;
+    for (double& t : h.time_s) t *= scale;
+    std::string message;
+    INFO("time scaled by " << scale);
+    CHECK(SecondsToRefuse(h, &message) < /*max_seconds=*/1.0);
+    CHECK_THAT(message, Catch::Contains("swings"));
+  }
+  // Time far from 0, a span of a few seconds: ulp(1e17) is 16 s, more than a
+  // half swing, so the clock cannot advance; refused instead of looping.
+  DisplacementHistory h = Simulate(0.405, 1e-3, 0.0, 1).history;
+  for (double& t : h.time_s) t += 1e17;
+  std::string message;
+  CHECK(SecondsToRefuse(h, &message) < /*max_seconds=*/1.0);
+}
+
+TEST_CASE("rebounds: TraceSpanProblem passes real sweeps and names each limit it refuses") {
+  // The thesis's sweeps: 10 divisions of 0.5 s (rebounds), 50 us (contact).
+  CHECK(TraceSpanProblem(5.0, 0.0, 0, kPendulum).empty());
+  CHECK(TraceSpanProblem(5.0, 5.0 / 600.0, 600, kPendulum).empty());
+  CHECK(TraceSpanProblem(5e-4, 1e-6, 0, kPendulum).empty());
+  CHECK_THAT(TraceSpanProblem(1e9, 0.0, 0, kPendulum), Catch::Contains("1e+09 s"));
+  CHECK_THAT(TraceSpanProblem(10.0, 1e-9, 0, kPendulum),
+             Catch::Contains("would need 1e+10 samples, more than the limit 1e+08"));
+  CHECK_THAT(TraceSpanProblem(600.0, 0.0, 600, kPendulum), Catch::Contains("leave 0.75"));
+  CHECK_THAT(TraceSpanProblem(std::nan(""), 0.0, 0, kPendulum), Catch::Contains("not a finite"));
+  std::string error;
+  CHECK(ReboundExtractionOptions{}.Check(&error));
 }
 
 }  // namespace
