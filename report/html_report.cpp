@@ -50,11 +50,12 @@ std::string Base64(const std::vector<unsigned char>& bytes) {
 std::string OverlayFigure(const PhotoOverlay& o) {
   std::string coverage, spread;
   for (std::size_t i = 0; i < o.trace_names.size(); ++i) {
-    coverage +=
-        fmt::format("{}{} {:.0f} %", i ? ", " : "", o.trace_names[i], 100.0 * o.trace_coverage[i]);
+    coverage += fmt::format("{}{} {:.0f} %", i ? ", " : "", EscapeHtml(o.trace_names[i]),
+                            100.0 * o.trace_coverage[i]);
     if (i < o.trace_spread_px2.size() && o.trace_spread_px2[i] > 0.0) {
       spread += fmt::format("{}{} {:.2f} ± {:.2f} px²", spread.empty() ? "" : ", ",
-                            o.trace_names[i], o.trace_spread_px2[i], o.trace_spread_sigma_px2[i]);
+                            EscapeHtml(o.trace_names[i]), o.trace_spread_px2[i],
+                            o.trace_spread_sigma_px2[i]);
     }
   }
   if (!spread.empty()) {

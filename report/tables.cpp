@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "report/html_escape.h"
+#include "report/text_escape.h"
 
 namespace impactlab {
 namespace {
@@ -196,7 +197,7 @@ std::string OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
 
 Table LogTable(const LogResult& log) {
   Table t;
-  t.name = "log_" + log.id;
+  t.name = FileSafeName("log_" + log.id);
   t.caption = fmt::format(
       "Log {}: dominant frequencies and damping, experiment against "
       "simulation",
@@ -281,7 +282,7 @@ Table DampingLineTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
 
 Table PredictionTable(const RunPrediction& p, const UnitLabels& u) {
   Table t;
-  t.name = fmt::format("table4_prediction_{}_from_{}", p.target_run, p.source_run);
+  t.name = FileSafeName(fmt::format("table4_prediction_{}_from_{}", p.target_run, p.source_run));
   t.caption = fmt::format(
       "Predicted (from run {}) and calculated theoretical response for run {} (thesis Table 4)",
       p.source_run, p.target_run);
@@ -300,43 +301,6 @@ Table PredictionTable(const RunPrediction& p, const UnitLabels& u) {
   t.notes = {fmt::format("X0 here is the starting maximum, rebound {} = {} {}.", p.start_rebound,
                          Fixed(p.start_xmax, 4), u.length)};
   return t;
-}
-
-std::string EscapeCsv(const std::string& cell) {
-  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
-  std::string out = "\"";
-  for (char c : cell) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
-std::string EscapeLatex(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '%':
-        out += "\\%";
-        break;
-      case '_':
-        out += "\\_";
-        break;
-      case '&':
-        out += "\\&";
-        break;
-      case '#':
-        out += "\\#";
-        break;
-      case '*':
-        out += "$^*$";
-        break;
-      default:
-        out += c;
-    }
-  }
-  // "±" is UTF-8; LaTeX gets the math symbol.
-  std::size_t pos = 0;
-  while ((pos = out.find("±", pos)) != std::string::npos)
-    out.replace(pos, std::string("±").size(), "$\\pm$");
-  return out;
 }
 
 std::string Join(const std::vector<std::string>& cells, const std::string& separator,
@@ -389,11 +353,14 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       for (const auto& row : t.rows) out += Join(row, ",", EscapeCsv) + "\n";
       return out;
     case ReportFormat::kMarkdown:
-      out += fmt::format("### {}\n\n| {} |\n|", t.caption, Join(t.columns, " | ", nullptr));
+      out += fmt::format("### {}\n\n| {} |\n|", EscapeMarkdown(t.caption),
+                         Join(t.columns, " | ", EscapeMarkdown));
       for (std::size_t i = 0; i < t.columns.size(); ++i) out += i == 0 ? " :--- |" : " ---: |";
       out += "\n";
-      for (const auto& row : t.rows) out += fmt::format("| {} |\n", Join(row, " | ", nullptr));
-      for (const auto& note : t.notes) out += fmt::format("\n{}\n", note);
+      for (const auto& row : t.rows) {
+        out += fmt::format("| {} |\n", Join(row, " | ", EscapeMarkdown));
+      }
+      for (const auto& note : t.notes) out += fmt::format("\n{}\n", EscapeMarkdown(note));
       return out + "\n";
     case ReportFormat::kHtml:
       out += fmt::format(
@@ -425,11 +392,14 @@ std::string RenderTable(const Table& t, ReportFormat format) {
 std::string RenderTables(const std::string& title, const std::vector<Table>& tables,
                          ReportFormat format) {
   std::string out;
-  if (format == ReportFormat::kMarkdown) out += fmt::format("# {}\n\n", title);
-  if (format == ReportFormat::kLatex) out += fmt::format("% {}\n", title);
+  // The title is the user's: escaped like every other string (in LaTeX it is
+  // a % comment, which a newline in it must not end).
+  if (format == ReportFormat::kMarkdown) out += fmt::format("# {}\n\n", EscapeMarkdown(title));
+  if (format == ReportFormat::kLatex) out += fmt::format("% {}\n", EscapeLatex(title));
   for (const Table& t : tables) {
     if (format == ReportFormat::kCsv) {
-      out += fmt::format("# {}: {}\n{}\n", t.name, t.caption, RenderTable(t, format));
+      out += fmt::format("{}\n{}\n", CsvComment(fmt::format("# {}: {}", t.name, t.caption)),
+                         RenderTable(t, format));
     } else {
       out += RenderTable(t, format);
     }

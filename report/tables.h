@@ -11,8 +11,11 @@
 
 namespace impactlab {
 
+// Cells, captions and notes hold plain text (some of it the user's: run and
+// log ids, channel names, failure messages); RenderTable escapes all of it
+// for its format (report/text_escape.h, report/html_escape.h).
 struct Table {
-  std::string name;     // file-name friendly, e.g. "table2_deviations"
+  std::string name;     // file-name safe (FileSafeName), e.g. "table2_deviations"
   std::string caption;  // e.g. "Deviation of theoretical from experimental response (Table 2)"
   std::vector<std::string> columns;
   std::vector<std::vector<std::string>> rows;
@@ -25,8 +28,9 @@ enum class ReportFormat { kMarkdown, kCsv, kLatex, kHtml };
 std::optional<ReportFormat> ParseReportFormat(
     const std::string& name);  // "md", "csv", "tex", "html"
 
-// One document with every table. CSV: each table as its own block, introduced
-// by a "# name: caption" line and separated by a blank line.
+// One document with every table, under `title` (Markdown: a heading; LaTeX:
+// a % comment). CSV: each table as its own block, introduced by a
+// "# name: caption" comment line (CsvComment) and separated by a blank line.
 std::string RenderTables(const std::string& title, const std::vector<Table>& tables,
                          ReportFormat format);
 // One table alone (CSV files written one per table; an HTML <table> element).
