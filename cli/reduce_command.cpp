@@ -1,5 +1,6 @@
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,19 +14,38 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
+#include "pipeline/run_fingerprint.h"
 
 namespace impactlab::cli {
 namespace {
 
-// An earlier results file of the same session, if there is a readable one.
-std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, bool quiet) {
+// An earlier results file of the same session, if there is a readable one,
+// without the runs whose values must not be reused (a note for each: a
+// hand-edited or corrupted file is never trusted). Typed-in runs never reuse,
+// so their values there are not looked at.
+std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, bool quiet,
+                                             const Session& session) {
   if (!std::filesystem::exists(path)) return std::nullopt;
+  SessionResult previous;
   try {
-    return ReadResults(path);
+    previous = ReadResults(path);
   } catch (const std::exception& e) {
     if (!quiet) fmt::print(stderr, "note: not reusing {}: {}\n", path.string(), e.what());
     return std::nullopt;
   }
+  std::erase_if(previous.runs, [&](const RunResult& run) {
+    const auto in_session = std::find_if(session.runs.begin(), session.runs.end(),
+                                         [&](const Run& r) { return r.id == run.id; });
+    if (in_session == session.runs.end() || in_session->HasTypedRebounds()) return false;
+    if (run.xmax.empty()) return false;  // nothing measured there: nothing to reuse
+    const std::string problem = ReuseProblem(run);
+    if (problem.empty()) return false;
+    if (!quiet) {
+      fmt::print(stderr, "note: not reusing run {} from {}: {}\n", run.id, path.string(), problem);
+    }
+    return true;
+  });
+  return previous;
 }
 
 }  // namespace
@@ -73,7 +93,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
                                                      : Products::kFit;
       options.jobs = args->jobs;
       const std::optional<SessionResult> previous =
-          args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet);
+          args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet, manifest.session);
       if (previous) options.previous = &*previous;
       // Progress on a terminal only: logs and pipes get the summary alone.
       const bool show_progress = !args->quiet && isatty(fileno(stderr)) != 0;

@@ -121,12 +121,16 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
   FitRunLeastSquares(pendulum, session.apparatus->mass, separation, out);
 }
 
-// A previous result's measurement, when the run's inputs are unchanged.
-const RunResult* Reusable(const ReduceOptions& options, const std::string& id,
+// A previous result's measurement, when the run's inputs are unchanged and
+// the file's values pass ReuseProblem (a hand-edited or corrupted file is
+// never trusted). Typed-in runs never reuse: their maxima are read from the
+// manifest, cheaper than validating the file's.
+const RunResult* Reusable(const ReduceOptions& options, const Run& run,
                           const std::string& fingerprint) {
-  if (options.previous == nullptr) return nullptr;
-  const RunResult* old = options.previous->FindRun(id);
-  return old != nullptr && old->fingerprint == fingerprint && !old->xmax.empty() ? old : nullptr;
+  if (options.previous == nullptr || run.HasTypedRebounds()) return nullptr;
+  const RunResult* old = options.previous->FindRun(run.id);
+  if (old == nullptr || old->fingerprint != fingerprint) return nullptr;
+  return ReuseProblem(*old).empty() ? old : nullptr;
 }
 
 void CopyMeasurement(const RunResult& from, RunResult& to) {
@@ -154,12 +158,12 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
-  out.fingerprint = fingerprint ? *fingerprint : RunFingerprint(run, session, options.producer);
-  if (const RunResult* old = Reusable(options, run.id, out.fingerprint)) {
+  out.fingerprint = fingerprint ? *fingerprint : RunFingerprint(run, session, options);
+  if (run.HasTypedRebounds()) {
+    MeasureTypedRun(run, out);
+  } else if (const RunResult* old = Reusable(options, run, out.fingerprint)) {
     CopyMeasurement(*old, out);
     out.reused = true;
-  } else if (run.HasTypedRebounds()) {
-    MeasureTypedRun(run, out);
   } else {
     MeasureTraceRun(run, session, pendulum, calibrations, out);
   }
@@ -210,12 +214,12 @@ MeasurementPlan PlanMeasurement(const Session& session, const ReduceOptions& opt
   for (const Run& run : session.runs) {
     std::optional<std::string> fingerprint;
     try {
-      fingerprint = RunFingerprint(run, session, options.producer);
+      fingerprint = RunFingerprint(run, session, options);
     } catch (const std::exception&) {
       // Reported by the run itself.
     }
     plan.fingerprints.push_back(fingerprint);
-    if (!fingerprint || run.HasTypedRebounds() || Reusable(options, run.id, *fingerprint)) continue;
+    if (!fingerprint || run.HasTypedRebounds() || Reusable(options, run, *fingerprint)) continue;
     for (const auto& [cell, id] : run.calibration) {
       if (named.insert(id).second) plan.calibrations.push_back(id);
     }

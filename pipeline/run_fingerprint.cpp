@@ -1,15 +1,24 @@
 #include "pipeline/run_fingerprint.h"
 
+#include <unistd.h>
 #include <xxhash.h>
 
 #include <algorithm>
 #include <array>
-#include <fstream>
+#include <cerrno>
+#include <cmath>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "calibration/photocell_calibration.h"
+#include "digitize/digitize.h"
 #include "io/errors.h"
+#include "io/session_file.h"
+#include "model/contact.h"
+#include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
 namespace {
@@ -25,14 +34,21 @@ class Hasher {
     return *this;
   }
   Hasher& Add(double value) { return Add(fmt::format("{:a}", value)); }  // exact bits
+  Hasher& Add(int value) { return Add(std::to_string(value)); }
+  Hasher& Add(std::size_t value) { return Add(std::to_string(value)); }
+  Hasher& Add(bool value) { return Add(std::string(value ? "true" : "false")); }
 
-  Hasher& AddFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError({path, "", std::nullopt}, "cannot read the file");
+  // A file of the session, read as every session file is (io/session_file.h):
+  // from inside `folder` only, never a pipe that would block the hash.
+  Hasher& AddFile(const std::filesystem::path& folder, const std::filesystem::path& path) {
+    const SessionFile file(folder, path);
     std::array<char, 1 << 16> buffer{};
-    while (in) {
-      in.read(buffer.data(), buffer.size());
-      XXH3_128bits_update(state_.get(), buffer.data(), static_cast<std::size_t>(in.gcount()));
+    while (true) {
+      const ssize_t n = ::read(file.descriptor(), buffer.data(), buffer.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) throw InputError({path, "", std::nullopt}, "cannot read the file");
+      if (n == 0) break;
+      XXH3_128bits_update(state_.get(), buffer.data(), static_cast<std::size_t>(n));
     }
     return Add(path.filename().string());
   }
@@ -46,17 +62,69 @@ class Hasher {
   std::unique_ptr<XXH3_state_t, XXH_errorcode (*)(XXH3_state_t*)> state_;
 };
 
-void AddTrace(Hasher& h, const TraceSettings& s) {
+void AddTrace(Hasher& h, const std::filesystem::path& folder, const TraceSettings& s) {
   h.Add(s.time_per_div).Add(s.volts_per_div).Add(s.zero_div).Add(s.band_div[0]).Add(s.band_div[1]);
   h.Add(s.t0_div).Add(s.impact ? std::to_string(*s.impact) : "-");
-  if (s.csv) h.AddFile(*s.csv);
+  if (s.csv) h.AddFile(folder, *s.csv);
+}
+
+// The options structs reduce measures with (built with their defaults in
+// pipeline/photo_traces.cpp and pipeline/trace_run.cpp), field by field, so
+// that a changed default changes every fingerprint; each struct's size too,
+// so that a field added but not listed here still does.
+void AddOptions(Hasher& h, const DigitizeOptions& o) {
+  const GraticuleOptions& g = o.graticule;
+  h.Add(std::string("digitize")).Add(sizeof(DigitizeOptions)).Add(sizeof(GraticuleOptions));
+  h.Add(g.detect_width_px).Add(static_cast<int>(g.polarity)).Add(static_cast<int>(g.radial));
+  h.Add(g.radial_min_gain).Add(g.samples_per_div).Add(g.line_average_div);
+  h.Add(g.max_residual_px).Add(g.max_rotation_deg);
+  const TraceOptions& t = o.traces;
+  h.Add(sizeof(TraceOptions)).Add(static_cast<int>(t.method)).Add(t.samples_per_px);
+  h.Add(t.centroid_level).Add(t.profile_half_widths).Add(t.track_px_per_div).Add(t.max_gap_div);
+  h.Add(t.min_relative_height).Add(t.min_local_height).Add(t.max_relative_width);
+  h.Add(t.outlier_sigmas).Add(t.min_confidence).Add(t.min_height_over_grid).Add(t.min_coverage);
+  h.Add(t.grid_reach_widths).Add(t.grid_model);
+}
+
+void AddOptions(Hasher& h, const CalibrationOptions& o) {
+  h.Add(std::string("calibration")).Add(sizeof(CalibrationOptions));
+  h.Add(o.max_order).Add(o.skip_after_release_s).Add(o.range_margin);
+}
+
+void AddOptions(Hasher& h, const ReboundExtractionOptions& o) {
+  h.Add(std::string("rebounds")).Add(sizeof(ReboundExtractionOptions));
+  h.Add(o.threshold_fraction).Add(o.peak_window_fraction).Add(o.min_samples_per_peak);
+  h.Add(sizeof(TraceSpanLimits)).Add(o.limits.max_half_swings).Add(o.limits.max_samples);
+  h.Add(o.limits.min_samples_per_half_swing);
+}
+
+const char* ProductsName(Products products) {
+  switch (products) {
+    case Products::kCalibration:
+      return "calibration";
+    case Products::kRebounds:
+      return "rebounds";
+    case Products::kFit:
+      return "fit";
+  }
+  return "?";
 }
 
 }  // namespace
 
-std::string RunFingerprint(const Run& run, const Session& session, const std::string& producer) {
+std::string RunFingerprint(const Run& run, const Session& session, const ReduceOptions& options) {
   Hasher h;
-  h.Add(producer).Add(std::string(UnitSystemName(session.units)));
+  h.Add(options.producer).Add(std::string(UnitSystemName(session.units)));
+  // The settings as reduce resolves them: an override, else the manifest's.
+  const PendulumConvention convention =
+      options.convention.value_or(ParseConvention(session.reduction.convention));
+  const Separation separation =
+      options.separation.value_or(ParseSeparation(session.reduction.separation));
+  h.Add(std::string(ConventionName(convention))).Add(std::string(SeparationName(separation)));
+  h.Add(std::string(ProductsName(options.products)));
+  AddOptions(h, DigitizeOptions{});
+  AddOptions(h, CalibrationOptions{});
+  AddOptions(h, ReboundExtractionOptions{});
   if (session.apparatus) {
     h.Add(session.apparatus->pendulum_length).Add(session.apparatus->mass);
     h.Add(session.apparatus->gravity);
@@ -66,10 +134,10 @@ std::string RunFingerprint(const Run& run, const Session& session, const std::st
   for (double x : run.rebounds) h.Add(x);
   h.Add(run.contact_time.value_or(-1.0)).Add(run.rebound_uncertainty.value_or(-1.0));
   h.Add(run.contact_time_uncertainty.value_or(-1.0));
-  if (run.photo) h.AddFile(*run.photo);
+  if (run.photo) h.AddFile(session.folder, *run.photo);
   for (const auto& [name, trace] : run.traces) {
     h.Add(name);
-    AddTrace(h, trace);
+    AddTrace(h, session.folder, trace);
   }
   for (const auto& [cell, id] : run.calibration) {
     h.Add(cell).Add(id);
@@ -77,10 +145,117 @@ std::string RunFingerprint(const Run& run, const Session& session, const std::st
                                 [&](const Calibration& k) { return k.id == id; });
     if (c == session.calibrations.end()) continue;
     h.Add(c->cell).Add(c->initial_displacement);
-    if (c->photo) h.AddFile(*c->photo);
-    AddTrace(h, c->trace);
+    if (c->photo) h.AddFile(session.folder, *c->photo);
+    AddTrace(h, session.folder, c->trace);
   }
   return h.Hex();
+}
+
+namespace {
+
+// The first value of `values` that is not finite, as "name[i] is nan".
+std::string NotFinite(const std::string& name, const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) return fmt::format("{}[{}] is {}", name, i, values[i]);
+  }
+  return {};
+}
+
+std::string NotFinite(const std::string& name, double value) {
+  return std::isfinite(value) ? std::string() : fmt::format("{} is {}", name, value);
+}
+
+std::string SizesDiffer(const std::string& a, std::size_t size_a, const std::string& b,
+                        std::size_t size_b) {
+  return size_a == size_b ? std::string()
+                          : fmt::format("{} has {} values but {} has {}", a, size_a, b, size_b);
+}
+
+std::string BarProblem(const std::string& name, const BarRebounds& bar) {
+  const std::pair<const char*, const std::vector<double>*> fields[] = {
+      {"xmax", &bar.xmax},
+      {"xmax_std_error", &bar.xmax_sigma},
+      {"t_peak", &bar.t_peak},
+      {"t_peak_std_error", &bar.t_peak_sigma},
+      {"duration", &bar.duration}};
+  for (const auto& [field, values] : fields) {
+    const std::string full = name + "/" + field;
+    if (std::string p = NotFinite(full, *values); !p.empty()) return p;
+    if (std::string p = SizesDiffer(name + "/xmax", bar.xmax.size(), full, values->size());
+        !p.empty())
+      return p;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string ReuseProblem(const RunResult& r) {
+  if (r.xmax.empty()) return "it has no xmax";
+  const std::vector<std::pair<std::string, const std::vector<double>*>> vectors = {
+      {"xmax", &r.xmax},
+      {"xmax_std_error", &r.xmax_sigma},
+      {"t_peak", &r.t_peak},
+      {"duration", &r.rebound_duration},
+      {"displacement/time", &r.measured_displacement.time_s},
+      {"displacement/average", &r.measured_displacement.value}};
+  for (const auto& [name, values] : vectors) {
+    if (std::string p = NotFinite(name, *values); !p.empty()) return p;
+  }
+  const std::string sizes[] = {
+      SizesDiffer("xmax", r.xmax.size(), "xmax_std_error", r.xmax_sigma.size()),
+      r.t_peak.empty() ? std::string()
+                       : SizesDiffer("xmax", r.xmax.size(), "t_peak", r.t_peak.size()),
+      r.rebound_duration.empty()
+          ? std::string()
+          : SizesDiffer("xmax", r.xmax.size(), "duration", r.rebound_duration.size()),
+      SizesDiffer("displacement/time", r.measured_displacement.time_s.size(),
+                  "displacement/average", r.measured_displacement.value.size())};
+  for (const std::string& p : sizes) {
+    if (!p.empty()) return p;
+  }
+  for (std::size_t i = 0; i < r.xmax.size(); ++i) {
+    if (!(r.xmax[i] > 0.0)) return fmt::format("xmax[{}] is {}, not positive", i, r.xmax[i]);
+    if (r.xmax_sigma[i] < 0.0) return fmt::format("xmax_std_error[{}] is negative", i);
+  }
+  for (std::size_t i = 1; i < r.measured_displacement.time_s.size(); ++i) {
+    if (!(r.measured_displacement.time_s[i] > r.measured_displacement.time_s[i - 1])) {
+      return fmt::format("displacement/time does not increase at [{}]", i);
+    }
+  }
+  if (r.contact_time) {
+    if (std::string p = NotFinite("contact_time", *r.contact_time); !p.empty()) return p;
+    if (std::string p = NotFinite("contact_time_std_error", r.contact_time_sigma); !p.empty())
+      return p;
+  }
+  if (r.right) {
+    if (std::string p = BarProblem("rebounds/right", *r.right); !p.empty()) return p;
+  }
+  if (r.left) {
+    if (std::string p = BarProblem("rebounds/left", *r.left); !p.empty()) return p;
+  }
+  for (const CellCalibration& c : r.calibrations) {
+    const std::string g = "calibration/" + c.cell;
+    const std::pair<const char*, double> scalars[] = {
+        {"release_x", c.release_x},
+        {"residual_rms_volts", c.residual_rms_volts},
+        {"residual_rms_length", c.residual_rms_length},
+        {"volts_min", c.volts_min},
+        {"volts_max", c.volts_max}};
+    for (const auto& [name, value] : scalars) {
+      if (std::string p = NotFinite(g + "/" + name, value); !p.empty()) return p;
+    }
+    const std::pair<const char*, const std::vector<double>*> vectors[] = {
+        {"chebyshev", &c.chebyshev}, {"points_x", &c.points_x}, {"points_volts", &c.points_volts}};
+    for (const auto& [name, values] : vectors) {
+      if (std::string p = NotFinite(g + "/" + name, *values); !p.empty()) return p;
+    }
+    if (std::string p = SizesDiffer(g + "/points_x", c.points_x.size(), g + "/points_volts",
+                                    c.points_volts.size());
+        !p.empty())
+      return p;
+  }
+  return {};
 }
 
 }  // namespace impactlab

@@ -1,6 +1,8 @@
 // A run's fingerprint: a hash of everything its measurement depends on (the
 // manifest entries of the run and its calibrations, the apparatus and
-// reduction settings, the program version, and the bytes of every input
+// reduction settings as reduce resolves them: pendulum convention,
+// separation, products; the program version and commit; the field values of
+// every options struct the measurement uses; and the bytes of every input
 // file). An unchanged fingerprint lets `reduce` reuse the run's earlier
 // measurement from the existing results file.
 #pragma once
@@ -8,10 +10,20 @@
 #include <string>
 
 #include "io/session.h"
+#include "pipeline/reduce.h"
+#include "pipeline/session_result.h"
 
 namespace impactlab {
 
-// 32 hex digits (XXH3-128). Throws InputError if an input file cannot be read.
-std::string RunFingerprint(const Run& run, const Session& session, const std::string& producer);
+// 32 hex digits (XXH3-128). `options`: the reduce's (producer, products and
+// the overrides of the manifest's convention and separation). Throws
+// InputError if an input file cannot be read, std::invalid_argument for an
+// unknown convention or separation.
+std::string RunFingerprint(const Run& run, const Session& session, const ReduceOptions& options);
+
+// Why a previous result's measurement of a run must not be reused (a value
+// that is not finite, sizes that disagree: a hand-edited or corrupted file),
+// e.g. "xmax[2] is nan"; empty when it may be.
+std::string ReuseProblem(const RunResult& previous);
 
 }  // namespace impactlab

@@ -1,8 +1,10 @@
 // A session whose runs come as CSV traces (digital scope), made from the
 // model with known photocell curves: reduce recovers the maxima, the contact
 // time and the Kelvin-Voigt parameters.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <random>
 
 #include <fmt/format.h>
@@ -13,6 +15,8 @@
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
 #include "pipeline/reduce.h"
+#include "pipeline/results_file.h"
+#include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 #include "tests/support/temp_dir.h"
 
@@ -149,7 +153,13 @@ TEST_CASE("trace_session: a missing trace file is refused when the manifest is r
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
   std::filesystem::remove(dir.path() / "traces" / "L.csv");
-  CHECK_THROWS_WITH(ReadManifest(dir.path()), Catch::Contains("L.csv"));
+  // The calibration whose trace it is fails, and so does the run that needs it.
+  const Session session = ReadManifest(dir.path()).session;
+  REQUIRE_FALSE(session.rejected.empty());
+  for (const RejectedEntry& entry : session.rejected) {
+    CHECK_THAT(entry.Reason(), Catch::Contains("L.csv"));
+  }
+  CHECK(session.runs.empty());
 }
 
 TEST_CASE("trace_session: a calibration that does not cover the run is refused") {
@@ -189,7 +199,8 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
   again.previous = &first;
   const SessionResult second = ReduceSession(session, again);
   CHECK(second.runs[0].reused);
-  CHECK(second.runs[1].reused);
+  CHECK_FALSE(second.runs[1].reused);  // typed-in runs read the manifest, never the file
+  CHECK(second.runs[1].xmax == first.runs[1].xmax);
   CHECK(second.runs[0].xmax == first.runs[0].xmax);
   CHECK(second.runs[0].kelvin_voigt->stiffness->value ==
         first.runs[0].kelvin_voigt->stiffness->value);
@@ -209,7 +220,156 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
                              std::filesystem::copy_options::overwrite_existing);
   const SessionResult fourth = ReduceSession(session, again);
   CHECK_FALSE(fourth.runs[0].reused);
-  CHECK(fourth.runs[1].reused);
+  CHECK_FALSE(fourth.runs[1].reused);
+}
+
+// Issue 14, item 4: reuse never serves stale or corrupt results.
+
+// The trace session with a second trace run ("again", the same traces) and
+// the typed-in run.
+Session ThreeRunSession(const std::filesystem::path& dir) {
+  TwoRunSession(dir);
+  std::ofstream(dir / "session.toml", std::ios::app) << R"(
+[[run]]
+id = "again"
+initial_displacement = 0.6
+calibration = { right = "R", left = "L" }
+fit_rebounds = [0, 2]
+[run.traces.right]
+csv = "traces/run-right.csv"
+[run.traces.left]
+csv = "traces/run-left.csv"
+)";
+  return ReadManifest(dir).session;
+}
+
+TEST_CASE("reuse: a changed convention measures again and matches a fresh run") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  const SessionResult exact = ReduceSession(session, {});
+  REQUIRE(exact.FailedRuns() == 0);
+  ReduceOptions thesis;
+  thesis.convention = PendulumConvention::kThesis;
+  const SessionResult fresh = ReduceSession(session, thesis);
+  thesis.previous = &exact;
+  const SessionResult again = ReduceSession(session, thesis);
+  REQUIRE(again.FailedRuns() == 0);
+  CHECK(again.convention == PendulumConvention::kThesis);
+  for (std::size_t i = 0; i < again.runs.size(); ++i) {
+    INFO("run " << again.runs[i].id);
+    CHECK_FALSE(again.runs[i].reused);
+    CHECK(again.runs[i].fingerprint != exact.runs[i].fingerprint);
+    CHECK(again.runs[i].xmax == fresh.runs[i].xmax);
+  }
+  // The calibration depends on the pendulum: the trace run's maxima differ.
+  CHECK(again.runs[0].xmax != exact.runs[0].xmax);
+}
+
+TEST_CASE("reuse: the fingerprint covers the convention, separation, products and producer") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  const Run& run = session.runs[0];
+  const std::string base = RunFingerprint(run, session, {});
+  CHECK(RunFingerprint(run, session, {}) == base);
+  ReduceOptions o;
+  o.convention = PendulumConvention::kThesis;
+  CHECK(RunFingerprint(run, session, o) != base);
+  o = {};
+  o.convention = PendulumConvention::kExact;  // the manifest's own: the same
+  CHECK(RunFingerprint(run, session, o) == base);
+  o = {};
+  o.separation = Separation::kForce;
+  CHECK(RunFingerprint(run, session, o) != base);
+  o = {};
+  o.products = Products::kRebounds;
+  CHECK(RunFingerprint(run, session, o) != base);
+  o = {};
+  o.producer = "impactlab 0.1.0+gdeadbee";
+  CHECK(RunFingerprint(run, session, o) != base);
+  Session thesis = session;
+  thesis.reduction.convention = "thesis";
+  CHECK(RunFingerprint(run, thesis, {}) != base);
+}
+
+TEST_CASE("reuse: a NaN written into one run's xmax measures that run again, others reused") {
+  testing::TempDir dir;
+  const Session session = ThreeRunSession(dir.path());
+  const SessionResult first = ReduceSession(session, {});
+  REQUIRE(first.FailedRuns() == 0);
+  REQUIRE(first.runs.size() == 3);
+  REQUIRE(first.runs[2].id == "again");
+  const auto file = dir.path() / "out.h5";
+  WriteResults(first, file);
+  // A copy with a NaN in run "run"'s xmax[1] and in the typed run's xmax[0].
+  SessionResult edited = ReadResults(file);
+  const auto run_of = [](SessionResult& r, const std::string& id) -> RunResult& {
+    return *std::find_if(r.runs.begin(), r.runs.end(),
+                         [&](const RunResult& run) { return run.id == id; });
+  };
+  run_of(edited, "run").xmax[1] = std::nan("");
+  run_of(edited, "typed").xmax[0] = std::nan("");
+  const auto copy = dir.path() / "edited.h5";
+  WriteResults(edited, copy);
+  const SessionResult previous = ReadResults(copy);
+  REQUIRE(std::isnan(previous.FindRun("run")->xmax[1]));
+  CHECK_THAT(ReuseProblem(*previous.FindRun("run")), Catch::Equals("xmax[1] is nan"));
+  CHECK(ReuseProblem(*previous.FindRun("again")).empty());
+
+  ReduceOptions options;
+  options.previous = &previous;
+  const SessionResult second = ReduceSession(session, options);
+  REQUIRE(second.FailedRuns() == 0);
+  CHECK_FALSE(second.runs[0].reused);
+  CHECK(second.runs[0].xmax == first.runs[0].xmax);
+  CHECK_FALSE(second.runs[1].reused);  // typed-in: the manifest's values, not the file's
+  CHECK(second.runs[1].xmax == session.runs[1].rebounds);
+  CHECK(second.runs[2].reused);
+  CHECK(second.runs[2].xmax == first.runs[2].xmax);
+}
+
+TEST_CASE("reuse: values that are not finite or disagree in size are named") {
+  RunResult r;
+  r.xmax = {0.3, 0.2};
+  r.xmax_sigma = {1e-3, 1e-3};
+  CHECK(ReuseProblem(r).empty());
+  RunResult bad = r;
+  bad.xmax_sigma.pop_back();
+  CHECK_THAT(ReuseProblem(bad), Catch::Contains("xmax has 2 values but xmax_std_error has 1"));
+  bad = r;
+  bad.contact_time = std::numeric_limits<double>::infinity();
+  CHECK_THAT(ReuseProblem(bad), Catch::Equals("contact_time is inf"));
+  bad = r;
+  bad.t_peak = {0.1, std::nan("")};
+  CHECK_THAT(ReuseProblem(bad), Catch::Equals("t_peak[1] is nan"));
+  bad = r;
+  bad.calibrations.push_back({});
+  bad.calibrations[0].cell = "right";
+  bad.calibrations[0].points_x = {0.0, std::nan("")};
+  bad.calibrations[0].points_volts = {1.0, 2.0};
+  CHECK_THAT(ReuseProblem(bad), Catch::Equals("calibration/right/points_x[1] is nan"));
+  bad = r;
+  bad.measured_displacement.time_s = {0.0, 1.0};
+  bad.measured_displacement.value = {0.0};
+  CHECK_THAT(ReuseProblem(bad), Catch::Contains("displacement/time has 2 values"));
+  bad = r;
+  bad.right = BarRebounds{{0.3}, {std::nan("")}, {0.1}, {0.0}, {0.5}};
+  CHECK_THAT(ReuseProblem(bad), Catch::Equals("rebounds/right/xmax_std_error[0] is nan"));
+}
+
+TEST_CASE("reuse: a truncated or garbage previous file is refused with its name") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  const SessionResult first = ReduceSession(session, {});
+  const auto file = dir.path() / "out.h5";
+  WriteResults(first, file);
+  const auto size = std::filesystem::file_size(file);
+  const auto truncated = dir.path() / "truncated.h5";
+  std::filesystem::copy_file(file, truncated);
+  std::filesystem::resize_file(truncated, size / 2);
+  CHECK_THROWS_WITH(ReadResults(truncated), Catch::Contains("truncated.h5"));
+  const auto garbage = dir.path() / "garbage.h5";
+  std::ofstream(garbage) << "not an HDF5 file at all\n";
+  CHECK_THROWS_WITH(ReadResults(garbage), Catch::Contains("garbage.h5"));
 }
 
 TEST_CASE("calibration cache: a calibration's cost is charged once, to the first run that asks") {
