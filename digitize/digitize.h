@@ -49,6 +49,14 @@ struct Photo {
 // image, or too small to hold a graticule.
 Photo LoadPhoto(const std::filesystem::path& path);
 
+// LoadPhoto's work after reading the file: `bytes` are the file's contents,
+// `source` the file named in errors. Before decoding, the header's declared
+// size is read and a photo over 100 megapixels (digitize::kMaxPhotoPixels,
+// digitize/image_header.h) or with an unreadable header is refused; a JPEG
+// that the decoder warns about (corrupt or missing data) is refused too.
+// Throws InputError naming `source` and the reason.
+Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem::path& source);
+
 enum class Polarity {
   kAuto,          // decided from the photo: are thin features brighter or darker than the screen?
   kBrightTraces,  // light traces on a dark screen (a print, a phone photo)

@@ -1,9 +1,11 @@
-// LoadPhoto and PreparePhoto: decoding with clear errors, and the small grey
+// LoadPhoto, DecodePhoto and PreparePhoto: decoding with clear errors (and
+// refusals before decoding, from the header), and the small grey
 // working copy the searches run on.
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <stdexcept>
 #include <vector>
@@ -13,6 +15,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "digitize/image_header.h"
+#include "digitize/jpeg_grey.h"
 #include "digitize/select.h"
 #include "io/errors.h"
 
@@ -138,6 +142,39 @@ cv::Mat ShrinkByArea(const cv::Mat& photo, int f) {
   return small;
 }
 
+// Turns a decoded JPEG as its EXIF orientation (1-8) says, as cv::imdecode
+// does (OpenCV's ApplyExifOrientation), so the pixels match what it gave.
+void ApplyExifOrientation(int orientation, cv::Mat& image) {
+  switch (orientation) {
+    case 2:
+      cv::flip(image, image, 1);
+      break;
+    case 3:
+      cv::flip(image, image, -1);
+      break;
+    case 4:
+      cv::flip(image, image, 0);
+      break;
+    case 5:
+      cv::transpose(image, image);
+      break;
+    case 6:
+      cv::transpose(image, image);
+      cv::flip(image, image, 1);
+      break;
+    case 7:
+      cv::transpose(image, image);
+      cv::flip(image, image, -1);
+      break;
+    case 8:
+      cv::transpose(image, image);
+      cv::flip(image, image, 0);
+      break;
+    default:
+      break;
+  }
+}
+
 }  // namespace
 
 Photo LoadPhoto(const std::filesystem::path& path) {
@@ -153,25 +190,61 @@ Photo LoadPhoto(const std::filesystem::path& path) {
   if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) {
     Refuse(path, "cannot read the photo");
   }
-  if (bytes.empty()) Refuse(path, "the photo file is empty");
-  CheckComplete(path, bytes);
+  return DecodePhoto(bytes, path);
+}
+
+Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem::path& source) {
+  if (bytes.empty()) Refuse(source, "the photo file is empty");
+  // The header first: a decoder allocates whatever it declares.
+  digitize::ImageHeader header;
+  if (std::string problem; !digitize::ReadImageHeader(bytes, &header, &problem)) {
+    Refuse(source, "cannot decode the photo: " + problem);
+  }
+  const char* format = digitize::ImageFormatName(header.format);
+  if (digitize::ExceedsPixels(header, digitize::kMaxPhotoPixels)) {
+    Refuse(source, fmt::format("the {} declares {}x{} pixels ({:.0f} megapixels); photos over {} "
+                               "megapixels are refused (a 1200 dpi scan of a 4x5 inch print is "
+                               "29), as a decoder would allocate all of them",
+                               format, header.width, header.height,
+                               static_cast<double>(header.width) * header.height / 1e6,
+                               digitize::kMaxPhotoPixels / 1'000'000));
+  }
+  if (header.width < kMinSidePx || header.height < kMinSidePx) {
+    Refuse(source, fmt::format("the photo is {}x{} pixels, too small to hold a graticule (at "
+                               "least {} pixels each way)",
+                               header.width, header.height, kMinSidePx));
+  }
+  CheckComplete(source, bytes);
   Photo photo;
-  photo.source = path;
-  // A JPEG stores luma and colour apart, and the digitizer reads only luma
-  // (BT.601, the same weights JPEG uses): decoding just the luma skips the
-  // colour upsampling and conversion and halves the decode.
-  const int flags = StartsWith(bytes, {0xFF, 0xD8, 0xFF})
-                        ? cv::IMREAD_GRAYSCALE
-                        : cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR;
-  try {
-    photo.image = cv::imdecode(bytes, flags);
-  } catch (const cv::Exception& e) {
-    Refuse(path, fmt::format("cannot decode the photo: {}", e.what()));
+  photo.source = source;
+  if (header.format == digitize::ImageFormat::kJpeg) {
+    // A JPEG stores luma and colour apart, and the digitizer reads only luma
+    // (BT.601, the same weights JPEG uses): decoding just the luma skips the
+    // colour upsampling and conversion and halves the decode. libjpeg
+    // directly, not through OpenCV, so that its warnings about damaged data
+    // fail the photo instead of going to stderr.
+    std::string problem;
+    if (!digitize::DecodeJpegGrey(bytes, &photo.image, &problem)) {
+      Refuse(source, fmt::format("the JPEG photo is damaged or unreadable: {}", problem));
+    }
+    ApplyExifOrientation(digitize::ReadJpegExifOrientation(bytes), photo.image);
+  } else {
+    try {
+      photo.image = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    } catch (const cv::Exception& e) {
+      Refuse(source, fmt::format("cannot decode the {} photo: {}", format, e.what()));
+    }
+    if (photo.image.empty()) {
+      Refuse(source, fmt::format("cannot decode the {} photo (damaged, or a kind of {} the "
+                                 "decoder does not read)",
+                                 format, format));
+    }
   }
-  if (photo.image.empty()) {
-    Refuse(path, "cannot decode the photo (not a PNG, JPEG or TIFF image, or damaged)");
+  if (static_cast<std::uint64_t>(photo.image.total()) > digitize::kMaxPhotoPixels) {
+    Refuse(source, fmt::format("the photo decoded to {}x{} pixels, more than its header declared",
+                               photo.image.cols, photo.image.rows));
   }
-  CheckUsable(path, photo.image);
+  CheckUsable(source, photo.image);
   return photo;
 }
 
