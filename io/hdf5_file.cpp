@@ -1,16 +1,16 @@
 #include "io/hdf5_file.h"
 
-#include <hdf5.h>
-#include <unistd.h>
-
 #include <fmt/format.h>
+#include <hdf5.h>
 
+#include "io/atomic_file.h"
 #include "io/errors.h"
 
 namespace impactlab {
 namespace {
 
-// Owns one HDF5 identifier and closes it with the matching function.
+// Owns one HDF5 identifier. Close() reports the status; the destructor closes
+// quietly, for error paths only (an exception is already on its way).
 class Handle {
  public:
   Handle() = default;
@@ -28,6 +28,11 @@ class Handle {
   }
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  herr_t Close() {
+    const herr_t status = id_ >= 0 && close_ != nullptr ? close_(id_) : 0;
+    id_ = -1;
+    return status;
+  }
 
  private:
   hid_t id_ = -1;
@@ -35,27 +40,11 @@ class Handle {
 };
 
 // HDF5 prints its error stack to stderr by default; we report our own errors.
-void SilenceHdf5ErrorStack() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+// (Nothing to do if even that fails: the messages are only noise.)
+void SilenceHdf5ErrorStack() { static_cast<void>(H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr)); }
 
-Handle VariableStringType() {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type.get(), H5T_VARIABLE);
-  H5Tset_cset(type.get(), H5T_CSET_UTF8);
-  return type;
-}
-
-// Groups remember creation order, so runs list in manifest order.
-Handle OrderedGroupCreation() {
-  Handle plist(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
-  H5Pset_link_creation_order(plist.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
-  return plist;
-}
-
-Handle IntermediateGroups() {
-  Handle plist(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(plist.get(), 1);
-  return plist;
-}
+// Grows the in-memory file by this much at a time.
+constexpr std::size_t kCoreIncrementBytes = std::size_t{1} << 20;
 
 }  // namespace
 
@@ -71,16 +60,67 @@ struct Hdf5File::Impl {
     if (status < 0) Fail(object, fmt::format("HDF5 could not {}", what));
   }
 
+  // An identifier from HDF5, checked: negative means failure.
+  Handle Make(hid_t id, herr_t (*close)(hid_t), const std::string& object, const char* what) const {
+    if (id < 0) Fail(object, fmt::format("HDF5 could not {}", what));
+    return Handle(id, close);
+  }
+
+  void CheckedClose(Handle& handle, const std::string& object) const {
+    Check(handle.Close(), object, "close an object");
+  }
+
+  // H5Lexists and H5Aexists answer positive, zero or negative (an error).
+  bool Answer(htri_t answer, const std::string& object, const char* what) const {
+    if (answer < 0) Fail(object, fmt::format("HDF5 could not {}", what));
+    return answer > 0;
+  }
+
+  bool LinkExists(const std::string& name) const {
+    return Answer(H5Lexists(file.get(), name.c_str(), H5P_DEFAULT), name, "look up a link");
+  }
+
+  Handle VariableStringType(const std::string& object) const {
+    Handle type = Make(H5Tcopy(H5T_C_S1), H5Tclose, object, "copy the string type");
+    Check(H5Tset_size(type.get(), H5T_VARIABLE), object, "set the string type's size");
+    Check(H5Tset_cset(type.get(), H5T_CSET_UTF8), object, "set the string type's character set");
+    return type;
+  }
+
+  // Groups remember creation order, so runs list in manifest order.
+  Handle OrderedGroupCreation(const std::string& object) const {
+    Handle plist = Make(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, object, "create a property list");
+    Check(H5Pset_link_creation_order(plist.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
+          object, "track creation order");
+    return plist;
+  }
+
+  Handle IntermediateGroups(const std::string& object) const {
+    Handle plist = Make(H5Pcreate(H5P_LINK_CREATE), H5Pclose, object, "create a property list");
+    Check(H5Pset_create_intermediate_group(plist.get(), 1), object,
+          "set intermediate group creation");
+    return plist;
+  }
+
+  Handle Dataspace(const std::vector<hsize_t>& dims, const std::string& object) const {
+    return Make(dims.empty()
+                    ? H5Screate(H5S_SCALAR)
+                    : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                H5Sclose, object, "create a dataspace");
+  }
+
   // Makes every missing group on the way to `object` (with creation order).
   void EnsureParentGroups(const std::string& object) {
     std::size_t pos = 1;
     while ((pos = object.find('/', pos)) != std::string::npos) {
       const std::string group = object.substr(0, pos);
-      if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) <= 0) {
-        const Handle plist = OrderedGroupCreation();
-        Handle g(H5Gcreate2(file.get(), group.c_str(), H5P_DEFAULT, plist.get(), H5P_DEFAULT),
-                 H5Gclose);
-        if (!g.valid()) Fail(group, "HDF5 could not create the group");
+      if (!LinkExists(group)) {
+        Handle plist = OrderedGroupCreation(group);
+        Handle g =
+            Make(H5Gcreate2(file.get(), group.c_str(), H5P_DEFAULT, plist.get(), H5P_DEFAULT),
+                 H5Gclose, group, "create the group");
+        CheckedClose(g, group);
+        CheckedClose(plist, group);
       }
       ++pos;
     }
@@ -88,25 +128,19 @@ struct Hdf5File::Impl {
 
   Handle CreateDataset(const std::string& name, hid_t type, const std::vector<hsize_t>& dims) {
     EnsureParentGroups(name);
-    Handle space(dims.empty()
-                     ? H5Screate(H5S_SCALAR)
-                     : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
-                 H5Sclose);
-    const Handle links = IntermediateGroups();
-    Handle dset(H5Dcreate2(file.get(), name.c_str(), type, space.get(), links.get(), H5P_DEFAULT,
-                           H5P_DEFAULT),
-                H5Dclose);
-    if (!dset.valid()) Fail(name, "HDF5 could not create the dataset (does it exist already?)");
+    Handle space = Dataspace(dims, name);
+    Handle links = IntermediateGroups(name);
+    Handle dset = Make(H5Dcreate2(file.get(), name.c_str(), type, space.get(), links.get(),
+                                  H5P_DEFAULT, H5P_DEFAULT),
+                       H5Dclose, name, "create the dataset (does it exist already?)");
+    CheckedClose(links, name);
+    CheckedClose(space, name);
     return dset;
   }
 
   Handle OpenObject(const std::string& name) const {
-    if (H5Lexists(file.get(), name.c_str(), H5P_DEFAULT) <= 0 && name != "/") {
-      Fail(name, "not found in the results file");
-    }
-    Handle obj(H5Oopen(file.get(), name.c_str(), H5P_DEFAULT), H5Oclose);
-    if (!obj.valid()) Fail(name, "HDF5 could not open the object");
-    return obj;
+    if (name != "/" && !LinkExists(name)) Fail(name, "not found in the results file");
+    return Make(H5Oopen(file.get(), name.c_str(), H5P_DEFAULT), H5Oclose, name, "open the object");
   }
 
   Handle OpenDataset(const std::string& name) const {
@@ -116,39 +150,72 @@ struct Hdf5File::Impl {
     return dset;
   }
 
-  hssize_t ElementCount(const Handle& dset) const {
-    Handle space(H5Dget_space(dset.get()), H5Sclose);
-    return H5Sget_simple_extent_npoints(space.get());
+  hssize_t ElementCount(const Handle& dset, const std::string& name) const {
+    const Handle space = Make(H5Dget_space(dset.get()), H5Sclose, name, "get the dataspace");
+    const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+    if (n < 0) Fail(name, "HDF5 could not count the elements");
+    return n;
+  }
+
+  void DeleteAttributeIfPresent(hid_t obj, const std::string& object, const std::string& name) {
+    if (Answer(H5Aexists(obj, name.c_str()), object, "look up an attribute")) {
+      Check(H5Adelete(obj, name.c_str()), object, "delete an attribute");
+    }
   }
 
   void WriteStringAttribute(hid_t obj, const std::string& object, const std::string& name,
                             const std::string& value) {
-    const Handle type = VariableStringType();
-    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-    if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
-    Handle attr(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                H5Aclose);
+    Handle type = VariableStringType(object);
+    Handle space = Dataspace({}, object);
+    DeleteAttributeIfPresent(obj, object, name);
+    Handle attr =
+        Make(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+             H5Aclose, object, "create an attribute");
     const char* text = value.c_str();
     Check(H5Awrite(attr.get(), type.get(), &text), object, "write an attribute");
+    CheckedClose(attr, object);
+    CheckedClose(space, object);
+    CheckedClose(type, object);
   }
 
   void WriteIntegerAttribute(hid_t obj, const std::string& object, const std::string& name,
                              const std::vector<long long>& values, bool scalar) {
-    const hsize_t n = values.size();
-    Handle space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
-    if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
-    Handle attr(
-        H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-        H5Aclose);
+    Handle space =
+        Dataspace(scalar ? std::vector<hsize_t>{} : std::vector<hsize_t>{values.size()}, object);
+    DeleteAttributeIfPresent(obj, object, name);
+    Handle attr =
+        Make(H5Acreate2(obj, name.c_str(), H5T_NATIVE_LLONG, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+             H5Aclose, object, "create an attribute");
     Check(H5Awrite(attr.get(), H5T_NATIVE_LLONG, values.data()), object, "write an attribute");
+    CheckedClose(attr, object);
+    CheckedClose(space, object);
   }
 
   Handle OpenAttribute(const std::string& object, const std::string& name) const {
     const Handle obj = OpenObject(object);
-    if (H5Aexists(obj.get(), name.c_str()) <= 0) {
+    if (!Answer(H5Aexists(obj.get(), name.c_str()), object, "look up an attribute")) {
       Fail(object, fmt::format("has no attribute '{}'", name));
     }
-    return Handle(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), H5Aclose);
+    return Make(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), H5Aclose, object,
+                "open an attribute");
+  }
+
+  // The finished in-memory file as bytes, then the file closed: every status
+  // checked, and no disk I/O by HDF5 (core driver without backing store).
+  std::string CloseToImage() {
+    Check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "", "flush the file");
+    const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+    if (size <= 0) Fail("", "HDF5 could not size the file image");
+    std::string image(static_cast<std::size_t>(size), '\0');
+    if (H5Fget_file_image(file.get(), image.data(), image.size()) != size) {
+      Fail("", "HDF5 could not copy the file image");
+    }
+    const ssize_t open_objects = H5Fget_obj_count(file.get(), H5F_OBJ_ALL);
+    if (open_objects != 1) {
+      Fail("", fmt::format("{} HDF5 objects still open at close (a bug)", open_objects - 1));
+    }
+    Check(file.Close(), "", "close the file");
+    return image;
   }
 };
 
@@ -157,17 +224,23 @@ Hdf5File::Hdf5File(Hdf5File&&) noexcept = default;
 Hdf5File& Hdf5File::operator=(Hdf5File&&) noexcept = default;
 Hdf5File::~Hdf5File() = default;
 
-Hdf5File Hdf5File::Create(const std::filesystem::path& path) {
+Hdf5File Hdf5File::CreateInMemory(const std::filesystem::path& path) {
   SilenceHdf5ErrorStack();
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   // The root group remembers creation order too.
-  Handle plist(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
-  H5Pset_link_creation_order(plist.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
-  impl->file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, plist.get(), H5P_DEFAULT), H5Fclose);
-  if (!impl->file.valid()) {
-    throw InputError({path, "", std::nullopt}, "cannot create the results file");
-  }
+  Handle create = impl->Make(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "", "create a property list");
+  impl->Check(
+      H5Pset_link_creation_order(create.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), "",
+      "track creation order");
+  Handle access = impl->Make(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "", "create a property list");
+  impl->Check(H5Pset_fapl_core(access.get(), kCoreIncrementBytes, /*backing_store=*/0), "",
+              "select the in-memory driver");
+  // The name only identifies the in-memory file; nothing is read or written there.
+  impl->file = impl->Make(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()),
+                          H5Fclose, "", "create the results file in memory");
+  impl->CheckedClose(access, "");
+  impl->CheckedClose(create, "");
   return Hdf5File(std::move(impl));
 }
 
@@ -191,55 +264,61 @@ Hdf5File Hdf5File::OpenReadOnly(const std::filesystem::path& path) {
 const std::filesystem::path& Hdf5File::path() const { return impl_->path; }
 
 void Hdf5File::WriteScalar(const std::string& name, double value, std::string_view units) {
-  const Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {});
+  Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {});
   impl_->Check(H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), name,
                "write the dataset");
   impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
+  impl_->CheckedClose(dset, name);
 }
 
 void Hdf5File::WriteVector(const std::string& name, const std::vector<double>& values,
                            std::string_view units) {
-  const Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {values.size()});
+  Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {values.size()});
   if (!values.empty()) {
     impl_->Check(
         H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
         "write the dataset");
   }
   impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
+  impl_->CheckedClose(dset, name);
 }
 
 void Hdf5File::WriteIntegers(const std::string& name, const std::vector<long long>& values) {
-  const Handle dset = impl_->CreateDataset(name, H5T_STD_I64LE, {values.size()});
+  Handle dset = impl_->CreateDataset(name, H5T_STD_I64LE, {values.size()});
   if (!values.empty()) {
     impl_->Check(
         H5Dwrite(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
         "write the dataset");
   }
+  impl_->CheckedClose(dset, name);
 }
 
 void Hdf5File::WriteStrings(const std::string& name, const std::vector<std::string>& values) {
-  const Handle type = VariableStringType();
-  const Handle dset = impl_->CreateDataset(name, type.get(), {values.size()});
+  Handle type = impl_->VariableStringType(name);
+  Handle dset = impl_->CreateDataset(name, type.get(), {values.size()});
   std::vector<const char*> text;
   for (const std::string& v : values) text.push_back(v.c_str());
   if (!text.empty()) {
     impl_->Check(H5Dwrite(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), name,
                  "write the dataset");
   }
+  impl_->CheckedClose(dset, name);
+  impl_->CheckedClose(type, name);
 }
 
 void Hdf5File::WriteBytes(const std::string& name, const std::vector<unsigned char>& bytes) {
-  const Handle dset = impl_->CreateDataset(name, H5T_STD_U8LE, {bytes.size()});
+  Handle dset = impl_->CreateDataset(name, H5T_STD_U8LE, {bytes.size()});
   if (!bytes.empty()) {
     impl_->Check(
         H5Dwrite(dset.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()), name,
         "write the dataset");
   }
+  impl_->CheckedClose(dset, name);
 }
 
 std::vector<unsigned char> Hdf5File::ReadBytes(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(impl_->ElementCount(dset)));
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(impl_->ElementCount(dset, name)));
   if (!bytes.empty()) {
     impl_->Check(H5Dread(dset.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()),
                  name, "read the dataset");
@@ -254,19 +333,22 @@ void Hdf5File::CreateGroup(const std::string& group) {
 
 void Hdf5File::SetAttribute(const std::string& object, const std::string& name,
                             const std::string& value) {
-  const Handle obj = impl_->OpenObject(object);
+  Handle obj = impl_->OpenObject(object);
   impl_->WriteStringAttribute(obj.get(), object, name, value);
+  impl_->CheckedClose(obj, object);
 }
 
 void Hdf5File::SetAttribute(const std::string& object, const std::string& name, long long value) {
-  const Handle obj = impl_->OpenObject(object);
+  Handle obj = impl_->OpenObject(object);
   impl_->WriteIntegerAttribute(obj.get(), object, name, {value}, /*scalar=*/true);
+  impl_->CheckedClose(obj, object);
 }
 
 void Hdf5File::SetAttribute(const std::string& object, const std::string& name,
                             const std::vector<long long>& values) {
-  const Handle obj = impl_->OpenObject(object);
+  Handle obj = impl_->OpenObject(object);
   impl_->WriteIntegerAttribute(obj.get(), object, name, values, /*scalar=*/false);
+  impl_->CheckedClose(obj, object);
 }
 
 bool Hdf5File::Exists(const std::string& object) const {
@@ -276,7 +358,7 @@ bool Hdf5File::Exists(const std::string& object) const {
   while (true) {
     pos = object.find('/', pos);
     const std::string prefix = object.substr(0, pos);
-    if (H5Lexists(impl_->file.get(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (!impl_->LinkExists(prefix)) return false;
     if (pos == std::string::npos) return true;
     ++pos;
   }
@@ -293,14 +375,15 @@ std::vector<std::string> Hdf5File::Children(const std::string& group) const {
   if (H5Literate(obj.get(), H5_INDEX_CRT_ORDER, H5_ITER_INC, &index, collect, &names) < 0) {
     names.clear();  // a group written without creation order: fall back to names
     index = 0;
-    H5Literate(obj.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names);
+    impl_->Check(H5Literate(obj.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names), group,
+                 "list the group");
   }
   return names;
 }
 
 double Hdf5File::ReadScalar(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
-  if (impl_->ElementCount(dset) != 1) impl_->Fail(name, "expected a scalar dataset");
+  if (impl_->ElementCount(dset, name) != 1) impl_->Fail(name, "expected a scalar dataset");
   double value = 0.0;
   impl_->Check(H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), name,
                "read the dataset");
@@ -314,7 +397,7 @@ std::optional<double> Hdf5File::ReadScalarIfPresent(const std::string& name) con
 
 std::vector<double> Hdf5File::ReadVector(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
-  std::vector<double> values(static_cast<std::size_t>(impl_->ElementCount(dset)));
+  std::vector<double> values(static_cast<std::size_t>(impl_->ElementCount(dset, name)));
   if (!values.empty()) {
     impl_->Check(
         H5Dread(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
@@ -325,7 +408,7 @@ std::vector<double> Hdf5File::ReadVector(const std::string& name) const {
 
 std::vector<long long> Hdf5File::ReadIntegers(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
-  std::vector<long long> values(static_cast<std::size_t>(impl_->ElementCount(dset)));
+  std::vector<long long> values(static_cast<std::size_t>(impl_->ElementCount(dset, name)));
   if (!values.empty()) {
     impl_->Check(
         H5Dread(dset.get(), H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
@@ -336,26 +419,27 @@ std::vector<long long> Hdf5File::ReadIntegers(const std::string& name) const {
 
 std::vector<std::string> Hdf5File::ReadStrings(const std::string& name) const {
   const Handle dset = impl_->OpenDataset(name);
-  const Handle type = VariableStringType();
-  std::vector<char*> text(static_cast<std::size_t>(impl_->ElementCount(dset)), nullptr);
+  const Handle type = impl_->VariableStringType(name);
+  std::vector<char*> text(static_cast<std::size_t>(impl_->ElementCount(dset, name)), nullptr);
   std::vector<std::string> values;
   if (text.empty()) return values;
   impl_->Check(H5Dread(dset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), name,
                "read the dataset");
   for (char* t : text) values.emplace_back(t != nullptr ? t : "");
-  Handle space(H5Dget_space(dset.get()), H5Sclose);
-  H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, text.data());
+  const Handle space = impl_->Make(H5Dget_space(dset.get()), H5Sclose, name, "get the dataspace");
+  impl_->Check(H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, text.data()), name,
+               "free the strings read");
   return values;
 }
 
 std::string Hdf5File::ReadStringAttribute(const std::string& object,
                                           const std::string& name) const {
   const Handle attr = impl_->OpenAttribute(object, name);
-  const Handle type = VariableStringType();
+  const Handle type = impl_->VariableStringType(object);
   char* text = nullptr;
   impl_->Check(H5Aread(attr.get(), type.get(), &text), object, "read an attribute");
   std::string value = text != nullptr ? text : "";
-  H5free_memory(text);
+  impl_->Check(H5free_memory(text), object, "free the attribute read");
   return value;
 }
 
@@ -368,9 +452,11 @@ long long Hdf5File::ReadIntegerAttribute(const std::string& object, const std::s
 std::vector<long long> Hdf5File::ReadIntegerArrayAttribute(const std::string& object,
                                                            const std::string& name) const {
   const Handle attr = impl_->OpenAttribute(object, name);
-  Handle space(H5Aget_space(attr.get()), H5Sclose);
-  std::vector<long long> values(
-      static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  const Handle space =
+      impl_->Make(H5Aget_space(attr.get()), H5Sclose, object, "get an attribute's dataspace");
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  if (count < 0) impl_->Fail(object, "HDF5 could not count an attribute's elements");
+  std::vector<long long> values(static_cast<std::size_t>(count));
   impl_->Check(H5Aread(attr.get(), H5T_NATIVE_LLONG, values.data()), object, "read an attribute");
   return values;
 }
@@ -378,40 +464,36 @@ std::vector<long long> Hdf5File::ReadIntegerArrayAttribute(const std::string& ob
 bool Hdf5File::HasAttribute(const std::string& object, const std::string& name) const {
   if (!Exists(object)) return false;
   const Handle obj = impl_->OpenObject(object);
-  return H5Aexists(obj.get(), name.c_str()) > 0;
+  return impl_->Answer(H5Aexists(obj.get(), name.c_str()), object, "look up an attribute");
 }
 
 bool Hdf5File::IsGroup(const std::string& object) const {
   if (!Exists(object)) return false;
   H5O_info_t info;
   const Handle obj = impl_->OpenObject(object);
-  return H5Oget_info2(obj.get(), &info, H5O_INFO_BASIC) >= 0 && info.type == H5O_TYPE_GROUP;
+  impl_->Check(H5Oget_info2(obj.get(), &info, H5O_INFO_BASIC), object, "get an object's type");
+  return info.type == H5O_TYPE_GROUP;
 }
 
 bool Hdf5File::IsNumericDataset(const std::string& object) const {
   if (!Exists(object) || IsGroup(object)) return false;
   const Handle dset = impl_->OpenDataset(object);
-  const Handle type(H5Dget_type(dset.get()), H5Tclose);
+  const Handle type =
+      impl_->Make(H5Dget_type(dset.get()), H5Tclose, object, "get a dataset's type");
   const H5T_class_t type_class = H5Tget_class(type.get());
+  if (type_class == H5T_NO_CLASS) impl_->Fail(object, "HDF5 could not get a type's class");
   return type_class == H5T_FLOAT || type_class == H5T_INTEGER;
 }
 
 void WriteHdf5Atomically(const std::filesystem::path& path,
                          const std::function<void(Hdf5File&)>& write) {
-  // Same folder, so the rename is atomic on the same file system.
-  std::filesystem::path temporary = path;
-  temporary += fmt::format(".tmp-{}", ::getpid());
-  try {
-    {
-      Hdf5File file = Hdf5File::Create(temporary);
-      write(file);
-    }  // closed and flushed here
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
+  std::string image;
+  {
+    Hdf5File file = Hdf5File::CreateInMemory(path);
+    write(file);
+    image = file.impl_->CloseToImage();
   }
+  WriteFileAtomically(path, image);
 }
 
 std::string JoinPath(std::initializer_list<std::string_view> parts) {

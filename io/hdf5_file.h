@@ -16,8 +16,8 @@ namespace impactlab {
 
 class Hdf5File {
  public:
-  // Creates (truncating) or opens read-only. Throws InputError naming the file.
-  static Hdf5File Create(const std::filesystem::path& path);
+  // Opens read-only. Throws InputError naming the file. (Files are written
+  // only through WriteHdf5Atomically.)
   static Hdf5File OpenReadOnly(const std::filesystem::path& path);
 
   Hdf5File(Hdf5File&&) noexcept;
@@ -62,12 +62,21 @@ class Hdf5File {
  private:
   struct Impl;
   explicit Hdf5File(std::unique_ptr<Impl> impl);
+  // A new file held in memory (HDF5's core driver, no backing store); `path`
+  // names it in messages.
+  static Hdf5File CreateInMemory(const std::filesystem::path& path);
+  friend void WriteHdf5Atomically(const std::filesystem::path& path,
+                                  const std::function<void(Hdf5File&)>& write);
   std::unique_ptr<Impl> impl_;
 };
 
-// Writes `path` atomically: `write` fills a temporary file beside it, which is
-// renamed over `path` only after it is complete and closed. If `write` throws,
-// the temporary is removed and an earlier file at `path` is left untouched.
+// Writes `path` atomically: `write` fills a file held in memory, which is
+// then closed (every HDF5 status checked) and its bytes written by
+// WriteFileAtomically (io/atomic_file.h): a temporary beside `path`, synced
+// and renamed over it. HDF5 itself never touches the disk, so a full disk or
+// a size limit can only fail our own checked write(). If anything fails,
+// InputError names `path`, no temporary is left and an earlier file at `path`
+// is byte-identical.
 void WriteHdf5Atomically(const std::filesystem::path& path,
                          const std::function<void(Hdf5File&)>& write);
 
