@@ -7,12 +7,15 @@
 
 #include "cli/commands.h"
 #include "cli/version.h"
+#include "io/atomic_file.h"
 #include "io/errors.h"
 #include "pipeline/process_memory.h"
 
 int main(int argc, char** argv) {
   using namespace impactlab::cli;
   impactlab::KeepFreedMemoryForReuse();
+  // A temporary output file being written is removed on Ctrl-C and kill.
+  impactlab::InstallTemporaryFileCleanup();
   CLI::App app{"impactlab: reduce impact experiments (pendulum rebounds, contact models, logs)"};
   app.set_version_flag("--version", std::string("impactlab ") + kVersion);
   app.require_subcommand(1);

@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/version.h"
+#include "io/atomic_file.h"
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
@@ -83,6 +84,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] {
     action = [args] {
       const auto start = std::chrono::steady_clock::now();
+      CheckOutputPath(args->output, args->session);  // before any work
       const ManifestReadResult manifest = ReadManifest(args->session);
       ReduceOptions options;
       if (!args->convention.empty()) options.convention = ParseConvention(args->convention);

@@ -1,10 +1,10 @@
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "io/atomic_file.h"
 #include "io/errors.h"
 #include "pipeline/results_file.h"
 #include "report/html_report.h"
@@ -13,10 +13,19 @@
 namespace impactlab::cli {
 namespace {
 
+// Atomically: a failed write leaves an earlier report as it was.
 void WriteText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw InputError({path, "", std::nullopt}, "cannot write the report");
+  WriteFileAtomically(path, text);
+}
+
+// The report must not replace the results file it is read from.
+void CheckReportOutput(const std::filesystem::path& output, const std::filesystem::path& results) {
+  CheckOutputPath(output);
+  std::error_code ec;
+  if (std::filesystem::equivalent(output, results, ec)) {
+    throw InputError({output, "", std::nullopt},
+                     "is the results file the report is read from; give another output file");
+  }
 }
 
 }  // namespace
@@ -39,11 +48,13 @@ void AddReportCommand(CLI::App& app, Action& action) {
                   "one file per table");
   cmd->callback([&action, args] {
     action = [args] {
-      const SessionResult result = ReadResults(args->results);
       const ReportFormat format = *ParseReportFormat(args->format);
+      const bool csv_folder = format == ReportFormat::kCsv && !args->output.empty() &&
+                              std::filesystem::is_directory(args->output);
+      if (!args->output.empty() && !csv_folder) CheckReportOutput(args->output, args->results);
+      const SessionResult result = ReadResults(args->results);
       const std::vector<Table> tables = BuildTables(result);
-      if (format == ReportFormat::kCsv && !args->output.empty() &&
-          std::filesystem::is_directory(args->output)) {
+      if (csv_folder) {
         for (const Table& t : tables) {
           WriteText(args->output / (t.name + ".csv"), RenderTable(t, format));
         }
