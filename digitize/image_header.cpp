@@ -273,7 +273,6 @@ int ReadJpegExifOrientation(std::span<const unsigned char> bytes) {
   int orientation = 1;
   std::string ignored;
   WalkJpegSegments(bytes, &ignored, [&](unsigned marker, std::size_t payload, std::size_t length) {
-    if (IsStartOfFrame(marker)) return true;  // EXIF comes before the frame header
     if (marker != 0xE1 || length < 6 ||
         !StartsWith(bytes.subspan(payload), {'E', 'x', 'i', 'f', 0, 0})) {
       return false;
@@ -285,7 +284,7 @@ int ReadJpegExifOrientation(std::span<const unsigned char> bytes) {
       orientation = static_cast<int>(*wanted[0].value);
     }
     return true;  // only the first EXIF segment counts
-  });
+  });             // (or up to the first scan, where the walk stops)
   return orientation;
 }
 
