@@ -168,6 +168,19 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     MeasureTraceRun(run, session, pendulum, calibrations, out);
   }
   if (options.products == Products::kFit) {
+    // The fit's model figures simulate every rebound from the release: a
+    // first_rebound of 2e8 with a restitution near 1 once took 50 s and
+    // bad_alloc. Rebounds die out within tens; refused before any work.
+    constexpr int kMaxModelRebounds = 1000;
+    if (run.first_rebound > kMaxModelRebounds - static_cast<int>(out.xmax.size())) {
+      throw InputError(
+          {session.manifest, fmt::format("run \"{}\".first_rebound", run.id), std::nullopt},
+          fmt::format("first_rebound = {}: the fit's model would simulate {} rebounds from the "
+                      "release; at most {} are expected",
+                      run.first_rebound,
+                      static_cast<long long>(run.first_rebound) + out.xmax.size(),
+                      kMaxModelRebounds));
+    }
     const auto start = std::chrono::steady_clock::now();
     FitRun(run, session, pendulum, separation, out);
     out.seconds.fit =

@@ -97,5 +97,23 @@ TEST_CASE("limits: a calibration photo's time_per_div of 1e300 fails the runs us
                                Catch::Contains("swings"));
 }
 
+TEST_CASE(
+    "limits: first_rebound = 2e8 with a restitution near 1 is refused before the model runs") {
+  // The fit's model figures simulate every rebound from the release: this
+  // once took 50 s and ended in bad_alloc under a 4 GB limit.
+  const auto folder = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "sample_data" / "thesis-1969";
+  Session session = ReadManifest(folder).session;
+  session.runs[0].first_rebound = 200000000;
+  session.runs[0].rebounds = {0.068, 0.06799999999};
+  const auto start = std::chrono::steady_clock::now();
+  const SessionResult result = ReduceSession(session, {});
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() <
+        /*max_seconds=*/5.0);
+  CHECK_FALSE(result.runs[0].ok);
+  CHECK_THAT(result.runs[0].failure,
+             Catch::Contains("first_rebound = 200000000") && Catch::Contains("at most 1000"));
+  CHECK(result.FailedRuns() == 1);
+}
+
 }  // namespace
 }  // namespace impactlab
