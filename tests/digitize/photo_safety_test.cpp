@@ -286,6 +286,8 @@ TEST_CASE("photo_safety: a JPEG whose frame header declares 65000 x 65000 is ref
 TEST_CASE("photo_safety: a JPEG with its scan data overwritten is refused, naming the file") {
   const Bytes intact = ReadFile(SamplePhoto("0.405.jpg"));
   const std::size_t scan = ScanDataStart(intact);
+  // Damage libjpeg notices (not all does: where the Huffman code
+  // resynchronises it decodes on without a warning; docs/digitizing.md).
   const Bytes damaged = Damaged(intact, scan + (intact.size() - scan) / 2, 256);
   // What passed before: OpenCV decodes it (and prints libjpeg's warning).
   CHECK_FALSE(cv::imdecode(damaged, cv::IMREAD_GRAYSCALE).empty());
