@@ -3,11 +3,14 @@
 // decoder warns about is refused; an intact JPEG decodes as OpenCV decodes it.
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include <jpeglib.h>  // after <cstdio>: it needs FILE
 #include <catch2/catch.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -334,6 +337,55 @@ TEST_CASE("photo_safety: intact JPEGs decode as OpenCV decodes them") {
     INFO(label);
     CHECK(MaxDifference(DecodePhoto(bytes, "x.jpg").image,
                         cv::imdecode(bytes, cv::IMREAD_GRAYSCALE)) == 0.0);
+  }
+}
+
+// A CMYK JPEG (as some print workflows write them), by libjpeg itself:
+// OpenCV writes none.
+Bytes EncodeCmykJpeg(int width, int height, J_COLOR_SPACE stored) {
+  jpeg_compress_struct cinfo;
+  jpeg_error_mgr error;
+  cinfo.err = jpeg_std_error(&error);
+  jpeg_create_compress(&cinfo);
+  unsigned char* buffer = nullptr;
+  unsigned long size = 0;
+  jpeg_mem_dest(&cinfo, &buffer, &size);
+  cinfo.image_width = static_cast<JDIMENSION>(width);
+  cinfo.image_height = static_cast<JDIMENSION>(height);
+  cinfo.input_components = 4;
+  cinfo.in_color_space = JCS_CMYK;
+  jpeg_set_defaults(&cinfo);
+  jpeg_set_colorspace(&cinfo, stored);
+  jpeg_set_quality(&cinfo, 90, TRUE);
+  jpeg_start_compress(&cinfo, TRUE);
+  std::vector<unsigned char> row(static_cast<std::size_t>(width) * 4);
+  while (cinfo.next_scanline < cinfo.image_height) {
+    const int y = static_cast<int>(cinfo.next_scanline);
+    for (int x = 0; x < width; ++x) {
+      row[4 * x + 0] = static_cast<unsigned char>(x * 2);
+      row[4 * x + 1] = static_cast<unsigned char>(y * 3);
+      row[4 * x + 2] = static_cast<unsigned char>(x + y);
+      row[4 * x + 3] = static_cast<unsigned char>(128 + x % 64);
+    }
+    JSAMPROW pointer = row.data();
+    jpeg_write_scanlines(&cinfo, &pointer, 1);
+  }
+  jpeg_finish_compress(&cinfo);
+  Bytes bytes(buffer, buffer + size);
+  std::free(buffer);
+  jpeg_destroy_compress(&cinfo);
+  return bytes;
+}
+
+TEST_CASE("photo_safety: a CMYK or YCCK JPEG decodes to the grey OpenCV gave") {
+  for (const J_COLOR_SPACE stored : {JCS_CMYK, JCS_YCCK}) {
+    INFO("stored as " << (stored == JCS_CMYK ? "CMYK" : "YCCK"));
+    const Bytes jpeg = EncodeCmykJpeg(200, 150, stored);
+    const digitize::ImageHeader h = Header(jpeg);
+    CHECK(h.channels == 4);
+    const cv::Mat ours = DecodePhoto(jpeg, "cmyk.jpg").image;
+    CHECK(ours.type() == CV_8UC1);
+    CHECK(MaxDifference(ours, cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE)) == 0.0);
   }
 }
 
