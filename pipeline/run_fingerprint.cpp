@@ -234,6 +234,17 @@ std::string ReuseProblem(const RunResult& r) {
   if (r.left) {
     if (std::string p = BarProblem("rebounds/left", *r.left); !p.empty()) return p;
   }
+  for (std::size_t k = 0; k < r.overlays.size(); ++k) {
+    const PhotoOverlay& o = r.overlays[k];
+    const std::string g = fmt::format("digitized[{}]/", k);
+    if (std::string p = NotFinite(g + "graticule_residual", o.graticule_residual_px); !p.empty())
+      return p;
+    if (std::string p = NotFinite(g + "trace_coverage", o.trace_coverage); !p.empty()) return p;
+    if (std::string p = SizesDiffer(g + "trace_names", o.trace_names.size(), g + "trace_coverage",
+                                    o.trace_coverage.size());
+        !p.empty())
+      return p;
+  }
   for (const CellCalibration& c : r.calibrations) {
     const std::string g = "calibration/" + c.cell;
     const std::pair<const char*, double> scalars[] = {
