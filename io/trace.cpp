@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <istream>
 #include <string>
 #include <string_view>
 
@@ -46,6 +47,10 @@ double ParseNumber(std::string_view text, const std::filesystem::path& path, lon
 Trace ReadTraceCsv(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw InputError({path, "", std::nullopt}, "cannot open the trace file");
+  return ParseTraceCsv(in, path);
+}
+
+Trace ParseTraceCsv(std::istream& in, const std::filesystem::path& path) {
   std::string line;
   if (!std::getline(in, line) || Field(line, 0) != "time_s" || Field(line, 1) != "volts") {
     throw InputError({path, "header", 1},

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
 #include <vector>
 
 namespace impactlab {
@@ -17,6 +18,10 @@ struct Trace {
 // naming the file and line for a missing file, a wrong header, a value that is
 // not a finite number, or time that does not increase.
 Trace ReadTraceCsv(const std::filesystem::path& path);
+
+// The same from a stream (the fuzz target, tests); `path` names the source in
+// errors.
+Trace ParseTraceCsv(std::istream& in, const std::filesystem::path& path);
 
 // Writes the same format (used by the generator and `digitize`).
 void WriteTraceCsv(const std::filesystem::path& path, const Trace& trace);
