@@ -11,6 +11,7 @@
 #include "digitize/digitize.h"
 #include "io/errors.h"
 #include "io/manifest.h"
+#include "io/session_file.h"
 
 namespace impactlab::cli {
 namespace {
@@ -24,6 +25,11 @@ struct Target {
 
 Target FindTarget(const Session& session, const std::string& run_id,
                   const std::string& calibration_id) {
+  // An entry the manifest rejected: its own reason, not "no such id".
+  const std::string& wanted = run_id.empty() ? calibration_id : run_id;
+  for (const RejectedEntry& entry : session.Rejected(run_id.empty() ? "calibration" : "run")) {
+    if (entry.id == wanted) throw InputError(entry.where, entry.problem);
+  }
   if (!run_id.empty()) {
     for (const Run& run : session.runs) {
       if (run.id == run_id) return {run.id, TraceRequestsOf(run), run.photo};
@@ -116,7 +122,11 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
         }
         photo_path = *target.photo;
       }
-      const Photo photo = LoadPhoto(photo_path);
+      // A photo the manifest names is read from inside the session only; one
+      // named on the command line is the user's own choice.
+      const Photo photo = args->photo.empty()
+                              ? DecodePhoto(ReadSessionFile(session.folder, photo_path), photo_path)
+                              : LoadPhoto(photo_path);
       DigitizeOptions options;
       options.graticule.detect_width_px = args->detect_width_px;
       options.traces.method = ParseMethod(args->method);

@@ -139,7 +139,10 @@ void AddReduceCommand(CLI::App& app, Action& action) {
                      result.logs.size(), failed_logs, args->output.string(), seconds);
         }
       }
-      return failed > 0 ? kExitRunsFailed : kExitOk;
+      // A calibration or prediction the manifest rejected fails nothing else,
+      // but the user must still hear of it through the exit status.
+      const bool rejected = !manifest.session.rejected.empty();
+      return failed > 0 || rejected ? kExitRunsFailed : kExitOk;
     };
   });
 }

@@ -4,6 +4,7 @@
 
 #include "digitize/digitize.h"
 #include "io/errors.h"
+#include "io/session_file.h"
 
 namespace impactlab {
 namespace {
@@ -24,7 +25,8 @@ std::vector<unsigned char> EncodeOverlay(const Photo& photo, const DigitizeResul
 
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
                                     const std::map<std::string, TraceSettings>& traces) {
-  const Photo photo = LoadPhoto(path);
+  // Read from inside the session folder only, and only a regular file.
+  const Photo photo = DecodePhoto(ReadSessionFile(session.folder, path), path);
   std::vector<TraceRequest> requests;
   for (const auto& [name, settings] : traces) requests.push_back({name, settings});
   const DigitizeResult result =

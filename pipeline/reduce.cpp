@@ -304,9 +304,58 @@ std::optional<SessionKelvinVoigt> AnalyseAcrossRuns(const SessionResult& result,
   return out;
 }
 
-}  // namespace
+// `entries`, with a failed one made by `fail(rejected)` at the manifest
+// position of each rejected entry, so results list in manifest order.
+template <typename Result, typename MakeFailed>
+std::vector<Result> WithRejected(std::vector<Result> entries,
+                                 const std::vector<RejectedEntry>& rejected,
+                                 const MakeFailed& fail) {
+  std::vector<Result> merged;
+  auto next = entries.begin();
+  std::size_t position = 0;
+  for (const RejectedEntry& entry : rejected) {
+    for (; position < entry.position && next != entries.end(); ++position) {
+      merged.push_back(std::move(*next++));
+    }
+    merged.push_back(fail(entry));
+    ++position;
+  }
+  for (; next != entries.end(); ++next) merged.push_back(std::move(*next));
+  return merged;
+}
 
-SessionResult ReduceSession(const Session& session, const ReduceOptions& options) {
+// The manifest's rejected entries in the results: a run or a log fails with
+// its reason, as if it had failed while reducing; a calibration or a
+// prediction, which has no place of its own there, becomes a warning.
+void KeepRejectedEntries(const Session& session, const ReduceOptions& options,
+                         SessionResult& result) {
+  if (options.products != Products::kCalibration) {
+    result.runs = WithRejected(std::move(result.runs), session.Rejected("run"),
+                               [](const RejectedEntry& entry) {
+                                 RunResult failed;
+                                 failed.id = entry.id;
+                                 failed.failure = entry.Reason();
+                                 return failed;
+                               });
+  }
+  if (options.products == Products::kFit) {
+    result.logs = WithRejected(std::move(result.logs), session.Rejected("log"),
+                               [](const RejectedEntry& entry) {
+                                 LogResult failed;
+                                 failed.id = entry.id;
+                                 failed.status = "failed: " + entry.Reason();
+                                 return failed;
+                               });
+  }
+  for (const std::string_view table : {"calibration", "prediction"}) {
+    for (const RejectedEntry& entry : session.Rejected(table)) {
+      result.warnings.push_back(fmt::format("{} {} skipped: {}", table, entry.id, entry.Reason()));
+    }
+  }
+}
+
+// Every run, calibration and log the manifest could read.
+SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions& options) {
   SessionResult result;
   result.title = session.title;
   result.units = session.units;
@@ -409,6 +458,14 @@ SessionResult ReduceSession(const Session& session, const ReduceOptions& options
                       session.manifest.string(), p.target_run, p.source_run, error.what()));
     }
   }
+  return result;
+}
+
+}  // namespace
+
+SessionResult ReduceSession(const Session& session, const ReduceOptions& options) {
+  SessionResult result = ReduceReadableEntries(session, options);
+  KeepRejectedEntries(session, options, result);
   return result;
 }
 

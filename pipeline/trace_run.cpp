@@ -3,10 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "io/errors.h"
+#include "io/session_file.h"
+#include "io/trace.h"
 #include "pipeline/photo_traces.h"
 #include "rebounds/rebound_extraction.h"
 
@@ -14,6 +19,14 @@ namespace impactlab {
 namespace {
 
 std::string RunKey(const Run& run) { return fmt::format("run \"{}\"", run.id); }
+
+// A CSV trace the manifest names, read as every session file is
+// (io/session_file.h): from inside the session folder, a regular file only.
+Trace ReadSessionTraceCsv(const Session& session, const std::filesystem::path& file) {
+  const std::vector<unsigned char> bytes = ReadSessionFile(session.folder, file);
+  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  return ParseTraceCsv(in, file);
+}
 
 // The limits every trace's time axis is held to (ReboundExtractionOptions's).
 const TraceSpanLimits kSpanLimits = ReboundExtractionOptions{}.limits;
@@ -208,7 +221,8 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   // Its CSV when given, otherwise its photo digitized (the overlay kept).
   Trace trace;
   if (calibration->trace.csv) {
-    trace = Timed(seconds.load, [&] { return ReadTraceCsv(*calibration->trace.csv); });
+    trace =
+        Timed(seconds.load, [&] { return ReadSessionTraceCsv(session_, *calibration->trace.csv); });
     CheckTraceSpan(trace, pendulum_, false,
                    {*calibration->trace.csv, key + ".trace", std::nullopt});
   } else if (calibration->photo) {
@@ -263,9 +277,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   // Every trace checked as read: its span against the pendulum's swings, and
   // (right, left) that it resolves them.
   const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
-    Trace trace = settings.csv
-                      ? Timed(out.seconds.load, [&] { return ReadTraceCsv(*settings.csv); })
-                      : photo->traces.at(name);
+    Trace trace = settings.csv ? Timed(out.seconds.load,
+                                       [&] { return ReadSessionTraceCsv(session, *settings.csv); })
+                               : photo->traces.at(name);
     const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
     CheckTraceSpan(trace, pendulum, name != "contact",
                    {settings.csv.value_or(run.photo.value_or(session.manifest)),
