@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "io/errors.h"
+#include "io/session_file.h"
 
 namespace impactlab {
 namespace fs = std::filesystem;
@@ -104,15 +105,6 @@ class Descriptor {
   int fd_;
 };
 
-bool IsInside(const fs::path& inner, const fs::path& outer) {
-  auto i = inner.begin();
-  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
-    if (o->empty()) continue;  // a trailing separator
-    if (i == inner.end() || *i != *o) return false;
-  }
-  return true;
-}
-
 fs::path FolderOf(const fs::path& path) {
   const fs::path parent = path.parent_path();
   return parent.empty() ? fs::path(".") : parent;
@@ -161,7 +153,7 @@ void CheckOutputPath(const fs::path& output, const fs::path& session_folder) {
     const fs::path session = fs::canonical(session_folder, ec);
     if (ec) return;  // unreadable: reading the manifest reports it
     const fs::path target = fs::weakly_canonical(fs::absolute(output), ec);
-    if (!ec && IsInside(target, session)) {
+    if (!ec && IsInsideFolder(target, session)) {
       refuse(fmt::format(
           "lies inside the session folder {}; impactlab never writes into a session (it is "
           "the lab's record), so write the output elsewhere",

@@ -141,14 +141,6 @@ std::string ChoiceList(std::initializer_list<std::string_view> choices) {
 // ---------------------------------------------------------------------------
 // Paths inside the session folder.
 
-// True when `inner` is `outer` or lies below it; both must be canonical.
-bool IsInside(const fs::path& inner, const fs::path& outer) {
-  auto [outer_end, inner_end] =
-      std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
-  (void)inner_end;
-  return outer_end == outer.end();
-}
-
 // The folder as the operating system sees it (symbolic links resolved), to tell
 // whether a manifest path leads outside it.
 fs::path CanonicalFolder(const fs::path& folder) {
@@ -455,7 +447,7 @@ class TableReader {
       Fail(key, fmt::format("expected a readable file, found {} ({}: {})", Quote(text),
                             resolved.string(), error.message()));
     }
-    if (!IsInside(canonical, context_->canonical_folder)) {
+    if (!IsInsideFolder(canonical, context_->canonical_folder)) {
       Fail(key, fmt::format("expected a path inside the session folder, found {}, which leads "
                             "outside it through a symbolic link (to {})",
                             Quote(text), canonical.string()));

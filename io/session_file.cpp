@@ -50,14 +50,6 @@ std::optional<fs::path> RelativeToFolder(const fs::path& folder, const fs::path&
   return relative;
 }
 
-// True when `inner` is `outer` or lies below it; both canonical.
-bool IsInside(const fs::path& inner, const fs::path& outer) {
-  auto [outer_end, inner_end] =
-      std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
-  (void)inner_end;
-  return outer_end == outer.end();
-}
-
 std::string KindOf(mode_t mode) {
   if (S_ISDIR(mode)) return "a folder";
   if (S_ISFIFO(mode)) return "a named pipe";
@@ -88,7 +80,7 @@ int OpenThenCheck(int folder_fd, const fs::path& folder, const fs::path& relativ
   std::error_code error;
   const fs::path real = fs::read_symlink(fmt::format("/proc/self/fd/{}", fd.get()), error);
   const fs::path where = error ? fs::canonical(file, error) : real;
-  if (error || !IsInside(where, fs::canonical(folder, error)) || error) {
+  if (error || !IsInsideFolder(where, fs::canonical(folder, error)) || error) {
     errno = EXDEV;
     return -1;
   }
@@ -171,6 +163,15 @@ std::vector<unsigned char> SessionFile::ReadAll(std::uintmax_t max_bytes) const 
   }
   bytes.resize(done);
   return bytes;
+}
+
+bool IsInsideFolder(const fs::path& inner, const fs::path& folder) {
+  auto i = inner.begin();
+  for (auto o = folder.begin(); o != folder.end(); ++o, ++i) {
+    if (o->empty()) continue;  // a trailing separator
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
 }
 
 std::vector<unsigned char> ReadSessionFile(const fs::path& folder, const fs::path& file,

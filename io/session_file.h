@@ -52,6 +52,10 @@ class SessionFile {
 // a print at 1200 dpi as a 16-bit PNG is about 100 MB; this leaves room.
 inline constexpr std::uintmax_t kMaxSessionFileBytes = std::uintmax_t{1} << 30;  // 1 GiB
 
+// True when `inner` is `folder` or lies below it, compared part by part; both
+// canonical (symbolic links resolved) for the answer to mean anything.
+bool IsInsideFolder(const std::filesystem::path& inner, const std::filesystem::path& folder);
+
 // Reads `file` (inside `folder`) whole, with the checks above.
 std::vector<unsigned char> ReadSessionFile(const std::filesystem::path& folder,
                                            const std::filesystem::path& file,

@@ -24,11 +24,7 @@ using Catch::Matchers::Contains;
 using testing::SessionFolder;
 using testing::TempDir;
 
-const std::string kHeader = R"toml(format = 1
-[apparatus]
-pendulum_length = 22.0
-weight = 2.23
-)toml";
+const std::string& kHeader = testing::kManifestHeader;
 
 std::string TypedRun(const std::string& id, const std::string& extra = "") {
   return fmt::format(

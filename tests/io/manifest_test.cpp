@@ -179,11 +179,7 @@ void TouchExampleFiles(const SessionFolder& folder) {
 }
 
 // The start of most bad manifests below: valid on its own.
-const std::string kHeader = R"toml(format = 1
-[apparatus]
-pendulum_length = 22.0
-weight = 2.23
-)toml";
+const std::string& kHeader = testing::kManifestHeader;
 
 // A valid run read from a photo, for cases that break one of its keys.
 const std::string kPhotoRun = R"toml(

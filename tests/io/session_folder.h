@@ -11,6 +11,13 @@
 
 namespace impactlab::testing {
 
+// The start of most test manifests: valid on its own.
+inline const std::string kManifestHeader = R"toml(format = 1
+[apparatus]
+pendulum_length = 22.0
+weight = 2.23
+)toml";
+
 // A session folder in a temporary directory: a manifest and the files it names.
 class SessionFolder {
  public:
