@@ -354,8 +354,11 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   out.impact_times.push_back(impact);
 
   for (int number = 1;; ++number) {
-    // Rebound `number` lies between `impact` and the next impact.
-    if (h.time_s.back() < impact + 0.9 * half_period) break;  // not complete in the history
+    // Rebound `number` lies between `impact` and the next impact. It is
+    // measured wherever its peak and enough of both flanks for the fit are on
+    // the history (checked below): the record may end on its falling flank.
+    // A record ending before the peak the clock predicts ends the walk.
+    if (h.time_s.back() < impact + 0.5 * half_period) break;
     // Times so large that a half swing no longer moves them (1e300 s), or a
     // walk that no longer advances: stop rather than loop.
     if (number > max_steps || !(impact + half_period > impact)) {
@@ -382,17 +385,29 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
         std::lower_bound(h.time_s.begin() + lo, h.time_s.begin() + hi_end, predicted_peak) -
         (h.time_s.begin() + lo));
     const int samples = static_cast<int>(hi_end - lo);
+    // The record ends inside this rebound's peak window: nothing later can
+    // be measured, so a rebound refused here ends the walk.
+    const bool record_ends = h.time_s.back() < predicted_peak + half_window;
     if (samples < options.min_samples_per_peak || below < 2 || samples - below < 2) {
       // Too little of this rebound survives near its peak to measure it;
       // the clock carries on to the next one.
+      if (record_ends) break;
       impact += half_period;
       out.impact_times.push_back(impact);
       continue;
     }
     const PeakFit fit = FitPeak(h, pendulum, lo, hi_end - 1, centre, top_x);
+    // Both flanks of the fitted peak, not only of the predicted one, must
+    // hold samples: a record ending at the peak leaves the shape past it to
+    // extrapolation.
+    const auto before_fitted = static_cast<int>(
+        std::upper_bound(h.time_s.begin() + lo, h.time_s.begin() + hi_end, fit.t_peak.value) -
+        (h.time_s.begin() + lo));
     const bool plausible = fit.xmax.value > 0.0 && fit.xmax.value < 1.5 * top_x &&
-                           std::abs(fit.t_peak.value - predicted_peak) < half_window;
+                           std::abs(fit.t_peak.value - predicted_peak) < half_window &&
+                           before_fitted >= 2 && samples - before_fitted >= 2;
     if (!plausible) {
+      if (record_ends) break;
       impact += half_period;
       out.impact_times.push_back(impact);
       continue;

@@ -133,6 +133,84 @@ TEST_CASE(
   }
 }
 
+// The history up to `end_s` only: a sweep that ends before the record does.
+DisplacementHistory EndingAt(const DisplacementHistory& h, double end_s) {
+  DisplacementHistory kept;
+  for (std::size_t i = 0; i < h.time_s.size() && h.time_s[i] <= end_s; ++i) {
+    kept.time_s.push_back(h.time_s[i]);
+    kept.displacement.push_back(h.displacement[i]);
+  }
+  return kept;
+}
+
+TEST_CASE("rebounds: the last rebound, its peak 0.25 s before the record ends, is measured") {
+  // A 4 s sweep of the thesis's pendulum holds rebound 5's peak (3.75 s) and
+  // a third of a half swing past it: the falling flank down to half height.
+  const Truth truth = Simulate(0.323, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  const DisplacementHistory cut = EndingAt(truth.history, s.peak_time[5] + 0.25);
+  const ReboundExtraction r = ExtractRebounds(cut, kPendulum, {});
+  REQUIRE(r.rebounds.size() == 5);
+  const ExtractedRebound& last = r.rebounds.back();
+  CHECK(last.number == 5);
+  CHECK(last.xmax.value == Approx(s.xmax[5]).epsilon(1e-7));
+  CHECK(last.t_peak.value == Approx(s.peak_time[5]).margin(1e-6));
+  // The falling flank reaches below 30 % of the amplitude: the end crossing
+  // is measured from it, not assumed.
+  CHECK(last.duration.value == Approx(s.duration[5]).epsilon(2e-3));
+}
+
+TEST_CASE("rebounds: a last rebound cut off past its peak has an honest, larger sigma") {
+  // Pulls of rebound 5 over noisy histories ending at several points past its
+  // peak: about 1 (the sigma is honest), and the sigma grows as less of the
+  // falling flank is on the record (fewer samples, one-sided).
+  const double x0 = 0.323, noise = 0.002;
+  const Truth reference = Simulate(x0, 2e-3, 0.0, 1);
+  const double h5 = reference.sequence.duration[5];  // rebound 5's half swing
+  double previous_sigma = 0.0;
+  for (const double past : {0.45, 0.33, 0.2, 0.1, 0.05}) {
+    INFO("record ends " << past << " of a half swing past the peak");
+    double pull2 = 0.0, sigma_sum = 0.0, full_sigma_sum = 0.0;
+    int found = 0;
+    constexpr int kSeeds = 100;
+    for (unsigned seed = 1; seed <= kSeeds; ++seed) {
+      const Truth truth = Simulate(x0, 2e-3, noise, 100 + seed);
+      const ReboundSequence& s = truth.sequence;
+      const ReboundExtraction r =
+          ExtractRebounds(EndingAt(truth.history, s.peak_time[5] + past * h5), kPendulum, {});
+      if (r.rebounds.empty() || r.rebounds.back().number != 5) continue;
+      ++found;
+      const Estimate& xmax = r.rebounds.back().xmax;
+      pull2 += std::pow((xmax.value - s.xmax[5]) / xmax.sigma, 2);
+      sigma_sum += xmax.sigma;
+      const ReboundExtraction whole = ExtractRebounds(truth.history, kPendulum, {});
+      REQUIRE(whole.rebounds.back().number == 5);
+      full_sigma_sum += whole.rebounds.back().xmax.sigma;
+    }
+    CHECK(found == kSeeds);
+    const double pull_rms = std::sqrt(pull2 / std::max(1, found));
+    CHECK(pull_rms > 0.8);
+    CHECK(pull_rms < 1.25);
+    CHECK(sigma_sum > full_sigma_sum);  // fewer samples: a larger sigma, never a smaller one
+    CHECK(sigma_sum > previous_sigma);
+    previous_sigma = sigma_sum;
+  }
+}
+
+TEST_CASE("rebounds: a record ending before, or at, the last peak adds no rebound") {
+  const Truth truth = Simulate(0.323, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  for (const double end : {s.peak_time[5] - 0.2, s.peak_time[5] - 0.01, s.peak_time[5] + 2e-3,
+                           s.start_time[5] + 0.02}) {
+    INFO("record ends at " << end << " s, rebound 5's peak at " << s.peak_time[5] << " s");
+    const ReboundExtraction r = ExtractRebounds(EndingAt(truth.history, end), kPendulum, {});
+    REQUIRE(r.rebounds.size() == 4);
+    CHECK(r.rebounds.back().number == 4);
+    CHECK(r.rebounds.back().xmax.value == Approx(s.xmax[4]).epsilon(1e-7));
+    CHECK(r.impact_times.size() <= 6);  // no impact walked past the record's end
+  }
+}
+
 TEST_CASE("rebounds: averaging right and left halves the difference between them") {
   const Truth right = Simulate(0.6, 1e-3, 0.0, 1);
   DisplacementHistory left = right.history;
