@@ -46,6 +46,10 @@ class PhotocellCurve {
   double DisplacementFromVolts(double volts) const;
   // One-sigma uncertainty of DisplacementFromVolts from the fit alone.
   double DisplacementSigma(double volts) const;
+  // The same at displacement x (0 <= x <= x_max): the curve's error there,
+  // shared by every sample that reads near x (a rebound's maximum carries it
+  // whole, however many samples its fit averages).
+  double DisplacementSigmaAt(double x) const;
   bool Covers(double volts) const;
 
   double x_max() const { return x_max_; }
@@ -71,6 +75,10 @@ struct CalibrationResult {
   double residual_rms_length = 0.0;  // the same, through the curve's slope
   int samples_used = 0;
   std::vector<double> bic;  // per order tried, from 1
+  // The factor the coefficient covariance was multiplied by because the
+  // residuals are correlated along the trace (1 + 2 sum of their positive
+  // autocorrelations; 1 for independent noise).
+  double correlation_inflation = 1.0;
 };
 
 // Throws std::invalid_argument for bad options or too few samples in the

@@ -143,6 +143,17 @@ BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
   return out;
 }
 
+// A maximum's standard error with its cell curve's: the peak fit averages
+// the samples' independent noise, but every sample near the peak reads
+// through the same stretch of the curve, so the curve's error there passes
+// to the maximum whole. `sigma_at(x)`: the curves' one-sigma error at x.
+template <class SigmaAt>
+void AddCurveSigma(BarRebounds& bar, SigmaAt&& sigma_at) {
+  for (std::size_t n = 0; n < bar.xmax.size(); ++n) {
+    bar.xmax_sigma[n] = std::hypot(bar.xmax_sigma[n], sigma_at(bar.xmax[n]));
+  }
+}
+
 }  // namespace
 
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
@@ -287,6 +298,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
     return trace;
   };
   std::map<std::string, DisplacementHistory> histories;
+  std::map<std::string, const PhotocellCurve*> curves;
   for (const char* cell : {"right", "left"}) {
     const auto trace_it = run.traces.find(cell);
     if (trace_it == run.traces.end()) continue;
@@ -307,6 +319,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                               key, std::nullopt};
     histories[cell] =
         Timed(out.seconds.extract, [&] { return ToDisplacement(trace, calibration, where); });
+    curves[cell] = &calibration.curve;
   }
   if (histories.empty()) {
     throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
@@ -319,14 +332,32 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       return Renumber(ExtractRebounds(h, pendulum, options), run.first_rebound);
     });
   };
-  if (histories.count("right")) out.right = extract(histories["right"]);
-  if (histories.count("left")) out.left = extract(histories["left"]);
+  const auto curve_sigma = [&](const char* cell) {
+    return [curve = curves.at(cell)](double x) { return curve->DisplacementSigmaAt(x); };
+  };
+  if (histories.count("right")) {
+    out.right = extract(histories["right"]);
+    AddCurveSigma(*out.right, curve_sigma("right"));
+  }
+  if (histories.count("left")) {
+    out.left = extract(histories["left"]);
+    AddCurveSigma(*out.left, curve_sigma("left"));
+  }
   const DisplacementHistory average = histories.size() == 2
                                           ? AverageHistories(histories["right"], histories["left"])
                                           : histories.begin()->second;
-  const BarRebounds both = histories.size() == 2
-                               ? MeanOfBars(*out.right, *out.left, extract(average))
-                               : extract(average);
+  BarRebounds from_average = extract(average);
+  if (histories.size() == 2) {
+    // The average of the two histories reads through both curves.
+    AddCurveSigma(from_average, [&](double x) {
+      return 0.5 * std::hypot(curves.at("right")->DisplacementSigmaAt(x),
+                              curves.at("left")->DisplacementSigmaAt(x));
+    });
+  } else {
+    AddCurveSigma(from_average, curve_sigma(histories.begin()->first.c_str()));
+  }
+  const BarRebounds both =
+      histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average) : from_average;
   if (both.xmax.size() < 2) {
     throw InputError({session.manifest, RunKey(run), std::nullopt},
                      fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "

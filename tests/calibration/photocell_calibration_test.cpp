@@ -70,6 +70,66 @@ TEST_CASE(
   CHECK(inside > total / 3);
 }
 
+// A sweep whose voltage errs smoothly along the trace, as a digitized photo's
+// does (blur, the graticule's residual mapping) or a scope's quantised record:
+// first-order autoregressive noise of rms `noise_v` and correlation time `tau`.
+Trace CorrelatedSweep(double x0, double (*volts)(double x, double x0), double noise_v, double tau,
+                      double dt, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const double phi = std::exp(-dt / tau);
+  const double kick = noise_v * std::sqrt(1.0 - phi * phi);
+  Trace trace;
+  const double end = 0.5 * HalfPeriod(kPendulum, x0);
+  double e = noise_v * normal(rng);
+  for (double t = 0.0; t <= end; t += dt) {
+    trace.time_s.push_back(t);
+    trace.volts.push_back(volts(ReleaseSwingDisplacement(kPendulum, x0, t), x0) + e);
+    e = phi * e + kick * normal(rng);
+  }
+  return trace;
+}
+
+// The curve's error at a few displacements divided by its stated band, over
+// many calibrations: the rms of these pulls is 1 when the band is honest.
+double CurvePullRms(double noise_v, double tau, double* inflation) {
+  const double x0 = 0.337;
+  double sum = 0.0, sum_inflation = 0.0;
+  int count = 0;
+  const int sweeps = 40;
+  for (int seed = 1; seed <= sweeps; ++seed) {
+    const CalibrationResult c = CalibratePhotocell(
+        CorrelatedSweep(x0, NonlinearCell, noise_v, tau, 1e-4, seed), kPendulum, x0, {});
+    sum_inflation += c.correlation_inflation;
+    for (double s : {0.1, 0.25, 0.5, 0.75, 0.9}) {
+      const double x = s * x0;
+      const double v = NonlinearCell(x, x0);
+      const double pull = (c.curve.DisplacementFromVolts(v) - x) / c.curve.DisplacementSigma(v);
+      sum += pull * pull;
+      ++count;
+    }
+  }
+  *inflation = sum_inflation / sweeps;
+  return std::sqrt(sum / count);
+}
+
+TEST_CASE("photocell: the curve's band is honest when the trace's errors are correlated") {
+  // Independent noise: the band as least squares gives it, barely inflated.
+  double inflation = 0.0;
+  const double white = CurvePullRms(0.005, 1e-9, &inflation);
+  CHECK(inflation < 1.3);
+  CHECK(white > 0.6);
+  CHECK(white < 1.5);
+  // Errors correlated over 5 ms (50 samples): counting every sample as an
+  // independent reading understates the band tenfold (pull rms 10.8). The
+  // autocorrelation sum, from ~75 correlation lengths, runs somewhat low
+  // (56 for the true 99), so the pulls come out near 1.5, not 1.
+  const double correlated = CurvePullRms(0.005, 5e-3, &inflation);
+  CHECK(inflation > 20.0);
+  CHECK(correlated > 0.6);
+  CHECK(correlated < 2.0);
+}
+
 TEST_CASE("photocell: a rising (inverted) cell works the same way") {
   const double x0 = 1.519;
   const CalibrationResult c =
