@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "bench/bench_support.h"
 #include "io/manifest.h"
 #include "pipeline/process_memory.h"
 #include "pipeline/reduce.h"
@@ -23,32 +24,6 @@
 
 namespace impactlab {
 namespace {
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const double rank = p * static_cast<double>(v.size() - 1);
-  const auto i = static_cast<std::size_t>(rank);
-  const double f = rank - static_cast<double>(i);
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
-}
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-// Decoding every photo of the session alone: the floor any reducer pays.
-double DecodeSeconds(const std::filesystem::path& session) {
-  const auto start = std::chrono::steady_clock::now();
-  for (const char* sub : {"runs", "calibration"}) {
-    if (!std::filesystem::exists(session / sub)) continue;
-    for (const auto& entry : std::filesystem::directory_iterator(session / sub)) {
-      const cv::Mat image = cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED);
-      if (image.empty()) fmt::print(stderr, "cannot decode {}\n", entry.path().string());
-    }
-  }
-  return Seconds(start);
-}
 
 // An existing session (no truth): decoding its photos against reducing it,
 // `repeats` times each, alternating, medians. Both run in this process, so
