@@ -593,9 +593,11 @@ std::optional<StrokeEdge> FitEdge(const RowReader& reader, const GraticuleFit& g
 // one at `reaching_div` (level_jump.h): each level's mean profile across its
 // trace's core, on the stroke rows' offsets. Nullopt when a level has no
 // clear rows (a horizontal grid line or minor ticks along it) or no step
-// shows.
+// shows, and when the two levels' ends are not mirror images (then `bound`
+// may hold what they bound, below).
 std::optional<PulseEdge> FitJump(const RowReader& reader, const GraticuleFit& graticule,
-                                 const StrokeData& d, double leaving_div, double reaching_div) {
+                                 const StrokeData& d, double leaving_div, double reaching_div,
+                                 std::optional<PulseEdge>* bound) {
   const double half_width_div = 0.5 * d.width_px / d.px_per_div;
   const int count = std::max(1, static_cast<int>(std::lround(2.0 * d.width_px)));
   std::vector<double> profiles[2];
@@ -614,6 +616,36 @@ std::optional<PulseEdge> FitJump(const RowReader& reader, const GraticuleFit& gr
   for (const StrokeNeighbour& line : d.neighbours) search.lines.push_back(line.shape);
   const digitize::LevelJump jump =
       digitize::FitLevelJump(d.rows.offsets, profiles[0], profiles[1], search);
+  // The two rows are mirror images only when the reaching level begins
+  // where the leaving one ends. An edge that settles slowly (an RC
+  // exponential of a microsecond or two, a few hundredths of a division on
+  // a fast sweep) leaves its level at once but approaches the other one,
+  // which then begins 3-4 time constants later: the antisymmetry takes
+  // either row's step, or something between, for the edge, and differently
+  // on the rise and the fall (0.1 division apart on phone photos). There
+  // the levels' ends only bound the edge: its half-height crossing lies
+  // between the leaving level's end and the reaching level's beginning,
+  // and in its first half, since the trace leaves at once and settles
+  // slowly (an exponential crosses half height ln 2 / ln(step / half width),
+  // about a fifth, of the way; a linear ramp half way). `bound` is then
+  // that first half: its middle, its length over sqrt 12; it only stands in
+  // for a stroke not seen. On switched edges (our renderer's
+  // standard scenes) the reaching row's half crossing lies 0.3-1 trace width
+  // before the leaving row's (each row sees the other's corner); on RC edges
+  // 1.3-2.6 widths after it (tests/digitize/contact_rc_test.cpp), 2-7 on
+  // the external phone photos.
+  const double gap = jump.reaching_start_px - jump.leaving_end_px;
+  if (std::isfinite(gap) && gap > d.width_px) {
+    const double centre = jump.leaving_end_px + 0.25 * gap;
+    if (std::abs(centre) > d.reach_px) return std::nullopt;
+    PulseEdge edge;
+    edge.from_image = true;
+    edge.time_s = reader.ScreenX(d.whole, centre);  // screen x for now
+    edge.sigma_s = 0.5 * gap / std::sqrt(12.0) / d.px_per_div;
+    edge.centre_px = graticule.mapping.ImageFromScreen({edge.time_s, d.mid_div});
+    *bound = edge;
+    return std::nullopt;
+  }
   if (!jump.found) return std::nullopt;
   // What the antisymmetry leaves misses the noise's correlation across rows
   // (JPEG blocks, grain) and what of the lines does not cancel: three times
@@ -740,11 +772,15 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   }
   // The levels' ends measure each edge too (FitJump), from the bright
   // levels rather than the faint stroke.
-  std::optional<PulseEdge> rise_jump, fall_jump;
-  if (rise_data) rise_jump = FitJump(reader, graticule, *rise_data, low_div, high_div);
-  if (fall_data) fall_jump = FitJump(reader, graticule, *fall_data, high_div, low_div);
+  std::optional<PulseEdge> rise_jump, fall_jump, rise_bound, fall_bound;
+  if (rise_data) {
+    rise_jump = FitJump(reader, graticule, *rise_data, low_div, high_div, &rise_bound);
+  }
+  if (fall_data) {
+    fall_jump = FitJump(reader, graticule, *fall_data, high_div, low_div, &fall_bound);
+  }
   auto finish = [&](int before, int after, const std::optional<StrokeEdge>& stroke,
-                    const std::optional<PulseEdge>& jump) {
+                    const std::optional<PulseEdge>& jump, const std::optional<PulseEdge>& bound) {
     const double x0 = screen[before].x, x1 = screen[after].x;
     std::optional<PulseEdge> edge;
     if (stroke) edge = stroke->edge;
@@ -768,6 +804,10 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     } else if (jump) {
       edge = jump;
     }
+    // No stroke and no mirrored levels' ends: where the levels' ends bound
+    // the edge (a slowly settling edge), when that is narrower than the
+    // samples' spacing.
+    if (!edge && bound && bound->sigma_s < (x1 - x0) / std::sqrt(12.0)) edge = bound;
     if (!edge) {
       // No stroke to be seen: between the levels' ends, as a sampled trace would.
       const double guess = 0.5 * (x0 + x1);
@@ -785,8 +825,8 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     return *edge;
   };
   ContactPulseFit fit;
-  fit.rise = finish(rise_before, rise_after, rise, rise_jump);
-  fit.fall = finish(fall_before, fall_after, fall, fall_jump);
+  fit.rise = finish(rise_before, rise_after, rise, rise_jump, rise_bound);
+  fit.fall = finish(fall_before, fall_after, fall, fall_jump, fall_bound);
   fit.width_s = fit.fall.time_s - fit.rise.time_s;
   fit.width_sigma_s = std::hypot(fit.rise.sigma_s, fit.fall.sigma_s);
   fit.low_volts = (std::min(low, high) - s.zero_div) * s.volts_per_div;

@@ -122,6 +122,42 @@ class Antisymmetry {
   int pairs_ = 4;
 };
 
+// Where a row steps between its level and its background: the half-way
+// crossing nearest the level's side, scanning from the end of the row where
+// it is bright (`from_left`: the leaving row, bright at low offsets). The
+// lines' light is taken out in proportion to how dark the row is there (a
+// saturating tone curve shows a line fainter on the bright level).
+double RowStep(const std::vector<double>& row, const std::vector<std::vector<double>>& lines,
+               bool from_left) {
+  const int n = static_cast<int>(row.size()), part = std::max(2, n / 8);
+  std::vector<double> bright, dark;
+  for (int i = 0; i < part; ++i) {
+    bright.push_back(row[from_left ? i : n - 1 - i]);
+    dark.push_back(row[from_left ? n - 1 - i : i]);
+  }
+  std::nth_element(bright.begin(), bright.begin() + part / 2, bright.end());
+  std::nth_element(dark.begin(), dark.begin() + part / 2, dark.end());
+  const double high = bright[part / 2], low = dark[part / 2];
+  if (!(high > low)) return std::numeric_limits<double>::quiet_NaN();
+  auto value = [&](int i) {
+    double v = row[i];
+    const double darkness = std::clamp((high - v) / (high - low), 0.0, 1.0);
+    for (const std::vector<double>& line : lines) {
+      if (line.size() == row.size()) v -= darkness * line[i];
+    }
+    return v;
+  };
+  const double half = 0.5 * (high + low);
+  for (int k = 1; k < n; ++k) {
+    const int i = from_left ? k : n - 1 - k, previous = from_left ? k - 1 : n - k;
+    const double a = value(previous), b = value(i);
+    if (b < half && a >= half) {
+      return previous + (i - previous) * (a - half) / (a - b);  // an index
+    }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 LevelJump FitLevelJump(const std::vector<double>& offsets, const std::vector<double>& leaving,
@@ -153,6 +189,10 @@ LevelJump FitLevelJump(const std::vector<double>& offsets, const std::vector<dou
   jump.step = antisymmetry.At(m - w) - antisymmetry.At(m + w);
   antisymmetry.Uncertainty(m, &jump.residual_rms, &jump.sigma_px);
   const double margin = 0.1;  // px
+  const double end = RowStep(leaving, search.lines, true);
+  const double start = RowStep(reaching, search.lines, false);
+  jump.leaving_end_px = offsets.front() + step * end;
+  jump.reaching_start_px = offsets.front() + step * start;
   jump.found = jump.step > 5.0 * jump.residual_rms && m > lo + margin && m < hi - margin &&
                std::isfinite(jump.sigma_px);
   return jump;

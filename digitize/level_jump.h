@@ -42,6 +42,15 @@ struct LevelJump {
   double sigma_px = 0.0;
   double step = 0.0;          // D well before the edge less D well after it, ink units
   double residual_rms = 0.0;  // of the antisymmetry, ink units
+  // Each row's own step, where it crosses half way between its level and
+  // its background (the lines' light taken out where the row is dark): the
+  // leaving level's end and the reaching level's beginning. They coincide
+  // when the circuit switches within the beam's width; an edge that settles
+  // slowly (an RC exponential: the reaching level is approached, never
+  // jumped to) begins the reaching level several time constants after the
+  // leaving one ends, and the two rows are no mirror images. NaN where a
+  // row shows no such crossing.
+  double leaving_end_px = 0.0, reaching_start_px = 0.0;
 };
 
 // The edge from the two levels' profiles on the same equally spaced offsets:
