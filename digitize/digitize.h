@@ -200,8 +200,9 @@ struct TraceOptions {
   // from their neighbours: see docs/digitizing.md) are not reported, 0..1.
   double min_confidence = 0.25;
   // A trace no brighter than this many times the graticule's lines (its
-  // typical height above the screen) is taken for a grid line: missing, 1.
-  double min_height_over_grid = 1.6;
+  // typical height above the screen where its line is seen whole, dash ends
+  // left out) is taken for a grid line: missing, 1.
+  double min_height_over_grid = 1.3;
   // A trace covering less than this fraction of the sweep is reported missing, 1.
   double min_coverage = 0.05;
   // A grid line's light is taken to reach this many of its widths (FWHM)

@@ -491,6 +491,15 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   std::erase_if(samples, [](const Sample& s) { return !s.keep; });
   TrimDashEnds(samples, step_div, options.min_local_height);
   std::erase_if(samples, [](const Sample& s) { return !s.keep; });
+  // The trace's height where its line is seen whole: a chopped trace's dash
+  // ends (a quarter of its samples when the dashes are a few widths long) are
+  // dimmer, and would make a sparse dashed trace look no brighter than a
+  // grid line.
+  if (!samples.empty()) {
+    std::vector<double> whole;
+    for (const Sample& s : samples) whole.push_back(s.height);
+    result.height = Median(whole);
+  }
   DropShortRuns(samples, step_div, width_px, 1.25 * width_px);
   std::erase_if(samples, [](const Sample& s) { return !s.keep; });
   result.noise_px =
