@@ -584,8 +584,18 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
     // What stands out of the band only as much as a grid line is a grid line.
     const bool bright_enough =
         trace.height >= options.min_height_over_grid * graticule.line_contrast;
-    if (trace.trace.time_s.empty() || trace.coverage < options.min_coverage || !bright_enough) {
-      if (!bright_enough) trace.coverage = 0.0;
+    const bool seen = !trace.trace.time_s.empty() && trace.coverage >= options.min_coverage;
+    if (seen && !bright_enough) {
+      // Say what was seen: a line along the sweep, but no brighter than the grid.
+      throw InputError(
+          {photo.source, "traces." + request.name, std::nullopt},
+          fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % of the "
+                      "sweep, but it stands only {:.2f} times as high as a grid line, at least "
+                      "{:.2f} needed to tell it from one",
+                      request.name, BandText(request.settings), 100.0 * trace.coverage,
+                      trace.height / graticule.line_contrast, options.min_height_over_grid));
+    }
+    if (!seen) {
       throw InputError(
           {photo.source, "traces." + request.name, std::nullopt},
           fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % "

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "io/errors.h"
 #include "photo_scenes.h"
 #include "render/oscillograph.h"
 
@@ -122,4 +123,33 @@ TEST_CASE("digitize dashed: sparse dashes on a bright graticule or across scratc
   }
 }
 
+}  // namespace impactlab
+
+namespace impactlab {
+namespace {
+
+TEST_CASE("digitize dashed: a trace no brighter than the grid is refused, saying so") {
+  // The graticule redrawn as bright as the traces: a line is followed along
+  // the sweep, but nothing tells it from a grid line, and the message says
+  // that rather than "seen along 0 % of the sweep".
+  const testing::RunScene run = testing::StandardRunScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kPolaroid;
+  options.width_px = 2000;
+  options.seed = 7;
+  options.chop_dash_div = 0.05;
+  options.chop_duty = 0.4;
+  options.beam_fwhm_div = 0.012;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  BrightenGraticule(photo.image, photo, 1.0);
+  try {
+    DigitizePhoto({photo.image, "faint.png"}, {10, 8}, run.requests, {});
+    FAIL("a trace as faint as the grid was accepted");
+  } catch (const InputError& error) {
+    INFO(error.what());
+    CHECK_THAT(error.what(), Catch::Contains("times as high as a grid line"));
+  }
+}
+
+}  // namespace
 }  // namespace impactlab
