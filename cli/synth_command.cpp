@@ -24,8 +24,8 @@ void AddSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--preset", args->options.preset, "thesis (8 runs) or quick (2 small runs)")
       ->check(CLI::IsMember({"thesis", "quick"}))
       ->capture_default_str();
-  cmd->add_option("--style", args->style, "clean, polaroid, phone, negative or lowres")
-      ->check(CLI::IsMember({"clean", "polaroid", "phone", "negative", "lowres"}))
+  cmd->add_option("--style", args->style, "clean, polaroid, phone, negative, lowres or randomised")
+      ->check(CLI::IsMember({"clean", "polaroid", "phone", "negative", "lowres", "randomised"}))
       ->capture_default_str();
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed, the same session")
       ->capture_default_str();

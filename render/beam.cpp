@@ -20,7 +20,8 @@ struct ChopSlot {
 // the middle `duty` of its slot.
 bool ChopperOpen(double x_div, const ChopSlot& slot, const ChopperSettings& chopper) {
   const double period_div = chopper.dash_div * slot.count;
-  const double phase_div = x_div - period_div * std::floor(x_div / period_div);
+  const double x = x_div - chopper.phase_div;  // exact for the default phase 0
+  const double phase_div = x - period_div * std::floor(x / period_div);
   const double start_div = chopper.dash_div * (slot.index + 0.5 * (1.0 - chopper.duty));
   return phase_div >= start_div && phase_div < start_div + chopper.dash_div * chopper.duty;
 }
@@ -32,7 +33,8 @@ std::vector<double> ChopperEdges(double from_x, double to_x, const ChopSlot& slo
   if (from_x == to_x) return edges;
   const double period_div = chopper.dash_div * slot.count;
   const double lo = std::min(from_x, to_x), hi = std::max(from_x, to_x);
-  const double start_div = chopper.dash_div * (slot.index + 0.5 * (1.0 - chopper.duty));
+  const double start_div =
+      chopper.phase_div + chopper.dash_div * (slot.index + 0.5 * (1.0 - chopper.duty));
   for (const double edge_div : {start_div, start_div + chopper.dash_div * chopper.duty}) {
     for (double k = std::ceil((lo - edge_div) / period_div); edge_div + k * period_div < hi; ++k) {
       edges.push_back((edge_div + k * period_div - from_x) / (to_x - from_x));
@@ -96,8 +98,10 @@ TraceBeam LayOutBeam(const ScreenTrace& trace, const std::optional<ChopSlot>& sl
     const double length_div = std::hypot(q.x - p.x, q.y - p.y);
     // Exposure per unit length falls as 1 / writing speed.
     const double relative_speed = dt_s > 0.0 ? length_div / dt_s / sweep_speed_div_per_s : HUGE_VAL;
+    // The intensity control scales it (a no-op at the default 1).
     const float brightness =
-        std::clamp(static_cast<float>(1.0 / relative_speed), kMinBeamBrightness, 1.0f);
+        std::clamp(static_cast<float>(1.0 / relative_speed), kMinBeamBrightness, 1.0f) *
+        static_cast<float>(trace.brightness);
 
     std::vector<double> cuts = {0.0};
     if (slot) {

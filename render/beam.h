@@ -18,8 +18,9 @@ struct BeamSegment {
 };
 
 struct ChopperSettings {
-  double dash_div = 0.2;  // length of one chopper slot along the sweep
-  double duty = 0.75;     // fraction of its slot a trace is unblanked
+  double dash_div = 0.2;   // length of one chopper slot along the sweep
+  double duty = 0.75;      // fraction of its slot a trace is unblanked
+  double phase_div = 0.0;  // where the slots start along the sweep
 };
 
 // One trace's beam and its truth (centre_px still empty: the camera fills it).

@@ -18,12 +18,13 @@ namespace impactlab {
 
 namespace {
 
-constexpr std::array<std::pair<PhotoStyle, std::string_view>, 5> kStyleNames = {{
+constexpr std::array<std::pair<PhotoStyle, std::string_view>, 6> kStyleNames = {{
     {PhotoStyle::kClean, "clean"},
     {PhotoStyle::kPolaroid, "polaroid"},
     {PhotoStyle::kPhone, "phone"},
     {PhotoStyle::kNegative, "negative"},
     {PhotoStyle::kLowres, "lowres"},
+    {PhotoStyle::kRandomised, "randomised"},
 }};
 
 bool Fail(std::string* error, std::string message) {
@@ -52,6 +53,10 @@ void CheckScene(const OscillographScene& scene) {
         !std::isfinite(s.t0_div)) {
       fail(fmt::format("trace '{}': volts_per_div must be non-zero and the settings finite",
                        trace.name));
+    }
+    if (!(trace.brightness > 0.0 && trace.brightness <= 100.0)) {
+      fail(fmt::format("trace '{}': brightness must lie in (0, 100], got {}", trace.name,
+                       trace.brightness));
     }
     for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
       if (!std::isfinite(trace.time_s[i]) || !std::isfinite(trace.volts[i])) {
@@ -109,6 +114,9 @@ bool RenderOptions::Check(std::string* error) const {
   if (!(chop_duty > 0.0 && chop_duty <= 1.0)) {
     return Fail(error, fmt::format("chop_duty must lie in (0, 1], got {}", chop_duty));
   }
+  if (!std::isfinite(chop_phase_div)) {
+    return Fail(error, fmt::format("chop_phase_div must be finite, got {}", chop_phase_div));
+  }
   return true;
 }
 
@@ -126,8 +134,9 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
   RenderedPhoto photo;
   photo.mapping = render::FrameCamera(look.pose, look.framed_outline_div, layout.centre_div, size);
 
-  std::vector<render::TraceBeam> beams = render::LayOutBeams(
-      scene, {options.chop_dash_div, options.chop_duty}, layout.graticule_div, layout.face_div);
+  std::vector<render::TraceBeam> beams =
+      render::LayOutBeams(scene, {options.chop_dash_div, options.chop_duty, options.chop_phase_div},
+                          layout.graticule_div, layout.face_div);
   for (render::TraceBeam& beam : beams) {
     for (const cv::Point2d& p : beam.truth.screen_div) {
       beam.truth.centre_px.push_back(photo.mapping.ImageFromScreen(p));
@@ -143,8 +152,11 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
   const render::PhosphorCanvas phosphor =
       render::RenderPhosphor(layout, beams, look.screen, canvas_px_per_div, canvas_blur_px);
   const render::Dirt dirt = render::DrawDirt(look, size, random);
-  photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, options, random);
-  render::FinishPhoto(look, options, photo.image);
+  photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, random);
+  render::FinishPhoto(look, photo.image);
+  photo.jpeg_quality = look.jpeg_quality;
+  if (options.style == PhotoStyle::kRandomised)
+    photo.look = render::DescribeLook(look, photo.image);
   return photo;
 }
 

@@ -45,7 +45,8 @@ struct ScreenTrace {
   std::vector<double> volts;   // one value per sample
   TraceSettings settings;      // time_per_div, volts_per_div, zero_div, t0_div are used
   BeamMode mode = BeamMode::kContinuous;
-  int beam = 0;  // chopped traces with the same beam index share the chopper
+  int beam = 0;             // chopped traces with the same beam index share the chopper
+  double brightness = 1.0;  // the beam's intensity control: exposure relative to 1, > 0
 };
 
 struct OscillographScene {
@@ -59,9 +60,13 @@ enum class PhotoStyle {
   kPhone,     // colour phone photo at an angle: perspective, barrel, vignetting, glare, JPEG
   kNegative,  // dark traces on a light ground (a scanned negative)
   kLowres,    // small, blurred, heavily JPEG-compressed
+  // Domain randomisation: every factor of the look (camera, light, film or
+  // sensor, graticule, surround, dirt and hand marks, size, bit depth, polarity,
+  // JPEG) drawn per seed from wide ranges (docs/rendering.md).
+  kRandomised,
 };
 
-// "clean", "polaroid", "phone", "negative", "lowres".
+// "clean", "polaroid", "phone", "negative", "lowres", "randomised".
 std::string_view PhotoStyleName(PhotoStyle style);
 std::optional<PhotoStyle> ParsePhotoStyle(std::string_view name);
 
@@ -69,8 +74,8 @@ struct RenderOptions {
   PhotoStyle style = PhotoStyle::kClean;
   int width_px = 0;          // image width, 200..8000; 0: the style's (2000, lowres 1000)
   std::uint64_t seed = 1;    // every random choice follows from it (std::mt19937_64)
-  bool sixteen_bit = false;  // CV_16U samples instead of CV_8U
-  bool grey = false;         // one channel instead of BGR
+  bool sixteen_bit = false;  // CV_16U samples instead of CV_8U (randomised: or as drawn)
+  bool grey = false;         // one channel instead of BGR (randomised: or as drawn)
 
   // Style overrides; unset values are drawn from the style's range with the seed.
   std::optional<double> rotation_deg;  // screen rotation in the photo, counter-clockwise, |.| <= 15
@@ -83,6 +88,7 @@ struct RenderOptions {
   double beam_fwhm_div = 0.02;  // full width at half maximum of the beam's core
   double chop_dash_div = 0.2;   // length of one chopper slot along the sweep
   double chop_duty = 0.75;      // fraction of its slot a chopped trace is unblanked
+  double chop_phase_div = 0.0;  // where the chopper's slots start along the sweep, divisions
 
   // True when every field is in range; otherwise `error` says which is not.
   bool Check(std::string* error) const;
@@ -113,10 +119,20 @@ struct TraceTruth {
   std::vector<bool> drawn;              // false where the chopper blanks the beam
 };
 
+// One factor of a photo's look as its style drew it, for benchmarks that ask
+// which factor breaks what: a number (`category` empty) or a category.
+struct LookFactor {
+  std::string name;      // e.g. "blur_px", "polarity"
+  double value = 0.0;    // numbers, in the unit the name says
+  std::string category;  // categories, e.g. "negative"; empty for numbers
+};
+
 struct RenderedPhoto {
   cv::Mat image;                   // CV_8UC3 / CV_16UC3 (BGR) or CV_8UC1 / CV_16UC1 (grey)
   std::vector<TraceTruth> traces;  // one per scene trace, in the scene's order
   CameraMapping mapping;           // the exact mapping the image was drawn with
+  int jpeg_quality = 0;            // the JPEG round trip the image went through; 0: none
+  std::vector<LookFactor> look;    // the randomised style's drawn factors; empty for the others
 
   cv::Point2d ImageFromScreen(cv::Point2d screen_div) const {
     return mapping.ImageFromScreen(screen_div);

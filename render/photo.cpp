@@ -129,17 +129,16 @@ void Store(const cv::Vec3f& bgr, bool grey, float full_scale, Sample* out) {
 class Darkroom {
  public:
   Darkroom(const PhosphorCanvas& phosphor, const ScreenLayout& layout, const StyleLook& look,
-           const CameraMapping& mapping, const Dirt& dirt, const RenderOptions& options,
-           std::uint64_t noise_seed)
+           const CameraMapping& mapping, const Dirt& dirt, std::uint64_t noise_seed)
       : phosphor_(phosphor),
         layout_(layout),
         look_(look),
         dirt_(dirt),
         size_(PhotoSize(look)),
-        grey_(options.grey),
-        eight_bit_(!options.sixteen_bit || look.jpeg_quality > 0),
+        grey_(look.grey),
+        eight_bit_(!look.sixteen_bit || look.jpeg_quality > 0),
         to_screen_(mapping),
-        graticule_(layout.graticule_div),
+        graticule_(layout.graticule_div, look.screen.graticule_ticks),
         tone_(look.exposure_gain, look.tone_gamma),
         noise_seed_(noise_seed) {
     const double px_per_div = PixelsPerDivisionAt(mapping, layout.centre_div);
@@ -210,6 +209,9 @@ class Darkroom {
       value +=
           (look_.paper_bgr - value) * (0.8f / 255.0f * dirt_.light.at<uchar>(row, col) * in_image);
     }
+    if (!dirt_.mark.empty()) {
+      value += (look_.mark_bgr - value) * (1.0f / 255.0f * dirt_.mark.at<uchar>(row, col));
+    }
     return value;
   }
 
@@ -219,7 +221,7 @@ class Darkroom {
     if (face_alpha > 0.0f) {
       const double d2 = graticule_.Distance2(p);
       const float graticule =
-          d2 < graticule_reach2_
+          d2 < graticule_reach2_ && !GraticuleMissing(p)
               ? graticule_peak_ * static_cast<float>(std::exp(-d2 * graticule_inv_two_sigma2_))
               : 0.0f;
       exposure = look_.screen.face_bgr + graticule * look_.screen.graticule_bgr +
@@ -230,6 +232,14 @@ class Darkroom {
                  SurroundExposure(p, layout_, look_.surround, edge_div_) * (1.0f - face_alpha);
     }
     return exposure;
+  }
+
+  // Where the graticule's paint is worn off (randomised style).
+  bool GraticuleMissing(cv::Point2d p) const {
+    for (const cv::Rect2d& gap : look_.screen.graticule_missing_div) {
+      if (gap.contains(p)) return true;
+    }
+    return false;
   }
 
   // Falloff towards the corners, uneven room light, glare on the glass.
@@ -329,8 +339,8 @@ class Darkroom {
 
 cv::Mat Photograph(const PhosphorCanvas& phosphor, const ScreenLayout& layout,
                    const StyleLook& look, const CameraMapping& mapping, const Dirt& dirt,
-                   const RenderOptions& options, std::mt19937_64& random) {
-  const Darkroom darkroom(phosphor, layout, look, mapping, dirt, options, random());
+                   std::mt19937_64& random) {
+  const Darkroom darkroom(phosphor, layout, look, mapping, dirt, random());
   cv::Mat image = darkroom.NewImage();
   // Rows are independent; OpenCV's thread pool (cv::setNumThreads) runs them.
   cv::parallel_for_(cv::Range(0, image.rows),

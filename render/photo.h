@@ -17,9 +17,9 @@
 namespace impactlab::render {
 
 // The photo's samples: CV_8U or CV_16U (8-bit whenever the style ends in a
-// JPEG), one channel when options.grey, else BGR.
+// JPEG), one channel when look.grey, else BGR.
 cv::Mat Photograph(const PhosphorCanvas& phosphor, const ScreenLayout& layout,
                    const StyleLook& look, const CameraMapping& mapping, const Dirt& dirt,
-                   const RenderOptions& options, std::mt19937_64& random);
+                   std::mt19937_64& random);
 
 }  // namespace impactlab::render

@@ -49,7 +49,7 @@ ScreenLayout LayOutScreen(const std::array<int, 2>& divisions) {
   return layout;
 }
 
-Graticule::Graticule(const cv::Rect2d& g)
+Graticule::Graticule(const cv::Rect2d& g, bool ticks)
     : x0_(g.x),
       x1_(g.x + g.width),
       y0_(g.y),
@@ -59,7 +59,8 @@ Graticule::Graticule(const cv::Rect2d& g)
       nx_(static_cast<int>(std::lround(g.width))),
       ny_(static_cast<int>(std::lround(g.height))),
       x_ticks_(static_cast<int>(std::lround(g.width / kTickDiv))),
-      y_ticks_(static_cast<int>(std::lround(g.height / kTickDiv))) {}
+      y_ticks_(static_cast<int>(std::lround(g.height / kTickDiv))),
+      ticks_(ticks) {}
 
 float PhosphorCanvas::Sample(cv::Point2d p) const {
   const cv::Matx23d& m = canvas_from_screen;

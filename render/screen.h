@@ -36,10 +36,11 @@ inline double RoundedRectDistance(cv::Point2d p, const cv::Rect2d& rect, double 
 }
 
 // The graticule's lines: the division lines, the centre axes and their minor
-// ticks (5 per division, 0.2 div long), like a Tektronix 555's.
+// ticks (5 per division, 0.2 div long, unless `ticks` is false), like a
+// Tektronix 555's.
 class Graticule {
  public:
-  explicit Graticule(const cv::Rect2d& graticule_div);
+  explicit Graticule(const cv::Rect2d& graticule_div, bool ticks = true);
 
   // Squared distance (divisions^2) from p to the nearest line.
   double Distance2(cv::Point2d p) const {
@@ -53,12 +54,12 @@ class Graticule {
     const double off_x_axis = std::abs(p.y - yc_), off_y_axis = std::abs(p.x - xc_);
     best = std::min(best, off_y_axis * off_y_axis + beyond_y * beyond_y);
     best = std::min(best, off_x_axis * off_x_axis + beyond_x * beyond_x);
-    if (off_x_axis < kTickReachDiv) {
+    if (ticks_ && off_x_axis < kTickReachDiv) {
       const double along = LatticeDistance(p.x, x0_, kTickDiv, x_ticks_);
       const double across = std::max(0.0, off_x_axis - kTickHalfLengthDiv);
       best = std::min(best, along * along + across * across);
     }
-    if (off_y_axis < kTickReachDiv) {
+    if (ticks_ && off_y_axis < kTickReachDiv) {
       const double along = LatticeDistance(p.y, y0_, kTickDiv, y_ticks_);
       const double across = std::max(0.0, off_y_axis - kTickHalfLengthDiv);
       best = std::min(best, along * along + across * across);
@@ -81,6 +82,7 @@ class Graticule {
 
   double x0_, x1_, y0_, y1_, xc_, yc_;
   int nx_, ny_, x_ticks_, y_ticks_;
+  bool ticks_;
 };
 
 // The light on the face, in exposure units.
@@ -92,6 +94,8 @@ struct ScreenLook {
   double graticule_sigma_div = 0.006;          // a graticule line's Gaussian sigma
   double glow_fraction = 0.15;    // phosphor glow around the beam, relative to the core
   double glow_sigma_div = 0.045;  // its Gaussian sigma
+  bool graticule_ticks = true;    // the centre axes' minor ticks
+  std::vector<cv::Rect2d> graticule_missing_div;  // where the graticule's paint is worn off
 };
 
 // The phosphor's light drawn flat: canvas pixels aligned with the screen.

@@ -197,7 +197,14 @@ StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout
     case PhotoStyle::kLowres:
       DrawLowres(look, layout, random);
       break;
+    case PhotoStyle::kRandomised:
+      DrawRandomised(look, layout, random);
+      break;
   }
+  // The randomised style draws its file format; an option asking for grey or
+  // 16 bits still gets them.
+  look.grey = look.grey || options.grey;
+  look.sixteen_bit = look.sixteen_bit || options.sixteen_bit;
   // Overrides replace drawn values after all draws, so that overriding one
   // leaves the others as the seed made them.
   if (options.width_px > 0) look.width_px = options.width_px;
@@ -208,13 +215,15 @@ StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout
   if (options.jpeg_quality) look.jpeg_quality = *options.jpeg_quality;
   constexpr double kFwhmPerSigma = 2.354820045;
   look.screen.beam_sigma_div = options.beam_fwhm_div / kFwhmPerSigma;
-  look.screen.graticule_sigma_div = 0.75 * look.screen.beam_sigma_div;
+  look.screen.graticule_sigma_div = look.graticule_fwhm_div
+                                        ? *look.graticule_fwhm_div / kFwhmPerSigma
+                                        : 0.75 * look.screen.beam_sigma_div;
   return look;
 }
 
 Dirt DrawDirt(const StyleLook& look, cv::Size size, std::mt19937_64& random) {
   Dirt dirt;
-  if (look.dust_specks + look.scratches + look.hairs == 0) return dirt;
+  if (look.dust_specks + look.scratches + look.hairs + look.hand_marks == 0) return dirt;
   constexpr int kShift = 4;  // cv drawing's sub-pixel bits
   dirt.dark = cv::Mat::zeros(size, CV_8UC1);
   dirt.light = cv::Mat::zeros(size, CV_8UC1);
@@ -231,20 +240,22 @@ Dirt DrawDirt(const StyleLook& look, cv::Size size, std::mt19937_64& random) {
   }
   for (int i = 0; i < look.scratches; ++i) {
     const auto curve = RandomCurve(size, Uniform(random, 0.2, 0.8) * size.width, 0.002, random);
-    cv::polylines(dirt.light, curve, false, cv::Scalar(UniformInt(random, 60, 150)), 1, cv::LINE_AA,
-                  kShift);
+    cv::polylines(dirt.light, curve, false, cv::Scalar(UniformInt(random, 60, 150)),
+                  look.scratch_width_px, cv::LINE_AA, kShift);
   }
   for (int i = 0; i < look.hairs; ++i) {
-    const auto curve = RandomCurve(size, Uniform(random, 0.05, 0.15) * size.width, 0.03, random);
-    cv::polylines(dirt.dark, curve, false, cv::Scalar(UniformInt(random, 150, 230)), 1, cv::LINE_AA,
-                  kShift);
+    const auto curve = RandomCurve(
+        size, Uniform(random, look.hair_length_lo, look.hair_length_hi) * size.width, 0.03, random);
+    cv::polylines(dirt.dark, curve, false, cv::Scalar(UniformInt(random, 150, 230)),
+                  look.hair_width_px, cv::LINE_AA, kShift);
   }
   cv::GaussianBlur(dirt.dark, dirt.dark, cv::Size(), 0.5);
   cv::GaussianBlur(dirt.light, dirt.light, cv::Size(), 0.5);
+  if (look.hand_marks > 0) dirt.mark = DrawHandMarks(look.hand_marks, size, random);
   return dirt;
 }
 
-void FinishPhoto(const StyleLook& look, const RenderOptions& options, cv::Mat& image) {
+void FinishPhoto(const StyleLook& look, cv::Mat& image) {
   if (look.sharpen > 0.0) {
     cv::Mat soft;
     cv::GaussianBlur(image, soft, cv::Size(), 1.5);
@@ -254,8 +265,8 @@ void FinishPhoto(const StyleLook& look, const RenderOptions& options, cv::Mat& i
     CV_Assert(image.depth() == CV_8U);
     std::vector<uchar> bytes;
     cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
-    image = cv::imdecode(bytes, options.grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
-    if (options.sixteen_bit) image.convertTo(image, CV_16U, 257.0);
+    image = cv::imdecode(bytes, look.grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+    if (look.sixteen_bit) image.convertTo(image, CV_16U, 257.0);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "synth/session_generator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "io/trace.h"
 #include "synth/experiment.h"
 #include "synth/photocell.h"
+#include "synth/randomised_photo.h"
 
 namespace impactlab {
 namespace {
@@ -94,7 +96,9 @@ class Generator {
   std::uint64_t NextSeed() { return rng_(); }
 
   std::vector<double> Noisy(const SimulatedPhotocell& cell, const std::vector<double>& x);
-  std::string WritePhoto(const std::string& stem, const OscillographScene& scene, json& truth);
+  // `beam` and `bands`: the randomised style's draws (bands only for run photos).
+  std::string WritePhoto(const std::string& stem, const OscillographScene& scene, json& truth,
+                         const BeamLook* beam = nullptr, const RunBands* bands = nullptr);
   void WriteRun(const RunPlan& plan);
   std::string CalibrationToml(const std::string& id, const std::string& cell, double x0,
                               const std::string& source, const TraceSettings& s);
@@ -134,23 +138,38 @@ std::vector<double> Generator::Noisy(const SimulatedPhotocell& cell, const std::
 }
 
 std::string Generator::WritePhoto(const std::string& stem, const OscillographScene& scene,
-                                  json& truth) {
+                                  json& truth, const BeamLook* beam, const RunBands* bands) {
   RenderOptions render;
   render.style = options_.style;
-  render.width_px =
-      options_.width_px > 0 ? options_.width_px : (options_.preset == "quick" ? 1000 : 0);
+  const bool randomised = beam != nullptr;
+  // The randomised style draws its own size unless one is asked for.
+  render.width_px = options_.width_px > 0 ? options_.width_px
+                    : randomised          ? 0
+                                          : (options_.preset == "quick" ? 1000 : 0);
   render.seed = NextSeed();
   // A real chopper switches at ~100 kHz, invisible at 0.5 s/div: 0.01 div
   // slots (a pixel or two) draw the traces chopped but nearly continuous, as
   // such a photo shows them. Long dashes would hide rebound peaks in the gaps.
   render.chop_dash_div = 0.01;
+  // The randomised style draws the chopper anywhere from that to long dashes.
+  if (randomised) ApplyBeamLook(*beam, render);
   const auto start = Clock::now();
-  const RenderedPhoto photo = RenderOscillograph(scene, render);
-  // Prints and phone pictures come as JPEG; the others as lossless PNG.
-  const bool jpeg = options_.style == PhotoStyle::kPolaroid ||
-                    options_.style == PhotoStyle::kPhone || options_.style == PhotoStyle::kLowres;
-  const std::string file = stem + (jpeg ? ".jpg" : ".png");
-  const std::vector<int> params = jpeg ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, 90}
+  RenderedPhoto photo = RenderOscillograph(scene, render);
+  // Prints and phone pictures come as JPEG; the others as lossless PNG. A
+  // randomised photo is stored as it was drawn: JPEG at its own quality, else
+  // PNG or (one in four) TIFF, 8 or 16 bits.
+  bool jpeg = options_.style == PhotoStyle::kPolaroid || options_.style == PhotoStyle::kPhone ||
+              options_.style == PhotoStyle::kLowres;
+  int quality = 90;
+  std::string lossless_ext = ".png";
+  if (randomised) {
+    jpeg = photo.jpeg_quality > 0;
+    quality = photo.jpeg_quality;
+    if (jpeg && photo.image.depth() == CV_16U) photo.image.convertTo(photo.image, CV_8U, 1.0 / 257);
+    if (std::uniform_int_distribution<int>(0, 3)(rng_) == 0) lossless_ext = ".tif";
+  }
+  const std::string file = stem + (jpeg ? ".jpg" : lossless_ext);
+  const std::vector<int> params = jpeg ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, quality}
                                        : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 6};
   if (!cv::imwrite((folder_ / file).string(), photo.image, params)) {
     throw InputError({folder_ / file, "", std::nullopt}, "cannot write the photo");
@@ -180,6 +199,7 @@ std::string Generator::WritePhoto(const std::string& stem, const OscillographSce
              {"distortion_centre_px", {m.distortion_centre_px.x, m.distortion_centre_px.y}},
              {"distortion_radius_px", m.distortion_radius_px}}},
            {"traces", traces}};
+  if (randomised) truth["look"] = LookJson(photo, *beam, bands, scene.divisions);
   return file;
 }
 
@@ -287,6 +307,12 @@ void Generator::WriteRun(const RunPlan& plan) {
     return;
   }
 
+  // The randomised style's scope settings for this run's photos follow from
+  // a stream of their own, so that they never shift the experiment's draws.
+  const bool randomised =
+      options_.style == PhotoStyle::kRandomised && plan.form == RunPlan::Form::kPhoto;
+  std::mt19937_64 look_rng(randomised ? NextSeed() : 0);
+
   // Calibrations: each bar released alone from its X0, sweep triggered at release.
   const bool csv = plan.form == RunPlan::Form::kCsv;
   const std::string ext_note = csv ? "csv" : "photo";
@@ -300,7 +326,9 @@ void Generator::WriteRun(const RunPlan& plan) {
     const CalibrationSweep sweep = MakeCalibrationSweep(*curve, sweep_options);
     const std::vector<double> volts = Noisy(*curve, sweep.x);
     const auto [v_lo, v_hi] = std::minmax_element(volts.begin(), volts.end());
-    const TraceSettings s = FitToBand(*v_lo, *v_hi, -3.6, 3.6, 0.05, 0.0);
+    const std::array<double, 2> band =
+        randomised ? DrawCalibrationBand(look_rng) : std::array<double, 2>{-3.6, 3.6};
+    const TraceSettings s = FitToBand(*v_lo, *v_hi, band[0], band[1], 0.05, 0.0);
     const std::string id = fmt::format("{}-{}", cell[0] == 'r' ? "R" : "L", plan.id);
     std::string source;
     json cal_truth = {{"id", id}, {"cell", cell}, {"release_x", release}, {"form", ext_note}};
@@ -311,7 +339,13 @@ void Generator::WriteRun(const RunPlan& plan) {
       OscillographScene scene;
       scene.traces.push_back({"calibration", sweep.time_s, volts, s, BeamMode::kContinuous, 0});
       json photo_truth;
-      source = WritePhoto("calibration/" + id, scene, photo_truth);
+      if (randomised) {
+        const BeamLook beam = DrawBeamLook(look_rng);
+        scene.traces.back().brightness = beam.contact_brightness;
+        source = WritePhoto("calibration/" + id, scene, photo_truth, &beam);
+      } else {
+        source = WritePhoto("calibration/" + id, scene, photo_truth);
+      }
       cal_truth["photo"] = photo_truth;
     }
     cal_truth["settings"] = SettingsJson(s);
@@ -334,8 +368,11 @@ void Generator::WriteRun(const RunPlan& plan) {
   const std::vector<double> vr = Noisy(right, xr), vl = Noisy(left, xl);
   const auto [r_lo, r_hi] = std::minmax_element(vr.begin(), vr.end());
   const auto [l_lo, l_hi] = std::minmax_element(vl.begin(), vl.end());
-  const TraceSettings right_settings = FitToBand(*r_lo, *r_hi, 0.4, 4.0, 0.5, 0.2);
-  const TraceSettings left_settings = FitToBand(*l_lo, *l_hi, -2.4, 0.0, 0.5, 0.2);
+  const RunBands bands = randomised ? DrawRunBands(look_rng) : FixedRunBands();
+  const TraceSettings right_settings =
+      FitToBand(*r_lo, *r_hi, bands.right[0], bands.right[1], 0.5, 0.2);
+  const TraceSettings left_settings =
+      FitToBand(*l_lo, *l_hi, bands.left[0], bands.left[1], 0.5, 0.2);
 
   // Fast delayed sweep on the second beam: 50 us/div from 100 us before the
   // shown impact; the contact circuit is high while the bars touch.
@@ -344,10 +381,21 @@ void Generator::WriteRun(const RunPlan& plan) {
   contact_settings.time_per_div = 50e-6;
   contact_settings.volts_per_div = 2.0;
   contact_settings.zero_div = -3.9;
-  contact_settings.band_div = {-4.0, -2.8};
+  contact_settings.band_div = {bands.contact[0], bands.contact[1]};
   contact_settings.t0_div = -window_start / contact_settings.time_per_div;
   contact_settings.impact = kContactImpact;
   const double low = 0.05, high = 2.45, window_end = window_start + 10.5 * 50e-6;
+  if (randomised) {
+    // The step spans its drawn share of the band, its low level anywhere that
+    // keeps the high one inside.
+    const double height = bands.contact[1] - bands.contact[0];
+    const double fraction = bands.contact_step_fraction;
+    contact_settings.volts_per_div = NiceStep((high - low) / (fraction * height));
+    contact_settings.zero_div =
+        bands.contact[0] +
+        std::uniform_real_distribution<double>(0.05, 0.95 - fraction)(look_rng) * height -
+        low / contact_settings.volts_per_div;
+  }
   const std::vector<double> contact_t = {window_start,     shown.start_time_s, shown.start_time_s,
                                          shown.end_time_s, shown.end_time_s,   window_end};
   const std::vector<double> contact_v = {low, low, high, high, low, low};
@@ -374,7 +422,15 @@ void Generator::WriteRun(const RunPlan& plan) {
     scene.traces.push_back(
         {"contact", contact_t, contact_v, contact_settings, BeamMode::kContinuous, 1});
     json photo_truth;
-    const std::string file = WritePhoto("runs/" + plan.id, scene, photo_truth);
+    std::string file;
+    if (randomised) {
+      const BeamLook beam = DrawBeamLook(look_rng);
+      scene.traces[0].brightness = scene.traces[1].brightness = beam.slow_brightness;
+      scene.traces[2].brightness = beam.contact_brightness;
+      file = WritePhoto("runs/" + plan.id, scene, photo_truth, &beam, &bands);
+    } else {
+      file = WritePhoto("runs/" + plan.id, scene, photo_truth);
+    }
     // The photo key belongs before the trace tables.
     manifest_.insert(manifest_.rfind("calibration = {"), fmt::format("photo = \"{}\"\n", file));
     manifest_ += TraceToml("run.traces.right", right_settings, "");

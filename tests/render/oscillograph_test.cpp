@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
@@ -158,6 +159,10 @@ struct Tolerance {
   double bias_px;      // |mean of measured - truth|
   double crossing_px;  // a graticule intersection's distance from the truth
 };
+
+// The randomised style (the last tests): median and bias of |measured - truth|.
+constexpr double kRandomisedMedianPx = 0.2;  // worst seen 0.12 px
+constexpr double kRandomisedBiasPx = 0.1;    // worst seen 0.054 px
 
 const std::map<PhotoStyle, Tolerance> kTolerance = {
     {PhotoStyle::kClean, {0.05, 0.1, 0.05, 0.05}}, {PhotoStyle::kPolaroid, {0.2, 0.4, 0.08, 0.5}},
@@ -417,7 +422,146 @@ TEST_CASE("oscillograph: style names round-trip") {
   for (const PhotoStyle style : kAllStyles) {
     CHECK(ParsePhotoStyle(PhotoStyleName(style)) == style);
   }
+  CHECK(ParsePhotoStyle("randomised") == PhotoStyle::kRandomised);
   CHECK_FALSE(ParsePhotoStyle("sepia").has_value());
+}
+
+namespace {
+
+// A drawn factor of a randomised photo: its number, or its category.
+const LookFactor& Factor(const RenderedPhoto& photo, std::string_view name) {
+  const auto it = std::find_if(photo.look.begin(), photo.look.end(),
+                               [&](const LookFactor& f) { return f.name == name; });
+  REQUIRE(it != photo.look.end());
+  return *it;
+}
+
+}  // namespace
+
+TEST_CASE("oscillograph: the randomised style draws every factor within its range, per seed") {
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 640;  // the size is drawn too (below); small here to keep the test quick
+  std::map<std::string, int> seen;
+  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+    options.seed = seed;
+    const RenderedPhoto photo = RenderOscillograph(scene, options);
+    INFO("seed " << seed);
+    CHECK(Factor(photo, "width_px").value == photo.image.cols);
+    CHECK(photo.image.cols == 640);
+    const double quality = Factor(photo, "jpeg_quality").value;
+    CHECK((quality == 0.0 || (quality >= 10.0 && quality <= 95.0)));
+    CHECK(photo.jpeg_quality == quality);
+    CHECK(std::abs(Factor(photo, "rotation_deg").value) <= 10.0);
+    CHECK(Factor(photo, "tilt_deg").value <= 25.0);
+    CHECK(Factor(photo, "blur_px").value >= 0.3);
+    CHECK(Factor(photo, "blur_px").value <= 2.5);
+    CHECK(Factor(photo, "bit_depth").value == (photo.image.depth() == CV_16U ? 16 : 8));
+    // A JPEG is 8-bit: 16 bits are drawn only for lossless photos.
+    if (quality > 0) CHECK(photo.image.depth() == CV_8U);
+    ++seen[Factor(photo, "polarity").category];
+    ++seen[Factor(photo, "channels").category];
+    ++seen[Factor(photo, "surround").category];
+    ++seen[fmt::format("{}-bit", Factor(photo, "bit_depth").value)];
+    // The same seed, the same bytes.
+    CHECK(cv::norm(photo.image, RenderOscillograph(scene, options).image, cv::NORM_INF) == 0.0);
+  }
+  // Sixteen seeds show every kind at least once.
+  for (const char* kind : {"positive", "negative", "grey", "colour", "hood", "panel", "print",
+                           "cropped", "8-bit", "16-bit"}) {
+    INFO(kind);
+    CHECK(seen[kind] > 0);
+  }
+  // Without an override the width is drawn in 600..6000 px.
+  options.width_px = 0;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    options.seed = seed;
+    const int width = RenderOscillograph(scene, options).image.cols;
+    CHECK(width >= 600);
+    CHECK(width <= 6000);
+  }
+}
+
+TEST_CASE("oscillograph: the randomised style's traces lie where the truth says") {
+  // Scratches, hairs and hand marks may cross a trace and the photo may be a
+  // JPEG of quality 10, so single measurements scatter; the median and the
+  // bias still follow the truth. Tolerances about 1.5 times the worst of seeds
+  // 1..8 at 1600 px.
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 1600;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    options.seed = seed;
+    const RenderedPhoto photo = RenderOscillograph(scene, options);
+    const bool negative = Factor(photo, "polarity").category == "negative";
+    const cv::Mat1f image =
+        BrightTraces(photo, negative ? PhotoStyle::kNegative : PhotoStyle::kClean);
+    for (const TraceTruth& truth : photo.traces) {
+      const Disagreement d = MeasureTrace(image, truth, PixelsPerDivision(photo));
+      INFO("seed " << seed << " trace " << truth.name << ": median " << d.median_px << " px, bias "
+                   << d.mean_px << " px over " << d.count);
+      REQUIRE(d.count > 40);
+      CHECK(d.median_px <= kRandomisedMedianPx);
+      CHECK(std::abs(d.mean_px) <= kRandomisedBiasPx);
+    }
+  }
+}
+
+TEST_CASE("oscillograph: the chopper's phase shifts the dashes, a beam's brightness its light") {
+  OscillographScene scene;
+  ScreenTrace upper{"right", {}, {}, Sweep(0.5, 0.2, 1.5), BeamMode::kChopped, 0};
+  ScreenTrace lower{"left", {}, {}, Sweep(0.5, 0.2, -1.5), BeamMode::kChopped, 0};
+  for (int i = 0; i <= 4000; ++i) {
+    upper.time_s.push_back(5.0 * i / 4000);
+    upper.volts.push_back(0.0);
+  }
+  lower.time_s = upper.time_s;
+  lower.volts = upper.volts;
+  scene.traces = {upper, lower};
+  RenderOptions options;
+  options.width_px = 1200;
+  options.chop_dash_div = 0.25;
+  options.chop_duty = 0.7;
+  const RenderedPhoto unshifted = RenderOscillograph(scene, options);
+  // One slot on, the traces swap their dashes; a whole period on, nothing
+  // changes. (Samples exactly on a dash's end may round either way.)
+  auto differ = [](const std::vector<bool>& a, const std::vector<bool>& b) {
+    REQUIRE(a.size() == b.size());
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) count += a[i] != b[i];
+    return count;
+  };
+  const std::size_t samples = unshifted.traces[0].drawn.size();
+  options.chop_phase_div = 0.25;
+  const RenderedPhoto swapped = RenderOscillograph(scene, options);
+  CHECK(differ(swapped.traces[0].drawn, unshifted.traces[1].drawn) <= samples / 100);
+  CHECK(differ(swapped.traces[1].drawn, unshifted.traces[0].drawn) <= samples / 100);
+  CHECK(differ(swapped.traces[0].drawn, unshifted.traces[0].drawn) > samples / 2);
+  options.chop_phase_div = 0.5;
+  CHECK(differ(RenderOscillograph(scene, options).traces[0].drawn, unshifted.traces[0].drawn) <=
+        samples / 100);
+
+  options.chop_phase_div = 0.0;
+  scene.traces[0].brightness = 0.25;
+  const RenderedPhoto dim = RenderOscillograph(scene, options);
+  const cv::Mat1f bright_image = BrightTraces(unshifted, PhotoStyle::kClean);
+  const cv::Mat1f dim_image = BrightTraces(dim, PhotoStyle::kClean);
+  double bright_sum = 0.0, dim_sum = 0.0, other_change = 0.0;
+  for (std::size_t i = 0; i < unshifted.traces[0].drawn.size(); ++i) {
+    if (!unshifted.traces[0].drawn[i]) continue;
+    bright_sum += Bilinear(bright_image, unshifted.traces[0].centre_px[i]);
+    dim_sum += Bilinear(dim_image, unshifted.traces[0].centre_px[i]);
+  }
+  for (std::size_t i = 0; i < unshifted.traces[1].drawn.size(); ++i) {
+    other_change += std::abs(Bilinear(bright_image, unshifted.traces[1].centre_px[i]) -
+                             Bilinear(dim_image, unshifted.traces[1].centre_px[i]));
+  }
+  CHECK(dim_sum < 0.7 * bright_sum);
+  CHECK(other_change == 0.0);
+  scene.traces[0].brightness = 0.0;
+  CHECK_THROWS_AS(RenderOscillograph(scene, options), std::invalid_argument);
 }
 
 }  // namespace impactlab

@@ -2,8 +2,12 @@
 // whose CSV and typed-in runs reduce back to the truth.
 #include "synth/session_generator.h"
 
+#include <array>
 #include <fstream>
 #include <iterator>
+#include <set>
+#include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -37,7 +41,7 @@ SynthOptions Quick(PhotoStyle style, std::uint64_t seed) {
 
 TEST_CASE("synth: every style gives a session the manifest reader accepts without warnings") {
   for (PhotoStyle style : {PhotoStyle::kClean, PhotoStyle::kPolaroid, PhotoStyle::kPhone,
-                           PhotoStyle::kNegative, PhotoStyle::kLowres}) {
+                           PhotoStyle::kNegative, PhotoStyle::kLowres, PhotoStyle::kRandomised}) {
     testing::TempDir dir;
     const SynthSummary summary = GenerateSession(dir.path() / "s", Quick(style, 2));
     CHECK(summary.runs == 4);
@@ -60,6 +64,49 @@ TEST_CASE("synth: the same seed writes the same bytes, another seed does not") {
     CHECK(Slurp(dir.path() / "a" / file) == Slurp(dir.path() / "b" / file));
     CHECK(Slurp(dir.path() / "a" / file) != Slurp(dir.path() / "c" / file));
   }
+}
+
+TEST_CASE("synth: a randomised session draws each photo's scope settings and records its look") {
+  std::set<std::string> positions;
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    testing::TempDir dir;
+    const SynthSummary summary =
+        GenerateSession(dir.path() / "s", Quick(PhotoStyle::kRandomised, seed));
+    for (const auto& run : summary.truth["runs"]) {
+      if (run["form"] != "photo") continue;
+      const nlohmann::json& look = run["photo"]["look"];
+      INFO("seed " << seed << " run " << run["id"] << ": " << look.dump());
+      for (const char* key : {"width_px", "jpeg_quality", "polarity", "bit_depth", "blur_px",
+                              "chop_slot_div", "chop_duty", "beam_fwhm_div", "slow_brightness",
+                              "contact_position", "graticule_brightness", "hand_marks"}) {
+        CHECK(look.contains(key));
+      }
+      CHECK(look["chop_duty"].get<double>() >= 0.2);
+      CHECK(look["chop_slot_div"].get<double>() <= 0.5);
+      positions.insert(look["contact_position"].get<std::string>());
+      // The bands lie on the 8-division screen and do not overlap.
+      const auto& s = run["settings"];
+      std::vector<std::array<double, 2>> bands;
+      for (const char* trace : {"right", "left", "contact"}) {
+        bands.push_back(s[trace]["band_div"].get<std::array<double, 2>>());
+        CHECK(bands.back()[0] >= -4.0);
+        CHECK(bands.back()[1] <= 4.0);
+        CHECK(bands.back()[0] < bands.back()[1]);
+      }
+      for (std::size_t i = 0; i < bands.size(); ++i) {
+        for (std::size_t j = i + 1; j < bands.size(); ++j) {
+          CHECK((bands[i][1] <= bands[j][0] + 1e-9 || bands[j][1] <= bands[i][0] + 1e-9));
+        }
+      }
+      // The file is as drawn: JPEG at its quality, else lossless.
+      const std::string file = run["photo"]["file"];
+      CHECK((look["jpeg_quality"].get<double>() > 0) == file.ends_with(".jpg"));
+    }
+    for (const auto& calibration : summary.truth["calibrations"]) {
+      if (calibration.contains("photo")) CHECK(calibration["photo"].contains("look"));
+    }
+  }
+  CHECK(positions.size() >= 2);
 }
 
 TEST_CASE("synth: CSV and typed-in runs reduce to the simulated maxima and contact time") {
