@@ -137,6 +137,34 @@ double SuppressGrid(Strip& strip, std::array<int, 2> divisions) {
   return line_height;
 }
 
+// Where the graticule draws: its division lines (a strip pixel and a half
+// either side, as SuppressGrid takes them out) and, along the centre axes,
+// their tick marks' reach.
+class GridNeighbourhood {
+ public:
+  GridNeighbourhood(std::array<int, 2> divisions, double px_per_div)
+      : half_width_(0.5 * divisions[0]),
+        half_height_(0.5 * divisions[1]),
+        line_reach_(1.5 / px_per_div) {}
+
+  // Screen x from the graticule's left edge, y from its centre (divisions).
+  bool operator()(double x_div, double y_div) const {
+    // Division lines lie at x = 0, 1, ... and y = -ny/2, -ny/2 + 1, ...;
+    // the centre axes at x = nx/2 and y = 0 (lines of their own when odd).
+    const auto near = [&](double from_line, double from_axis) {
+      return std::abs(from_line - std::round(from_line)) <= line_reach_ ||
+             std::abs(from_axis) <= kTickReachDiv;
+    };
+    return near(x_div, x_div - half_width_) || near(y_div + half_height_, y_div);
+  }
+
+ private:
+  // Tick marks reach about a tenth of a division either side of an axis.
+  static constexpr double kTickReachDiv = 0.15;
+  double half_width_, half_height_;
+  double line_reach_;
+};
+
 struct Node {
   int column = 0;
   double row = 0.0;  // sub-row peak position
@@ -184,8 +212,14 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   const double median = MedianOf(all);
   for (float& v : all) v = std::abs(v - static_cast<float>(median));
   const double sigma = 1.4826 * MedianOf(all);
-  // A trace is brighter than the graticule's lines, and stands out of the noise.
-  const double floor = std::max({6.0 * sigma, 1.2 * line_height, 1e-3});
+  // A peak stands out of the noise. Where a grid line or a centre axis's tick
+  // marks lie, what the suppression left of them may peak too, so a trace
+  // there must outshine the lines; elsewhere nothing but the traces, dirt and
+  // noise draws on the face, and a trace's faint stretches (a fast beam's
+  // steep flanks, short dashes) count down to the noise floor.
+  const double noise_floor = std::max(6.0 * sigma, 1e-3);
+  const double grid_floor = std::max(noise_floor, 1.2 * line_height);
+  const GridNeighbourhood near_grid(graticule.divisions, grid.px_per_div);
 
   // Each column's peaks, read down the columns laid out as rows.
   const cv::Mat1f across = image.t();
@@ -196,10 +230,11 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
     const float* column = across.ptr<float>(c);
     for (int r = 1; r + 1 < image.rows; ++r) {
       const float v = column[r];
-      if (!(v > floor && v > column[r - 1] && v >= column[r + 1])) continue;
+      if (!(v > noise_floor && v > column[r - 1] && v >= column[r + 1])) continue;
       const double a = column[r - 1], b = v, d = column[r + 1];
       const double curvature = a - 2.0 * b + d;
       const double row = r + (curvature < 0.0 ? 0.5 * (a - d) / curvature : 0.0);
+      if (v <= grid_floor && near_grid(grid.XOf(c), strip.YOf(row))) continue;
       if (claims.Taken(c, strip.YOf(row))) continue;
       nodes.push_back({c, row, v});
     }
@@ -216,7 +251,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   if (column_maxima.empty()) return path;
   const double level = QuantileOf(column_maxima, 0.8);
   path.level = level;
-  path.floor = std::max(floor, 0.3 * level);
+  path.floor = std::max(noise_floor, 0.3 * level);
   for (std::vector<Node>& nodes : columns) {
     std::erase_if(nodes, [&](const Node& n) { return n.value < path.floor; });
   }

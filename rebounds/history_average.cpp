@@ -6,26 +6,88 @@
 #include <optional>
 #include <utility>
 
+#include <Eigen/Dense>
+
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
 namespace {
 
+// x of history h at time t inside a gap between samples k - 1 and k: the
+// least-squares cubic through the samples within one gap's length either
+// side, with its one-sigma. A chopped trace draws each bar only in its own
+// dashes, so a sweep shared by two bars leaves each a gap in every other
+// chopper slot; a chord across one cuts under a peak by X'' g^2 / 8 (a
+// quarter percent of X for a 0.036 s gap on a 1.5 s pendulum), a cubic
+// through both sides by about X (w g)^4 / 400, a millionth. Needs three
+// samples on each side spanning a quarter of the gap, or there is no curve to
+// carry across.
+std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, std::size_t k,
+                                                double t) {
+  const double before = h.time_s[k - 1], after = h.time_s[k], gap = after - before;
+  const auto lo = static_cast<std::size_t>(
+      std::lower_bound(h.time_s.begin(), h.time_s.begin() + k, before - gap) - h.time_s.begin());
+  const auto hi = static_cast<std::size_t>(
+      std::upper_bound(h.time_s.begin() + k, h.time_s.end(), after + gap) - h.time_s.begin());
+  constexpr std::size_t kPerSide = 3;
+  if (k - lo < kPerSide || hi - k < kPerSide) return std::nullopt;
+  if (before - h.time_s[lo] < 0.25 * gap || h.time_s[hi - 1] - after < 0.25 * gap) {
+    return std::nullopt;
+  }
+  // Powers of u = (t - centre) / gap: of order 1 across the window.
+  const double centre = 0.5 * (before + after);
+  const auto n = static_cast<Eigen::Index>(hi - lo);
+  Eigen::MatrixXd design(n, 4);
+  Eigen::VectorXd x(n), weight(n);
+  const bool weighted = !h.sigma.empty();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::size_t j = lo + static_cast<std::size_t>(i);
+    const double u = (h.time_s[j] - centre) / gap;
+    design.row(i) << 1.0, u, u * u, u * u * u;
+    x(i) = h.displacement[j];
+    weight(i) = weighted && h.sigma[j] > 0.0 ? 1.0 / h.sigma[j] : 1.0;
+  }
+  const Eigen::MatrixXd a = weight.asDiagonal() * design;
+  const Eigen::VectorXd b = weight.asDiagonal() * x;
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  if (qr.rank() < 4) return std::nullopt;
+  const Eigen::Vector4d coefficients = qr.solve(b);
+  const double u = (t - centre) / gap;
+  const Eigen::Vector4d at(1.0, u, u * u, u * u * u);
+  // The value's variance from the samples' sigmas, (e^T (A^T A)^-1 e), widened
+  // by the fit's own scatter where the samples scatter more than they say.
+  const Eigen::Matrix4d normal = a.transpose() * a;
+  const double variance = at.dot(normal.ldlt().solve(at));
+  const double dof = static_cast<double>(n - 4);
+  const double chi2 = (a * coefficients - b).squaredNorm();
+  // No smooth curve runs through both sides (an impact's corner lies in the
+  // gap, or a side is misread): four standard deviations of chi^2 beyond its
+  // mean, and the gap stays a gap.
+  if (weighted && dof > 0.0 && chi2 > dof + 4.0 * std::sqrt(2.0 * dof)) return std::nullopt;
+  const double scale = dof > 0.0 ? std::max(1.0, chi2 / dof) : 1.0;
+  return std::pair{at.dot(coefficients), std::sqrt(variance * scale)};
+}
+
 // x of history h at time t, if t lies between two of its samples no further
-// apart than `max_span_s` (never across a gap), with its one-sigma. A cubic
+// apart than `max_span_s`, or bridged across a gap up to `max_bridge_s`
+// wide, with its one-sigma. A cubic
 // through the two samples either side where they are as close and evenly
 // enough spaced, else a straight line: a chord cuts under a peak by
 // X'' h^2 / 8, which across a slow sweep's chopper gaps is a tenth of a
 // percent of the maximum.
 std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& h, double t,
-                                                     double max_span_s) {
+                                                     double max_span_s, double max_bridge_s) {
   const auto it = std::lower_bound(h.time_s.begin(), h.time_s.end(), t);
   if (it == h.time_s.end()) return std::nullopt;
   const auto k = static_cast<std::size_t>(it - h.time_s.begin());
   const auto sigma_at = [&](std::size_t i) { return h.sigma.empty() ? 0.0 : h.sigma[i]; };
   if (*it == t) return std::pair{h.displacement[k], sigma_at(k)};
   const auto joined = [&](std::size_t i) { return h.time_s[i] - h.time_s[i - 1] <= max_span_s; };
-  if (k == 0 || !joined(k)) return std::nullopt;
+  if (k == 0) return std::nullopt;
+  if (!joined(k)) {
+    if (h.time_s[k] - h.time_s[k - 1] > max_bridge_s) return std::nullopt;
+    return Bridge(h, k, t);
+  }
   const double sigma = std::max(sigma_at(k - 1), sigma_at(k));
   if (k >= 2 && k + 1 < h.time_s.size() && joined(k - 1) && joined(k + 1)) {
     // Lagrange's cubic through samples k-2 .. k+1, unless its weights would
@@ -62,7 +124,8 @@ double MedianStep(const std::vector<double>& t) {
 
 }  // namespace
 
-DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b) {
+DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b,
+                                     double max_bridge_s) {
   // On the union of both sample times: where one bar's trace has a gap (a
   // digitized photo may), the other still counts wherever both can be read.
   std::vector<double> times = a.time_s;
@@ -72,7 +135,8 @@ DisplacementHistory AverageHistories(const DisplacementHistory& a, const Displac
   const double span_a = 4.0 * MedianStep(a.time_s), span_b = 4.0 * MedianStep(b.time_s);
   DisplacementHistory out;
   for (double t : times) {
-    const auto xa = Interpolate(a, t, span_a), xb = Interpolate(b, t, span_b);
+    const auto xa = Interpolate(a, t, span_a, max_bridge_s);
+    const auto xb = Interpolate(b, t, span_b, max_bridge_s);
     if (!xa || !xb) continue;
     out.time_s.push_back(t);
     out.displacement.push_back(0.5 * (xa->first + xb->first));

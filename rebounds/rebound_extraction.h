@@ -97,8 +97,12 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pend
                                   const ReboundExtractionOptions& options);
 
 // The average of two histories (the thesis averaged right and left), on the
-// first one's times, with the second interpolated linearly; sigma combined.
-DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b);
+// union of their times wherever both can be read there: between close samples
+// by a local cubic (or a chord), across a gap up to `max_bridge_s` wide (a
+// chopper's slots, shared by the bars) by a least-squares cubic through the
+// samples either side; sigma combined. Wider gaps stay gaps.
+DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b,
+                                     double max_bridge_s = 0.0);
 
 // The contact circuit's step pulse: high while the bars touch.
 struct ContactPulse {
