@@ -199,7 +199,8 @@ struct TraceOptions {
   // Samples less confident than this (dim, pulled by a grid line, straying
   // from their neighbours: see docs/digitizing.md) are not reported, 0..1.
   double min_confidence = 0.25;
-  // A trace no brighter than this many times the graticule's lines (its
+  // A trace lying on the grid's horizontal lines for half its samples and no
+  // brighter than this many times the graticule's lines (its
   // typical height above the screen where its line is seen whole, dash ends
   // left out) is taken for a grid line: missing, 1.
   double min_height_over_grid = 1.3;

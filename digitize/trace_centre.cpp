@@ -542,6 +542,25 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   return result;
 }
 
+// The share of a trace's samples lying on a horizontal grid line (a division
+// line or the centre axis), within the line's and the trace's widths: a grid
+// line tracked for a trace lies on one all along, a trace only where it
+// runs along one.
+double ShareOnGridLines(const DigitizedTrace& trace, const GraticuleFit& graticule) {
+  if (trace.screen_div.empty() || !(graticule.px_per_div > 0.0)) return 0.0;
+  const double reach_div =
+      std::max(graticule.line_width_px + trace.width_px, 2.0) / graticule.px_per_div;
+  const double half_height = 0.5 * graticule.divisions[1];
+  std::size_t on = 0;
+  for (const cv::Point2d& p : trace.screen_div) {
+    const double from_line = p.y + half_height;
+    if (std::abs(from_line - std::round(from_line)) <= reach_div || std::abs(p.y) <= reach_div) {
+      ++on;
+    }
+  }
+  return static_cast<double>(on) / trace.screen_div.size();
+}
+
 std::string BandText(const TraceSettings& settings) {
   return fmt::format("[{:g}, {:g}] div", settings.band_div[0], settings.band_div[1]);
 }
@@ -581,9 +600,12 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
         digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims);
     DigitizedTrace trace;
     if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
-    // What stands out of the band only as much as a grid line is a grid line.
+    // What lies on the grid's lines and stands out only as much as they do
+    // is a grid line. Off them no line of the graticule can pass for a trace,
+    // however faint the trace (a print's bright graticule, a fast beam).
     const bool bright_enough =
-        trace.height >= options.min_height_over_grid * graticule.line_contrast;
+        trace.height >= options.min_height_over_grid * graticule.line_contrast ||
+        ShareOnGridLines(trace, graticule) < 0.5;
     const bool seen = !trace.trace.time_s.empty() && trace.coverage >= options.min_coverage;
     if (seen && !bright_enough) {
       // Say what was seen: a line along the sweep, but no brighter than the grid.

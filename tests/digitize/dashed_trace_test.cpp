@@ -2,6 +2,7 @@
 // and a half to four times as long, on a graticule lit almost as brightly as
 // the traces (a print, a 16-bit negative) or with faint scratches crossing
 // them. Each trace must be found and measured against the renderer's truth.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -128,10 +129,10 @@ TEST_CASE("digitize dashed: sparse dashes on a bright graticule or across scratc
 namespace impactlab {
 namespace {
 
-TEST_CASE("digitize dashed: a trace no brighter than the grid is refused, saying so") {
-  // The graticule redrawn as bright as the traces: a line is followed along
-  // the sweep, but nothing tells it from a grid line, and the message says
-  // that rather than "seen along 0 % of the sweep".
+TEST_CASE("digitize dashed: traces as bright as the grid are read where they leave its lines") {
+  // The graticule redrawn as bright as the traces: nothing in brightness
+  // tells a trace from a grid line, but a grid line lies on the graticule's
+  // lattice and the traces swing across it.
   const testing::RunScene run = testing::StandardRunScene();
   RenderOptions options;
   options.style = PhotoStyle::kPolaroid;
@@ -142,12 +143,34 @@ TEST_CASE("digitize dashed: a trace no brighter than the grid is refused, saying
   options.beam_fwhm_div = 0.012;
   RenderedPhoto photo = RenderOscillograph(run.scene, options);
   BrightenGraticule(photo.image, photo, 1.0);
+  const DigitizeResult result =
+      DigitizePhoto({photo.image, "bright-grid.png"}, {10, 8}, run.requests, {});
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::vector<double> misses = Misses(result.traces[k], photo);
+    const auto far = std::count_if(misses.begin(), misses.end(), [](double d) { return d > 3.0; });
+    INFO(result.traces[k].name << ": " << misses.size() << " samples, " << far << " off the line");
+    CHECK(misses.size() > 100);
+    CHECK(static_cast<std::size_t>(far) <= misses.size() / 50);
+  }
+}
+
+TEST_CASE("digitize dashed: a band holding only bright grid lines is refused, saying so") {
+  // The left trace is not drawn, its band crossed only by grid lines as
+  // bright as the traces: what is followed there lies on the lattice.
+  testing::RunScene run = testing::StandardRunScene();
+  run.scene.traces.erase(run.scene.traces.begin() + 1);
+  RenderOptions options;
+  options.style = PhotoStyle::kPolaroid;
+  options.width_px = 2000;
+  options.seed = 7;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  BrightenGraticule(photo.image, photo, 1.0);
   try {
-    DigitizePhoto({photo.image, "faint.png"}, {10, 8}, run.requests, {});
-    FAIL("a trace as faint as the grid was accepted");
+    DigitizePhoto({photo.image, "no-left.png"}, {10, 8}, run.requests, {});
+    FAIL("a grid line was taken for the missing trace");
   } catch (const InputError& error) {
     INFO(error.what());
-    CHECK_THAT(error.what(), Catch::Contains("times as high as a grid line"));
+    CHECK_THAT(error.what(), Catch::Contains("trace 'left' not found"));
   }
 }
 
