@@ -372,6 +372,12 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
     const double miss_px = ((s.family == 0 ? screen.x : screen.y) - s.line_div) * s.px_per_div;
     return std::abs(miss_px) < std::max(1.5, 4.0 * fit.residual_px);
   };
+  // Per line: whether it was seen at enough of the places clear of traces.
+  std::array<std::vector<bool>, 2> found{std::vector<bool>(divisions[0] + 1, true),
+                                         std::vector<bool>(divisions[1] + 1, true)};
+  std::array<std::vector<std::pair<int, int>>, 2> counts{
+      std::vector<std::pair<int, int>>(divisions[0] + 1),
+      std::vector<std::pair<int, int>>(divisions[1] + 1)};
   for (const auto& [family, index] : GridLines(divisions)) {
     int seen = 0;
     for (const LineSample& s : samples) {
@@ -401,11 +407,27 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
     }
     const int expected = static_cast<int>(along.size());
     // Judged where at least a few places are clear of traces.
-    if (expected - hidden >= 3 && seen < 0.4 * (expected - hidden)) {
+    found[family][index] = !(expected - hidden >= 3 && seen < 0.4 * (expected - hidden));
+    counts[family][index] = {seen, expected};
+  }
+  // A lattice of the wrong size shows in its outermost lines (one too many
+  // lies beyond the screen) or in many (half the spacing misses every other
+  // line). A single inner line between two found ones may be hidden along
+  // most of its length by a trace running on it and merging with it (a
+  // blurred photo's contact level): the others fix the lattice there.
+  for (int family = 0; family < 2; ++family) {
+    const std::vector<bool>& f = found[family];
+    const auto missing = std::count(f.begin(), f.end(), false);
+    for (int index = 0; index <= divisions[family]; ++index) {
+      if (f[index]) continue;
+      const bool inner = index > 0 && index < divisions[family];
+      if (missing == 1 && inner && f[index - 1] && f[index + 1]) continue;
+      const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
       NotFound(photo, divisions,
                fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
                            "does the screen have {} x {} divisions?",
-                           axis[family], line_div, seen, expected, divisions[0], divisions[1]));
+                           axis[family], line_div, counts[family][index].first,
+                           counts[family][index].second, divisions[0], divisions[1]));
     }
   }
   const std::vector<std::pair<int, int>> beyond = {

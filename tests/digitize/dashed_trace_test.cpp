@@ -8,8 +8,6 @@
 
 #include <catch2/catch.hpp>
 
-#include <opencv2/imgproc.hpp>
-
 #include "digitize/digitize.h"
 #include "io/errors.h"
 #include "photo_scenes.h"
@@ -17,18 +15,6 @@
 
 namespace impactlab {
 namespace {
-
-// A thin straight line between two screen points, drawn at `level` of full
-// scale: a scratch or a hair (bright on a dark print, dark on a negative's
-// light ground), or a grid line redrawn.
-void Scratch(cv::Mat& image, const RenderedPhoto& photo, cv::Point2d from_div, cv::Point2d to_div,
-             double level) {
-  const cv::Point2d a = photo.ImageFromScreen(from_div), b = photo.ImageFromScreen(to_div);
-  const double full = image.depth() == CV_16U ? 65535.0 : 255.0;
-  cv::line(image, cv::Point(cvRound(a.x * 16), cvRound(a.y * 16)),
-           cv::Point(cvRound(b.x * 16), cvRound(b.y * 16)), cv::Scalar::all(level * full), 1,
-           cv::LINE_AA, 4);
-}
 
 // Each sample's distance (photo pixels) from the true centre line.
 std::vector<double> Misses(const DigitizedTrace& trace, const RenderedPhoto& photo) {
@@ -43,13 +29,6 @@ std::vector<double> Misses(const DigitizedTrace& trace, const RenderedPhoto& pho
     misses.push_back(testing::DistanceToPolyline(truth->centre_px, p, hint));
   }
   return misses;
-}
-
-// Redraws the graticule's lines brighter, as on a print whose graticule was lit
-// almost as brightly as the traces.
-void BrightenGraticule(cv::Mat& image, const RenderedPhoto& photo, double level) {
-  for (int i = 0; i <= 10; ++i) Scratch(image, photo, {1.0 * i, -4.0}, {1.0 * i, 4.0}, level);
-  for (int j = -4; j <= 4; ++j) Scratch(image, photo, {0.0, 1.0 * j}, {10.0, 1.0 * j}, level);
 }
 
 struct Case {
@@ -83,11 +62,11 @@ TEST_CASE("digitize dashed: sparse dashes on a bright graticule or across scratc
     options.sixteen_bit = c.sixteen_bit;
     options.beam_fwhm_div = 0.012;
     RenderedPhoto photo = RenderOscillograph(run.scene, options);
-    if (c.grid > 0.0) BrightenGraticule(photo.image, photo, c.grid);
+    if (c.grid > 0.0) testing::BrightenGraticule(photo.image, photo, c.grid);
     if (c.scratch > 0.0) {
-      Scratch(photo.image, photo, {0.3, 3.8}, {9.7, -2.3}, c.scratch);
-      Scratch(photo.image, photo, {1.0, -2.2}, {8.5, 3.5}, c.scratch);
-      Scratch(photo.image, photo, {6.3, 3.9}, {6.6, -2.3}, c.scratch);
+      testing::Scratch(photo.image, photo, {0.3, 3.8}, {9.7, -2.3}, c.scratch);
+      testing::Scratch(photo.image, photo, {1.0, -2.2}, {8.5, 3.5}, c.scratch);
+      testing::Scratch(photo.image, photo, {6.3, 3.9}, {6.6, -2.3}, c.scratch);
     }
 
     const DigitizeResult result =
@@ -142,7 +121,7 @@ TEST_CASE("digitize dashed: traces as bright as the grid are read where they lea
   options.chop_duty = 0.4;
   options.beam_fwhm_div = 0.012;
   RenderedPhoto photo = RenderOscillograph(run.scene, options);
-  BrightenGraticule(photo.image, photo, 1.0);
+  testing::BrightenGraticule(photo.image, photo, 1.0);
   const DigitizeResult result =
       DigitizePhoto({photo.image, "bright-grid.png"}, {10, 8}, run.requests, {});
   for (std::size_t k = 0; k < 2; ++k) {
@@ -164,7 +143,7 @@ TEST_CASE("digitize dashed: a band holding only bright grid lines is refused, sa
   options.width_px = 2000;
   options.seed = 7;
   RenderedPhoto photo = RenderOscillograph(run.scene, options);
-  BrightenGraticule(photo.image, photo, 1.0);
+  testing::BrightenGraticule(photo.image, photo, 1.0);
   try {
     DigitizePhoto({photo.image, "no-left.png"}, {10, 8}, run.requests, {});
     FAIL("a grid line was taken for the missing trace");

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
 #include "render/oscillograph.h"
@@ -189,6 +190,25 @@ inline TraceScore ScoreTrace(const DigitizedTrace& digitized, const RenderedPhot
   }
   score.coverage = drawn > 0 ? static_cast<double>(covered) / drawn : 0.0;
   return score;
+}
+
+// A thin straight line between two screen points, drawn at `level` of full
+// scale: a scratch or a hair (bright on a dark print, dark on a negative's
+// light ground), or a grid line redrawn.
+inline void Scratch(cv::Mat& image, const RenderedPhoto& photo, cv::Point2d from_div,
+                    cv::Point2d to_div, double level) {
+  const cv::Point2d a = photo.ImageFromScreen(from_div), b = photo.ImageFromScreen(to_div);
+  const double full = image.depth() == CV_16U ? 65535.0 : 255.0;
+  cv::line(image, cv::Point(cvRound(a.x * 16), cvRound(a.y * 16)),
+           cv::Point(cvRound(b.x * 16), cvRound(b.y * 16)), cv::Scalar::all(level * full), 1,
+           cv::LINE_AA, 4);
+}
+
+// Redraws the graticule's lines brighter, as on a print whose graticule was lit
+// almost as brightly as the traces.
+inline void BrightenGraticule(cv::Mat& image, const RenderedPhoto& photo, double level) {
+  for (int i = 0; i <= 10; ++i) Scratch(image, photo, {1.0 * i, -4.0}, {1.0 * i, 4.0}, level);
+  for (int j = -4; j <= 4; ++j) Scratch(image, photo, {0.0, 1.0 * j}, {10.0, 1.0 * j}, level);
 }
 
 }  // namespace impactlab::testing
