@@ -110,6 +110,17 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
                  ok ? "ok" : "failed", worst,
                  contact_error ? fmt::format("{:+.3f} %", *contact_error) : std::string("-"));
       if (!ok && got != nullptr) fmt::print("             {}\n", got->failure.substr(0, 160));
+      if (ok) {
+        // Each maximum's error and stated sigma (% of X0) and their ratio.
+        std::string line;
+        for (std::size_t i = 0; i < rebounds.size() && i < got->xmax.size(); ++i) {
+          const double sigma = i < got->xmax_sigma.size() ? got->xmax_sigma[i] : 0.0;
+          line += fmt::format(" {:+.3f}/{:.3f}({:+.1f})", 100.0 * (got->xmax[i] - rebounds[i]) / x0,
+                              100.0 * sigma / x0,
+                              sigma > 0.0 ? (got->xmax[i] - rebounds[i]) / sigma : NAN);
+        }
+        fmt::print("             Xmax err/sigma % X0 (pull):{}\n", line);
+      }
     }
   }
   return score;
