@@ -39,20 +39,6 @@ double NearestRank(std::vector<double> v, double q) {
   return v[std::min(rank, v.size() - 1)];
 }
 
-double Rms(const std::vector<double>& v) {
-  if (v.empty()) return NAN;
-  double sum = 0.0;
-  for (double x : v) sum += x * x;
-  return std::sqrt(sum / static_cast<double>(v.size()));
-}
-
-double ShareWithin(const std::vector<double>& pulls, double k) {
-  if (pulls.empty()) return NAN;
-  const auto n =
-      std::count_if(pulls.begin(), pulls.end(), [&](double p) { return std::abs(p) <= k; });
-  return static_cast<double>(n) / static_cast<double>(pulls.size());
-}
-
 struct Score {
   int runs = 0, failed = 0, should_reduce = 0, missing_rebounds = 0;
   std::vector<double> xmax_error, xmax_pull, contact_error, contact_pull;

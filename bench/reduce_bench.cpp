@@ -64,6 +64,7 @@ struct StyleFigures {
   int runs = 0, ok = 0;
   std::vector<XmaxError> worst;
   std::vector<double> xmax_error_pct, contact_error_pct;
+  std::vector<double> xmax_pull, contact_pull;  // error / stated sigma
   // Signed error as a share of the maximum itself: a gain error (a curve's
   // scale, a blurred trace's flattened peaks) shows here, not in the medians.
   std::vector<double> xmax_gain_error_pct;
@@ -103,9 +104,9 @@ int main(int argc, char** argv) {
       std::filesystem::temp_directory_path() / fmt::format("impactlab-bench-reduce-{}", ::getpid());
   fmt::print(
       "| style | runs ok | Xmax err median (% X0) | p95 | max | Xmax gain err median (% Xmax) | "
-      "contact err median (%) | worst | decode s | reduce s | reduce/decode | load s | calibrate s "
-      "| extract s | fit s |\n");
-  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "Xmax pull RMS (within 1, 2) | contact err median (%) | worst | contact pull RMS | decode s "
+      "| reduce s | reduce/decode | load s | calibrate s | extract s | fit s |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& style : styles) {
     StyleFigures f;
     for (int seed = 1; seed <= seeds; ++seed) {
@@ -139,10 +140,16 @@ int main(int argc, char** argv) {
           f.xmax_error_pct.push_back(pct);
           f.xmax_gain_error_pct.push_back(100.0 * (run->xmax[n] / xmax[n].get<double>() - 1.0));
           f.worst.push_back({pct, seed, run->id, n});
+          if (n < run->xmax_sigma.size() && run->xmax_sigma[n] > 0.0) {
+            f.xmax_pull.push_back((run->xmax[n] - xmax[n].get<double>()) / run->xmax_sigma[n]);
+          }
         }
         if (run->contact_time) {
           const double tau = truth["contact"]["duration_s"];
           f.contact_error_pct.push_back(100.0 * std::abs(*run->contact_time - tau) / tau);
+          if (run->contact_time_sigma > 0.0) {
+            f.contact_pull.push_back((*run->contact_time - tau) / run->contact_time_sigma);
+          }
           if (worst > 0) {
             fmt::print(stderr, "  {} seed {} run {} contact: {:+.4f} % (sigma {:.4f} %)\n", style,
                        synth.seed, run->id, 100.0 * (*run->contact_time - tau) / tau,
@@ -152,15 +159,16 @@ int main(int argc, char** argv) {
       }
     }
     fmt::print(
-        "| {} | {}/{} | {:.4f} | {:.4f} | {:.4f} | {:+.4f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | "
-        "{:.2f} | "
-        "{:.2f} | {:.2f} | {:.2f} | {:.3f} |\n",
+        "| {} | {}/{} | {:.4f} | {:.4f} | {:.4f} | {:+.4f} | {:.2f} ({:.0f} %, {:.0f} %) | {:.3f} "
+        "| "
+        "{:.3f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} |\n",
         style, f.ok, f.runs, Percentile(f.xmax_error_pct, 0.5), Percentile(f.xmax_error_pct, 0.95),
-        Percentile(f.xmax_error_pct, 1.0), Percentile(f.xmax_gain_error_pct, 0.5),
+        Percentile(f.xmax_error_pct, 1.0), Percentile(f.xmax_gain_error_pct, 0.5), Rms(f.xmax_pull),
+        100.0 * ShareWithin(f.xmax_pull, 1.0), 100.0 * ShareWithin(f.xmax_pull, 2.0),
         Percentile(f.contact_error_pct, 0.5), Percentile(f.contact_error_pct, 1.0),
-        f.decode_s / seeds, f.reduce_s / seeds, f.reduce_s / std::max(f.decode_s, 1e-9),
-        f.stages.load / seeds, f.stages.calibrate / seeds, f.stages.extract / seeds,
-        f.stages.fit / seeds);
+        Rms(f.contact_pull), f.decode_s / seeds, f.reduce_s / seeds,
+        f.reduce_s / std::max(f.decode_s, 1e-9), f.stages.load / seeds, f.stages.calibrate / seeds,
+        f.stages.extract / seeds, f.stages.fit / seeds);
     std::fflush(stdout);
     std::sort(f.worst.begin(), f.worst.end(),
               [](const XmaxError& a, const XmaxError& b) { return a.pct > b.pct; });
