@@ -203,9 +203,9 @@ FactorBins BinFactor(const std::string& name, const std::vector<PhotoRecord>& re
     const auto zeros = std::count(values.begin(), values.end(), 0.0);
     std::vector<double> distinct = values;
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-    if (zeros * 4 > static_cast<long>(values.size()) && distinct.size() > 4) {
-      // Often exactly 0 (none: no JPEG, no glare, no tilt): that bin, then
-      // the halves of the rest.
+    if (zeros * 7 > static_cast<long>(values.size()) && distinct.size() > 4) {
+      // Often exactly 0 (none: lossless, no glare, no tilt), at least 1 in
+      // 7: that bin, then the halves of the rest.
       const std::vector<double> rest(values.begin() + zeros, values.end());
       const double half = Percentile(rest, 0.5);
       bins.labels = {"0", fmt::format("≤ {}", Format(half)), fmt::format("> {}", Format(half))};
@@ -250,9 +250,11 @@ FactorBins BinFactor(const std::string& name, const std::vector<PhotoRecord>& re
   return bins;
 }
 
-// A failure message without its paths and numbers, so that like ones group.
+// A failure message without the file it names, paths and numbers, so that
+// like ones group whichever photo they came from.
 std::string FailureKind(const std::string& message) {
-  std::string kind = std::regex_replace(message, std::regex(R"([^ "']*/)"), "");
+  std::string kind = std::regex_replace(message, std::regex(R"(^[^ ]*\.(jpg|png|tif|toml): )"), "");
+  kind = std::regex_replace(kind, std::regex(R"([^ "']*/)"), "");
   kind = std::regex_replace(kind, std::regex(R"(-?[0-9]+(\.[0-9]+)?(e-?[0-9]+)?)"), "#");
   return kind.size() > 160 ? kind.substr(0, 160) + "…" : kind;
 }
