@@ -66,20 +66,6 @@ double Quantile(const std::vector<double>& v, double p) {
   return v.empty() ? NAN : Percentile(v, p);
 }
 
-double Rms(const std::vector<double>& v) {
-  if (v.empty()) return NAN;
-  double sum = 0.0;
-  for (double x : v) sum += x * x;
-  return std::sqrt(sum / static_cast<double>(v.size()));
-}
-
-double ShareWithin(const std::vector<double>& pulls, double k) {
-  if (pulls.empty()) return NAN;
-  const auto n =
-      std::count_if(pulls.begin(), pulls.end(), [&](double p) { return std::abs(p) <= k; });
-  return static_cast<double>(n) / static_cast<double>(pulls.size());
-}
-
 // Scores one reduced session against its truth: one record per photo.
 std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const SessionResult& result) {
   std::map<std::string, json> calibration_looks;
