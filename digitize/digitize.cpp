@@ -1,6 +1,7 @@
 // DigitizePhoto: the stages in order, timed; and the traces a manifest names.
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #include "digitize/digitize.h"
 
@@ -40,6 +41,14 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
   }
   result.pulse_ms = MillisecondsSince(start);
   return result;
+}
+
+std::string HintsUsed(const DigitizeResult& result) {
+  std::string hints = result.graticule.from_corners_hint ? "graticule_corners" : "";
+  for (const DigitizedTrace& trace : result.traces) {
+    if (trace.from_points_hint) hints += (hints.empty() ? "" : ", ") + trace.name + ".points";
+  }
+  return hints;
 }
 
 std::vector<TraceRequest> TraceRequestsOf(const Run& run) {

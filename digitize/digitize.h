@@ -108,6 +108,12 @@ struct GraticuleOptions {
   double max_residual_px = 1.0;
   // Largest rotation of the screen in the photo searched for, degrees.
   double max_rotation_deg = 20.0;
+  // Manual hint (the manifest's `graticule_corners`, docs/manifest.md): the
+  // grid's outer corners in photo pixels, top-left, top-right, bottom-right,
+  // bottom-left as seen on the screen. When given, the homography through
+  // them replaces the lattice search; the grid lines are then measured and
+  // fitted, and the fit checked, as after a search. Unset: searched.
+  std::optional<GraticuleCorners> corners_px;
 
   // True when every field is in range; otherwise `error` says which is not.
   bool Check(std::string* error) const;
@@ -139,20 +145,23 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options);
 struct GraticuleFit {
   std::array<int, 2> divisions = {10, 8};  // horizontal x vertical
   GraticuleMapping mapping;
-  double residual_px = 0.0;      // RMS distance of the measured line points from the fitted lines
-  double max_residual_px = 0.0;  // the largest one kept
-  int samples_used = 0;          // line measurements in the final fit
-  int samples_rejected = 0;      // dropped: washed out, crossed by a trace, outliers
-  bool radial_fitted = false;    // whether k1 was kept
-  double px_per_div = 0.0;       // at the screen's centre
-  double line_width_px = 0.0;    // a grid line's full width at half maximum, photo pixels
-  double line_contrast = 0.0;    // a grid line's height above the screen, ink units (0..1)
-  double elapsed_ms = 0.0;       // time spent finding and fitting
+  double residual_px = 0.0;        // RMS distance of the measured line points from the fitted lines
+  double max_residual_px = 0.0;    // the largest one kept
+  int samples_used = 0;            // line measurements in the final fit
+  int samples_rejected = 0;        // dropped: washed out, crossed by a trace, outliers
+  bool radial_fitted = false;      // whether k1 was kept
+  double px_per_div = 0.0;         // at the screen's centre
+  double line_width_px = 0.0;      // a grid line's full width at half maximum, photo pixels
+  double line_contrast = 0.0;      // a grid line's height above the screen, ink units (0..1)
+  bool from_corners_hint = false;  // started from GraticuleOptions::corners_px, not a search
+  double elapsed_ms = 0.0;         // time spent finding and fitting
 };
 
-// Finds the `divisions` grid (horizontal x vertical). Throws InputError naming
-// the photo when no such lattice is found or the fit is worse than
-// max_residual_px.
+// Finds the `divisions` grid (horizontal x vertical), or starts from the
+// corners hint when options.corners_px is set. Throws InputError naming the
+// photo when no such lattice is found or the fit is worse than
+// max_residual_px (without a hint, the message ends by naming the
+// `graticule_corners` hint), or a hinted corner lies outside the photo.
 GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
                            const GraticuleOptions& options);
 
@@ -243,12 +252,15 @@ struct DigitizedTrace {
   double spread_px2 = 0.0;
   double spread_sigma_px2 = 0.0;  // its one-sigma
   int outliers = 0;               // samples dropped as outliers
+  bool from_points_hint = false;  // the tracking followed settings.points_px
 };
 
 // Throws InputError naming the photo and the trace when a trace is not found
-// in its band (coverage below min_coverage), std::invalid_argument for bad
-// options or settings. Bands may overlap: contact (step) traces are taken
-// first and what they claim is not given to the others.
+// in its band (coverage below min_coverage; without a points hint the
+// message ends by naming the `points` hint) or a hinted point lies off its
+// band, std::invalid_argument for bad options or settings. A trace's
+// settings.points_px (photo pixels) make its tracking pass through them. Bands may overlap: contact
+// (step) traces are taken first and what they claim is not given to the others.
 std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const GraticuleFit& graticule,
                                           const std::vector<TraceRequest>& requests,
                                           const TraceOptions& options);
@@ -304,6 +316,10 @@ struct DigitizeResult {
 DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
                              const std::vector<TraceRequest>& requests,
                              const DigitizeOptions& options);
+
+// The manual hints a digitized photo used, as the manifest names them:
+// "graticule_corners, left.points" (empty: none).
+std::string HintsUsed(const DigitizeResult& result);
 
 // The traces a manifest names on a run's or a calibration's photo: those
 // without a `csv` (which come from a digital scope instead).

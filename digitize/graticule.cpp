@@ -349,11 +349,41 @@ MappingFit RobustFit(const NormalisedModel& model, const NormalisedModel::Params
   return fit;
 }
 
+// A graticule not found says which manual hint would help; when the hint
+// was given, what to check in it.
 [[noreturn]] void NotFound(const PreparedPhoto& photo, std::array<int, 2> divisions,
-                           const std::string& problem) {
-  throw InputError({photo.source, "", std::nullopt},
-                   fmt::format("graticule of {} x {} divisions not found: {}", divisions[0],
-                               divisions[1], problem));
+                           const std::string& problem, bool hinted) {
+  const char* advice =
+      hinted ? " (measured from the graticule_corners given: are they the outer grid lines' "
+               "corners, top-left, top-right, bottom-right, bottom-left?)"
+             : "; if the grid is there, give its corners: graticule_corners = [[x, y] x 4] "
+               "(docs/manifest.md)";
+  throw InputError({photo.source, hinted ? "graticule_corners" : "", std::nullopt},
+                   fmt::format("graticule of {} x {} divisions not found: {}{}", divisions[0],
+                               divisions[1], problem, advice));
+}
+
+// The lattice the corners hint gives: the homography taking the screen's
+// corners to the photo pixels given (exact through four points).
+cv::Matx33d PhotoFromScreenByCorners(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                                     const GraticuleCorners& corners) {
+  const cv::Size size = photo.image.size();
+  const char* names[4] = {"top-left", "top-right", "bottom-right", "bottom-left"};
+  std::vector<cv::Point2d> to;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const cv::Point2d p(corners[i][0], corners[i][1]);
+    // The photo spans [-0.5, size - 0.5] with pixel centres at whole numbers.
+    if (!(p.x >= -0.5 && p.y >= -0.5 && p.x <= size.width - 0.5 && p.y <= size.height - 0.5)) {
+      throw InputError({photo.source, fmt::format("graticule_corners[{}]", i), std::nullopt},
+                       fmt::format("the {} corner [{:g}, {:g}] lies outside the photo of {} x {} "
+                                   "pixels",
+                                   names[i], p.x, p.y, size.width, size.height));
+    }
+    to.push_back(p);
+  }
+  const double nx = divisions[0], half = 0.5 * divisions[1];
+  const std::vector<cv::Point2d> from = {{0.0, half}, {nx, half}, {nx, -half}, {0.0, -half}};
+  return digitize::FitHomography(from, to);
 }
 
 // A lattice of the wrong size fits too: the lines it has beyond the screen's
@@ -364,6 +394,7 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
                     const std::vector<LineSample>& samples, const GraticuleOptions& options,
                     double half_length_px, double search_px) {
   const std::array<int, 2> divisions = fit.divisions;
+  const bool hinted = fit.from_corners_hint;
   const char* axis[2] = {"x", "y"};
   // A measurement sees its line when it found a line where the fit puts it
   // (whether or not it was used: a trace lying along a grid line hides it).
@@ -427,7 +458,8 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
                fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
                            "does the screen have {} x {} divisions?",
                            axis[family], line_div, counts[family][index].first,
-                           counts[family][index].second, divisions[0], divisions[1]));
+                           counts[family][index].second, divisions[0], divisions[1]),
+               hinted);
     }
   }
   const std::vector<std::pair<int, int>> beyond = {
@@ -447,7 +479,8 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
       NotFound(photo, divisions,
                fmt::format("the photo shows a grid line at {} = {:g} div too: the screen has more "
                            "divisions",
-                           axis[family], line_div));
+                           axis[family], line_div),
+               hinted);
     }
   }
 }
@@ -464,18 +497,24 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
         fmt::format("graticule divisions must be 1..100, got {} x {}", divisions[0], divisions[1]));
   }
   const auto start = std::chrono::steady_clock::now();
-  std::string why;
-  const std::optional<digitize::Lattice> lattice =
-      digitize::FindLattice(photo, divisions, options.max_rotation_deg, &why);
-  if (!lattice) NotFound(photo, divisions, why);
-
-  // The working copy's lattice in photo pixels.
-  const double f = photo.shrink;
-  const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0, 1.0);
+  const bool hinted = options.corners_px.has_value();
+  GraticuleMapping mapping;
+  if (hinted) {
+    // The user's corners stand in for the search; everything after it is the same.
+    mapping.homography = PhotoFromScreenByCorners(photo, divisions, *options.corners_px);
+  } else {
+    std::string why;
+    const std::optional<digitize::Lattice> lattice =
+        digitize::FindLattice(photo, divisions, options.max_rotation_deg, &why);
+    if (!lattice) NotFound(photo, divisions, why, hinted);
+    // The working copy's lattice in photo pixels.
+    const double f = photo.shrink;
+    const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0,
+                                         1.0);
+    mapping.homography = photo_from_working * lattice->working_from_screen;
+  }
   const cv::Size size = photo.image.size();
   const NormalisedModel model(divisions, size);
-  GraticuleMapping mapping;
-  mapping.homography = photo_from_working * lattice->working_from_screen;
   mapping.distortion_centre_px = {0.5 * (size.width - 1), 0.5 * (size.height - 1)};
   mapping.distortion_radius_px = 0.5 * std::hypot(size.width, size.height);
   NormalisedModel::Params params = model.FromMapping(mapping);
@@ -498,7 +537,9 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
     samples = MeasureGridLines(ink, model.ToMapping(params), divisions, GridLines(divisions),
                                options.samples_per_div, half_length_px, search_px,
                                last ? options.line_average_div : 0.0);
-    if (samples.size() < 12) NotFound(photo, divisions, "the grid lines cannot be measured");
+    if (samples.size() < 12) {
+      NotFound(photo, divisions, "the grid lines cannot be measured", hinted);
+    }
     SelectLineLike(samples);
     fit = last ? RobustFit(model, params, samples, try_radial, 0.3)
                : FitMapping(model, params, Used(samples), try_radial);
@@ -528,6 +569,7 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   result.divisions = divisions;
   result.mapping = model.ToMapping(params);
   result.radial_fitted = params[8] != 0.0;
+  result.from_corners_hint = hinted;
   std::vector<double> heights, widths;
   const std::vector<const LineSample*> used = Used(samples);
   const Eigen::VectorXd r = Residuals(model, params, used);
@@ -548,13 +590,15 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   if (result.samples_used < expected / 4) {
     NotFound(photo, divisions,
              fmt::format("only {} of {} measurements across the grid lines look like a grid line",
-                         result.samples_used, expected));
+                         result.samples_used, expected),
+             hinted);
   }
   CheckDivisions(photo, ink, result, samples, options, half_length_px, search_px);
   if (result.residual_px > options.max_residual_px) {
     NotFound(photo, divisions,
              fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px)",
-                         result.residual_px, options.max_residual_px));
+                         result.residual_px, options.max_residual_px),
+             hinted);
   }
   return result;
 }

@@ -41,6 +41,14 @@ bool GraticuleOptions::Check(std::string* error) const {
     return Fail(error,
                 fmt::format("max_rotation_deg must lie in [0, 40], got {}", max_rotation_deg));
   }
+  if (corners_px) {
+    for (const auto& corner : *corners_px) {
+      if (!std::isfinite(corner[0]) || !std::isfinite(corner[1])) {
+        return Fail(error,
+                    fmt::format("corners_px must be finite, got [{}, {}]", corner[0], corner[1]));
+      }
+    }
+  }
   return true;
 }
 

@@ -312,6 +312,48 @@ class TableReader {
     return values;
   }
 
+  // An array of photo pixels [[x, y], ...] (a manual hint), `min`..`max` of
+  // them. Each coordinate is finite and not left of or above the photo's
+  // first pixel; whether it lies inside the photo is checked where its size
+  // is known (digitize/).
+  std::optional<std::vector<std::array<double, 2>>> PixelPoints(std::string_view key,
+                                                                std::string_view what,
+                                                                std::size_t min,
+                                                                std::size_t max) const {
+    const toml::array* array = Array(key, what, std::nullopt);
+    if (!array) return std::nullopt;
+    if (array->size() < min || array->size() > max) {
+      Fail(key, fmt::format("expected {}, found an array of {} values", what, array->size()));
+    }
+    constexpr NumberRule kCoordinate{Sign::kAny,
+                                     "a pixel coordinate >= 0 (pixel centres are whole "
+                                     "numbers)"};
+    std::vector<std::array<double, 2>> points;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& element = *array->get(i);
+      const std::string element_path = fmt::format("{}[{}]", KeyPath(key), i);
+      const toml::array* pair = element.as_array();
+      if (!pair || pair->size() != 2) {
+        FailAt(element, element_path,
+               fmt::format(
+                   "expected a pixel [x, y], found {}",
+                   pair ? fmt::format("an array of {} values", pair->size()) : Describe(element)));
+      }
+      std::array<double, 2> point{};
+      for (std::size_t k = 0; k < 2; ++k) {
+        const std::string coordinate_path = fmt::format("{}[{}]", element_path, k);
+        point[k] = NumberFrom(*pair->get(k), coordinate_path, kCoordinate);
+        // -0.5 is the first pixel's outer edge.
+        if (point[k] < -0.5) {
+          FailAt(*pair->get(k), coordinate_path,
+                 fmt::format("expected {}, found {}", kCoordinate.what, FormatNumber(point[k])));
+        }
+      }
+      points.push_back(point);
+    }
+    return points;
+  }
+
   // A sub-table (a [header] table or an inline { } table).
   std::optional<TableReader> Table(std::string_view key) const {
     const toml::node* node = Find(key);
@@ -552,6 +594,32 @@ Scope ReadScope(const TableReader& table) {
   return scope;
 }
 
+// Manual hint: photo pixels a trace passes through, for the tracking to
+// follow where it alone strays (a scratch along the trace, a faint stretch).
+constexpr std::size_t kMaxTracePoints = 1000;
+
+void ReadTracePoints(const TableReader& table, TraceSettings& trace) {
+  const std::string what =
+      fmt::format("2 to {} photo pixels [[x, y], ...] the trace passes through", kMaxTracePoints);
+  auto points = table.PixelPoints("points", what, 2, kMaxTracePoints);
+  if (!points) return;
+  if (trace.csv) {
+    table.Warn("points", "'points' applies only to a trace read from the photo (ignored)");
+    return;
+  }
+  for (std::size_t i = 0; i < points->size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if ((*points)[i] == (*points)[j]) {
+        table.Fail("points", fmt::format("expected {}, found the pixel [{}, {}] twice ([{}] and "
+                                         "[{}])",
+                                         what, FormatNumber((*points)[i][0]),
+                                         FormatNumber((*points)[i][1]), j, i));
+      }
+    }
+  }
+  trace.points_px = std::move(*points);
+}
+
 // One trace table. A trace is read either from the owner's photo or from its
 // own `csv`; only a photo trace needs the screen scales.
 TraceSettings ReadTrace(const TableReader& table, TraceKind kind, const Scope& scope,
@@ -559,7 +627,7 @@ TraceSettings ReadTrace(const TableReader& table, TraceKind kind, const Scope& s
   const bool contact = kind == TraceKind::kContact;
   for (const auto& [key, node] : table.table()) {
     const std::string_view name = key.str();
-    const bool known = name == "csv" || (contact && name == "impact") ||
+    const bool known = name == "csv" || name == "points" || (contact && name == "impact") ||
                        std::find(kScreenKeys.begin(), kScreenKeys.end(), name) != kScreenKeys.end();
     if (name == "impact" && !contact) {
       table.Warn(name, "'impact' applies only to contact traces (ignored)");
@@ -602,6 +670,7 @@ TraceSettings ReadTrace(const TableReader& table, TraceKind kind, const Scope& s
       defaults.band_div.value_or(std::array<double, 2>{-half_height, half_height}));
   trace.t0_div = own.t0_div.value_or(defaults.t0_div.value_or(0.0));
   if (contact) trace.impact = own.impact ? own.impact : defaults.impact;
+  ReadTracePoints(table, trace);
   return trace;
 }
 
@@ -738,15 +807,72 @@ class IdRegistry {
   std::map<std::string, std::optional<long long>> first_line_;
 };
 
+// Manual hint: the graticule's outer corners in the photo, top-left,
+// top-right, bottom-right, bottom-left as seen on the screen. In photo pixels
+// (y down) that order goes clockwise round a convex quadrilateral; any other
+// order, three corners in a line or a corner inside the others is a typing
+// slip that would map the screen mirrored or folded.
+constexpr double kMinCornerSidePx = 20.0;  // a graticule smaller than this cannot be read
+
+std::optional<GraticuleCorners> ReadGraticuleCorners(const TableReader& table, bool has_photo) {
+  constexpr std::string_view kKey = "graticule_corners";
+  constexpr std::string_view kWhat =
+      "the graticule's 4 corners in photo pixels [[x, y], ...] in the order top-left, top-right, "
+      "bottom-right, bottom-left";
+  const auto points = table.PixelPoints(kKey, kWhat, 4, 4);
+  if (!points) return std::nullopt;
+  if (!has_photo) {
+    table.Warn(kKey, "'graticule_corners' applies to a photo, and there is none (ignored)");
+    return std::nullopt;
+  }
+  GraticuleCorners corners{};
+  std::copy(points->begin(), points->end(), corners.begin());
+  const auto text = [&] {
+    std::string out = "[";
+    for (std::size_t i = 0; i < 4; ++i) {
+      out += fmt::format("{}[{}, {}]", i ? ", " : "", FormatNumber(corners[i][0]),
+                         FormatNumber(corners[i][1]));
+    }
+    return out + "]";
+  };
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& a = corners[i];
+    const auto& b = corners[(i + 1) % 4];
+    const auto& c = corners[(i + 2) % 4];
+    const double side = std::hypot(b[0] - a[0], b[1] - a[1]);
+    const double next = std::hypot(c[0] - b[0], c[1] - b[1]);
+    if (!(side >= kMinCornerSidePx)) {
+      table.Fail(kKey, fmt::format("expected {}, each side at least {:g} px long, found {}, whose "
+                                   "corners {} and {} are {:.1f} px apart",
+                                   kWhat, kMinCornerSidePx, text(), i, (i + 1) % 4, side));
+    }
+    // Turning clockwise on the photo (y down) at every corner: the cross
+    // product of consecutive sides is positive, and clearly so (not three
+    // corners nearly in a line: the sine of the turn above about 0.1).
+    const double cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+    if (!(cross > 0.1 * side * next)) {
+      table.Fail(
+          kKey,
+          fmt::format("expected {}, going clockwise round a convex quadrilateral on the "
+                      "photo, found {}, which {} at corner {}",
+                      kWhat, text(), cross < 0.0 ? "turns the other way" : "is almost straight",
+                      (i + 1) % 4));
+    }
+  }
+  return corners;
+}
+
 Calibration ReadCalibration(const TableReader& table, std::string id, UnitSystem units,
                             const std::optional<Apparatus>& apparatus, const Scope& scope) {
-  table.WarnUnknownKeys({"id", "cell", "initial_displacement", "photo", "trace"});
+  table.WarnUnknownKeys(
+      {"id", "cell", "initial_displacement", "photo", "graticule_corners", "trace"});
   Calibration calibration;
   calibration.id = std::move(id);
   if (!table.Has("cell")) table.Missing("cell", ChoiceList({"right", "left"}));
   calibration.cell = *table.Choice("cell", {"right", "left"});
   calibration.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
   calibration.photo = table.Path("photo");
+  calibration.graticule_corners_px = ReadGraticuleCorners(table, calibration.photo.has_value());
   calibration.trace = ReadTrace(table.TableOrEmpty("trace"), TraceKind::kCalibration, scope,
                                 calibration.photo.has_value());
   return calibration;
@@ -839,13 +965,14 @@ Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
             const std::optional<Apparatus>& apparatus, const Scope& scope,
             const std::vector<Calibration>& calibrations,
             const std::map<std::string, std::string>& rejected_calibrations) {
-  table.WarnUnknownKeys({"id", "initial_displacement", "photo", "calibration", "first_rebound",
-                         "traces", "rebounds", "contact_time", "fit_rebounds",
+  table.WarnUnknownKeys({"id", "initial_displacement", "photo", "graticule_corners", "calibration",
+                         "first_rebound", "traces", "rebounds", "contact_time", "fit_rebounds",
                          "rebound_uncertainty", "contact_time_uncertainty"});
   Run run;
   run.id = std::move(id);
   run.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
   run.photo = table.Path("photo");
+  run.graticule_corners_px = ReadGraticuleCorners(table, run.photo.has_value());
   run.calibration = ReadRunCalibrations(table, calibrations, rejected_calibrations);
   run.first_rebound = static_cast<int>(
       table.Integer("first_rebound", {0, kMaxInt, "a rebound number >= 0"}).value_or(1));

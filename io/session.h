@@ -41,13 +41,24 @@ struct TraceSettings {
   double t0_div = 0.0;                           // screen position of t = 0 (the release)
   std::optional<int> impact;                 // contact traces: which impact the delayed sweep shows
   std::optional<std::filesystem::path> csv;  // digital trace (time_s,volts) instead of the photo
+  // Manual hint (docs/manifest.md, `points`): photo pixels (x right, y down,
+  // pixel centres at integers) the trace passes through; empty: none given.
+  // The tracking is made to pass through them where the search alone strays.
+  std::vector<std::array<double, 2>> points_px;
 };
+
+// Manual hint (docs/manifest.md, `graticule_corners`): the photo pixels of the
+// graticule's outer corners, in the order top-left, top-right, bottom-right,
+// bottom-left as seen on the screen, i.e. screen (0, +ny/2), (nx, +ny/2),
+// (nx, -ny/2), (0, -ny/2). They replace the search for the grid's lattice.
+using GraticuleCorners = std::array<std::array<double, 2>, 4>;
 
 struct Calibration {
   std::string id;
   std::string cell;                   // "right" or "left"
   double initial_displacement = 0.0;  // X0 of the freely swinging pendulum, length units
   std::optional<std::filesystem::path> photo;
+  std::optional<GraticuleCorners> graticule_corners_px;  // manual hint for the photo
   TraceSettings trace;
 };
 
@@ -55,7 +66,8 @@ struct Run {
   std::string id;
   double initial_displacement = 0.0;  // X0: half the gap between the bars at release
   std::optional<std::filesystem::path> photo;
-  std::map<std::string, std::string> calibration;  // cell ("right"/"left") -> calibration id
+  std::optional<GraticuleCorners> graticule_corners_px;  // manual hint for the photo
+  std::map<std::string, std::string> calibration;        // cell ("right"/"left") -> calibration id
   int first_rebound = 1;  // rebound, counting from the first impact, that the tables call 0
   std::map<std::string, TraceSettings> traces;  // "right", "left", "contact"
 
