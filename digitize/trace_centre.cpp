@@ -561,8 +561,52 @@ double ShareOnGridLines(const DigitizedTrace& trace, const GraticuleFit& graticu
   return static_cast<double>(on) / trace.screen_div.size();
 }
 
+// A hinted point may lie this far outside its trace's band (the tracking's
+// strip reaches as far), divisions.
+constexpr double kHintBandMarginDiv = 0.15;
+
 std::string BandText(const TraceSettings& settings) {
   return fmt::format("[{:g}, {:g}] div", settings.band_div[0], settings.band_div[1]);
+}
+
+// A trace not found names the hint that would help, or, when it was given,
+// what to check in it.
+std::string PointsAdvice(const TraceRequest& request) {
+  return request.settings.points_px.empty()
+             ? "; if the trace is there, give a few pixels it passes through: points = [[x, y], "
+               "...] in its trace table (docs/manifest.md)"
+             : " (tracked through the points given: do they lie on the trace?)";
+}
+
+// A hinted point must lie on the screen, in the trace's band: a point
+// elsewhere is a slip (another trace's, or the wrong photo's pixels).
+void CheckPoints(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                 const TraceRequest& request) {
+  const TraceSettings& s = request.settings;
+  const double lo = std::min(s.band_div[0], s.band_div[1]) - kHintBandMarginDiv;
+  const double hi = std::max(s.band_div[0], s.band_div[1]) + kHintBandMarginDiv;
+  const cv::Size size = photo.image.size();
+  for (std::size_t i = 0; i < s.points_px.size(); ++i) {
+    const cv::Point2d p(s.points_px[i][0], s.points_px[i][1]);
+    const std::string key = fmt::format("traces.{}.points[{}]", request.name, i);
+    if (!(p.x >= -0.5 && p.y >= -0.5 && p.x <= size.width - 0.5 && p.y <= size.height - 0.5)) {
+      throw InputError(
+          {photo.source, key, std::nullopt},
+          fmt::format("the point [{:g}, {:g}] lies outside the photo of {} x {} pixels", p.x, p.y,
+                      size.width, size.height));
+    }
+    const cv::Point2d screen = graticule.mapping.ScreenFromImage(p);
+    const bool on_screen =
+        screen.x >= -kHintBandMarginDiv && screen.x <= graticule.divisions[0] + kHintBandMarginDiv;
+    if (!on_screen || !(screen.y >= lo && screen.y <= hi)) {
+      throw InputError(
+          {photo.source, key, std::nullopt},
+          fmt::format("the point [{:g}, {:g}] of trace '{}' lies at screen ({:.2f}, {:.2f}) div, "
+                      "outside its band {} (x from 0 to {})",
+                      p.x, p.y, request.name, screen.x, screen.y, BandText(s),
+                      graticule.divisions[0]));
+    }
+  }
 }
 
 }  // namespace
@@ -596,6 +640,7 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
   std::vector<DigitizedTrace> results(requests.size());
   for (const std::size_t i : order) {
     const TraceRequest& request = requests[i];
+    CheckPoints(photo, graticule, request);
     const CoarsePath path =
         digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims);
     DigitizedTrace trace;
@@ -613,21 +658,23 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
           {photo.source, "traces." + request.name, std::nullopt},
           fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % of the "
                       "sweep, but it stands only {:.2f} times as high as a grid line, at least "
-                      "{:.2f} needed to tell it from one",
+                      "{:.2f} needed to tell it from one{}",
                       request.name, BandText(request.settings), 100.0 * trace.coverage,
-                      trace.height / graticule.line_contrast, options.min_height_over_grid));
+                      trace.height / graticule.line_contrast, options.min_height_over_grid,
+                      PointsAdvice(request)));
     }
     if (!seen) {
       throw InputError(
           {photo.source, "traces." + request.name, std::nullopt},
           fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % "
-                      "of the sweep, at least {:.0f} % needed",
+                      "of the sweep, at least {:.0f} % needed{}",
                       request.name, BandText(request.settings), 100.0 * trace.coverage,
-                      100.0 * options.min_coverage));
+                      100.0 * options.min_coverage, PointsAdvice(request)));
     }
     // Claim the course and the trace's glow, a few widths either side.
     digitize::Claim(path, 3.0 * trace.width_px / graticule.px_per_div + 0.5 / grid.px_per_div,
                     claims);
+    trace.from_points_hint = !request.settings.points_px.empty();
     results[i] = std::move(trace);
   }
   return results;

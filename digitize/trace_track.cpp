@@ -29,6 +29,14 @@ constexpr double kGapWeight = 2.0;     // per division of gap
 constexpr double kRestartCost = 3.0;   // a trace reappearing off its course after a gap
 constexpr double kJumpCost = 2.0;      // a contact trace's step, whatever its height
 constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to pay
+// A peak beside a point the user gave (TraceSettings::points_px) earns this
+// much more: more than any detour to reach it costs (a restart costs
+// kRestartCost), so the best path passes through every hinted point.
+constexpr double kHintReward = 10.0;
+// How near a hinted point a peak must lie to earn it, divisions (at least 2
+// strip pixels): a click is good to a few photo pixels, and a steep flank
+// moves fast across the columns beside it.
+constexpr double kHintReachDiv = 0.05;
 
 double MedianOf(std::vector<float>& values) {
   if (values.empty()) return 0.0;
@@ -169,11 +177,79 @@ struct Node {
   int column = 0;
   double row = 0.0;  // sub-row peak position
   float value = 0.0f;
+  double hint_reward = 0.0;  // beside a hinted point: kHintReward, less with the distance
   double score = 0.0;
   int previous = -1;  // node index, or -1 for a start
   unsigned char link = CoarsePath::kOnCourse;
   double slope = 0.0;  // the course's slope arriving here, rows' direction, div/div
   double trust = 0.0;  // 0..1: how far that slope is to be believed
+};
+
+// The points a trace's settings say it passes through, in strip columns and
+// rows: the reward a peak near one of them earns, and, between two points
+// at most kFenceSpanDiv apart, the corridor the trace keeps to. Attraction
+// alone does not hold a path that a brighter line beside the trace draws
+// away between two points and back (a scratch along it); where points are
+// that close, the user has said where the trace runs in between.
+constexpr double kFenceSpanDiv = 0.5;
+// The corridor's half-width about the curve through the points: at least
+// this, divisions, and half the rise between the two points.
+constexpr double kFenceHalfWidthDiv = 0.1;
+
+class HintedPoints {
+ public:
+  HintedPoints(const TraceSettings& settings, const GraticuleMapping& mapping, const Strip& strip,
+               const TrackGrid& grid)
+      : reach_(std::max(2.0, kHintReachDiv * grid.px_per_div)), px_per_div_(grid.px_per_div) {
+    for (const auto& [x, y] : settings.points_px) {
+      const cv::Point2d screen = mapping.ScreenFromImage({x, y});
+      points_.emplace_back(screen.x * grid.px_per_div, strip.RowOf(screen.y));
+    }
+    std::sort(points_.begin(), points_.end(),
+              [](const cv::Point2d& a, const cv::Point2d& b) { return a.x < b.x; });
+  }
+
+  bool empty() const { return points_.empty(); }
+
+  // kHintReward at a hinted point, half of it at the reach, 0 beyond.
+  double Reward(int column, double row) const {
+    double best = 0.0;
+    for (const cv::Point2d& p : points_) {
+      const double d = std::hypot(column - p.x, row - p.y);
+      if (d <= reach_) best = std::max(best, kHintReward * (1.0 - 0.5 * d / reach_));
+    }
+    return best;
+  }
+
+  // Whether a peak lies outside the corridor between two close points: the
+  // Catmull-Rom curve through them (its tangents from their neighbours),
+  // widened by kFenceHalfWidthDiv or half their rise.
+  bool Fenced(int column, double row) const {
+    const auto next = std::upper_bound(points_.begin(), points_.end(), static_cast<double>(column),
+                                       [](double c, const cv::Point2d& p) { return c < p.x; });
+    if (next == points_.begin() || next == points_.end()) return false;
+    const std::size_t i = static_cast<std::size_t>(next - points_.begin()) - 1;
+    const cv::Point2d& a = points_[i];
+    const cv::Point2d& b = points_[i + 1];
+    const double span = b.x - a.x;
+    if (!(span > 0.0) || span > kFenceSpanDiv * px_per_div_) return false;
+    const auto slope = [&](std::size_t k) {  // rows per column at point k
+      const cv::Point2d& lo = points_[k > 0 ? k - 1 : k];
+      const cv::Point2d& hi = points_[k + 1 < points_.size() ? k + 1 : k];
+      return hi.x > lo.x ? (hi.y - lo.y) / (hi.x - lo.x) : 0.0;
+    };
+    const double t = (column - a.x) / span, t2 = t * t, t3 = t2 * t;
+    const double curve = (2 * t3 - 3 * t2 + 1) * a.y + (t3 - 2 * t2 + t) * span * slope(i) +
+                         (-2 * t3 + 3 * t2) * b.y + (t3 - t2) * span * slope(i + 1);
+    const double half_width =
+        std::max({kFenceHalfWidthDiv * px_per_div_, 0.5 * std::abs(b.y - a.y), reach_});
+    return std::abs(row - curve) > half_width;
+  }
+
+ private:
+  double reach_;                     // strip pixels
+  double px_per_div_;                // strip pixels per division
+  std::vector<cv::Point2d> points_;  // (column, row), by column
 };
 
 }  // namespace
@@ -220,6 +296,9 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   const double noise_floor = std::max(6.0 * sigma, 1e-3);
   const double grid_floor = std::max(noise_floor, 1.2 * line_height);
   const GridNeighbourhood near_grid(graticule.divisions, grid.px_per_div);
+  // Beside a point the user gave, any peak is a candidate: the user has seen
+  // the trace there, however faint, or wherever a grid line runs.
+  const HintedPoints hints(settings, graticule.mapping, strip, grid);
 
   // Each column's peaks, read down the columns laid out as rows.
   const cv::Mat1f across = image.t();
@@ -230,18 +309,31 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
     const float* column = across.ptr<float>(c);
     for (int r = 1; r + 1 < image.rows; ++r) {
       const float v = column[r];
-      if (!(v > noise_floor && v > column[r - 1] && v >= column[r + 1])) continue;
+      if (!(v > 0.0f && v > column[r - 1] && v >= column[r + 1])) continue;
       const double a = column[r - 1], b = v, d = column[r + 1];
       const double curvature = a - 2.0 * b + d;
       const double row = r + (curvature < 0.0 ? 0.5 * (a - d) / curvature : 0.0);
-      if (v <= grid_floor && near_grid(grid.XOf(c), strip.YOf(row))) continue;
+      if (!hints.empty() && hints.Fenced(c, row)) continue;
+      const double hint_reward = hints.empty() ? 0.0 : hints.Reward(c, row);
+      if (hint_reward == 0.0) {
+        if (v <= noise_floor) continue;
+        if (v <= grid_floor && near_grid(grid.XOf(c), strip.YOf(row))) continue;
+      }
       if (claims.Taken(c, strip.YOf(row))) continue;
-      nodes.push_back({c, row, v});
+      nodes.push_back({c, row, v, hint_reward});
     }
-    std::sort(nodes.begin(), nodes.end(),
-              [](const Node& x, const Node& y) { return x.value > y.value; });
-    if (nodes.size() > kCandidatesPerColumn) nodes.resize(kCandidatesPerColumn);
-    if (!nodes.empty()) column_maxima.push_back(nodes.front().value);
+    // The brightest few, and every hinted one.
+    std::sort(nodes.begin(), nodes.end(), [](const Node& x, const Node& y) {
+      return std::pair(x.hint_reward > 0.0, x.value) > std::pair(y.hint_reward > 0.0, y.value);
+    });
+    const auto hinted = std::count_if(nodes.begin(), nodes.end(),
+                                      [](const Node& n) { return n.hint_reward > 0.0; });
+    if (nodes.size() > kCandidatesPerColumn + hinted) nodes.resize(kCandidatesPerColumn + hinted);
+    float brightest = 0.0f;
+    for (const Node& n : nodes) {
+      if (n.hint_reward == 0.0) brightest = std::max(brightest, n.value);
+    }
+    if (brightest > 0.0f) column_maxima.push_back(brightest);
   }
   CoarsePath path;
   path.grid = grid;
@@ -253,7 +345,8 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   path.level = level;
   path.floor = std::max(noise_floor, 0.3 * level);
   for (std::vector<Node>& nodes : columns) {
-    std::erase_if(nodes, [&](const Node& n) { return n.value < path.floor; });
+    std::erase_if(nodes,
+                  [&](const Node& n) { return n.value < path.floor && n.hint_reward == 0.0; });
   }
 
   // Dynamic programming over the columns.
@@ -277,7 +370,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   for (int c = 0; c < grid.columns; ++c) {
     for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
       Node& node = nodes[k];
-      const double reward = std::min(node.value / level, 1.5) - kRewardOffset;
+      const double reward = std::min(node.value / level, 1.5) - kRewardOffset + node.hint_reward;
       double best = 0.0, best_slope = 0.0, best_trust = 0.0;
       int previous = -1;
       unsigned char link = CoarsePath::kOnCourse;

@@ -16,6 +16,10 @@
 namespace impactlab {
 namespace {
 
+// Where the scratch leaves the left trace, and how long it runs, divisions.
+constexpr double kScratchFromDiv = 3.0;
+constexpr double kScratchLengthDiv = 3.0;
+
 // A rendered photo turned further than the lattice search looks (a camera
 // held askew): the rendered image rotated about its centre by an affine map,
 // and the true mapping with it.
@@ -90,6 +94,29 @@ GraticuleCorners ClickedCorners(const Truth& truth, double click_px) {
   return corners;
 }
 
+// The true centre line's screen point of trace `name` nearest screen x.
+cv::Point2d TruthAt(const RenderedPhoto& photo, const std::string& name, double x_div) {
+  for (const TraceTruth& t : photo.traces) {
+    if (t.name != name) continue;
+    cv::Point2d best(1e9, 1e9);
+    for (const cv::Point2d& p : t.screen_div) {
+      if (std::abs(p.x - x_div) < std::abs(best.x - x_div)) best = p;
+    }
+    return best;
+  }
+  return {};
+}
+
+// A scratch as wide as the trace and brighter, from screen `from` to `to`.
+void BrightScratch(cv::Mat& image, const RenderedPhoto& photo, cv::Point2d from_div,
+                   cv::Point2d to_div, int width_px) {
+  const cv::Point2d a = photo.ImageFromScreen(from_div), b = photo.ImageFromScreen(to_div);
+  const double full = image.depth() == CV_16U ? 65535.0 : 255.0;
+  cv::line(image, cv::Point(cvRound(a.x * 16), cvRound(a.y * 16)),
+           cv::Point(cvRound(b.x * 16), cvRound(b.y * 16)), cv::Scalar::all(full), width_px,
+           cv::LINE_AA, 4);
+}
+
 }  // namespace
 
 TEST_CASE("digitize hints: the corners hint reads a photo turned beyond the lattice search") {
@@ -147,6 +174,75 @@ TEST_CASE("digitize hints: a corner outside the photo is refused naming the key"
   const std::string message = InputErrorOf([&] { FindGraticule(prepared, {10, 8}, hinted); });
   CHECK_THAT(message, Catch::Contains("graticule_corners[2]"));
   CHECK_THAT(message, Catch::Contains("outside the photo"));
+}
+
+TEST_CASE("digitize hints: points on a trace keep its tracking off a bright scratch along it") {
+  const testing::RunScene run = testing::StandardRunScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kClean;
+  options.width_px = 2000;
+  options.seed = 5;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  // A scratch leaving the left trace where it falls towards an impact and
+  // running on straight, brighter than the trace: the tracking takes the
+  // brighter, straighter line.
+  const cv::Point2d start = TruthAt(photo, "left", kScratchFromDiv);
+  const cv::Point2d next = TruthAt(photo, "left", kScratchFromDiv + 0.1);
+  const cv::Point2d direction = (next - start) * (1.0 / cv::norm(next - start));
+  BrightScratch(photo.image, photo, start, start + direction * kScratchLengthDiv, 5);
+
+  const std::size_t left = 1;
+  const auto far_samples = [&](const DigitizeResult& result) {
+    const testing::TraceScore score =
+        testing::ScoreTrace(result.traces[left], photo, run.scene.traces[left], {10, 8});
+    return score;
+  };
+  const DigitizeResult lost =
+      DigitizePhoto({photo.image, "scratched.png"}, {10, 8}, run.requests, {});
+  const testing::TraceScore before = far_samples(lost);
+  CAPTURE(before.far_samples, before.samples, before.rms_px);
+  REQUIRE(before.far_samples > 20);  // the tracking follows the scratch without the hint
+
+  // Points on the trace every 0.3 division along the scratch, clicked to a
+  // pixel: close enough to fence the tracking in between.
+  std::vector<TraceRequest> requests = run.requests;
+  for (double x = kScratchFromDiv + 0.3; x < kScratchFromDiv + kScratchLengthDiv + 0.2; x += 0.3) {
+    const cv::Point2d p = photo.ImageFromScreen(TruthAt(photo, "left", x)) + cv::Point2d(0.7, -0.7);
+    requests[left].settings.points_px.push_back({p.x, p.y});
+  }
+  const DigitizeResult hinted =
+      DigitizePhoto({photo.image, "scratched.png"}, {10, 8}, requests, {});
+  const testing::TraceScore after = far_samples(hinted);
+  CAPTURE(after.far_samples, after.samples, after.rms_px, after.coverage);
+  CHECK(hinted.traces[left].from_points_hint);
+  CHECK(HintsUsed(hinted) == "left.points");
+  CHECK(after.far_samples <= after.samples / 100);
+  CHECK(after.rms_px < 0.3);
+  CHECK(after.coverage > 0.7);  // the chopper draws 75 % of the sweep
+}
+
+TEST_CASE(
+    "digitize hints: a trace not found names the points hint; a point off its band is refused") {
+  const testing::RunScene run = testing::StandardRunScene();
+  const RenderedPhoto photo = RenderOscillograph(run.scene, {});
+  // The left trace looked for where nothing is drawn.
+  std::vector<TraceRequest> requests = {run.requests[1]};
+  requests[0].settings.band_div = {3.0, 3.9};
+  requests[0].settings.zero_div = 3.5;
+  std::string message = InputErrorOf([&] {
+    DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {});
+  });
+  CHECK_THAT(message, Catch::Contains("trace 'left' not found"));
+  CHECK_THAT(message, Catch::Contains("points = [[x, y], ...]"));
+
+  // A hinted point outside the band: a slip, named by its key.
+  requests = {run.requests[1]};
+  const cv::Point2d off = photo.ImageFromScreen({5.0, 2.0});
+  const cv::Point2d on = photo.ImageFromScreen(TruthAt(photo, "left", 5.0));
+  requests[0].settings.points_px = {{on.x, on.y}, {off.x, off.y}};
+  message = InputErrorOf([&] { DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {}); });
+  CHECK_THAT(message, Catch::Contains("traces.left.points[1]"));
+  CHECK_THAT(message, Catch::Contains("outside its band [-2.4, 0] div"));
 }
 
 }  // namespace impactlab
