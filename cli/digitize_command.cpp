@@ -21,6 +21,7 @@ struct Target {
   std::string id;
   std::vector<TraceRequest> requests;
   std::optional<std::filesystem::path> photo;
+  std::optional<GraticuleCorners> corners_px;  // the manifest's hint for that photo
 };
 
 Target FindTarget(const Session& session, const std::string& run_id,
@@ -32,14 +33,17 @@ Target FindTarget(const Session& session, const std::string& run_id,
   }
   if (!run_id.empty()) {
     for (const Run& run : session.runs) {
-      if (run.id == run_id) return {run.id, TraceRequestsOf(run), run.photo};
+      if (run.id == run_id) {
+        return {run.id, TraceRequestsOf(run), run.photo, run.graticule_corners_px};
+      }
     }
     throw InputError({session.manifest, "run", std::nullopt},
                      fmt::format("no run with id \"{}\"", run_id));
   }
   for (const Calibration& calibration : session.calibrations) {
     if (calibration.id == calibration_id) {
-      return {calibration.id, TraceRequestsOf(calibration), calibration.photo};
+      return {calibration.id, TraceRequestsOf(calibration), calibration.photo,
+              calibration.graticule_corners_px};
     }
   }
   throw InputError({session.manifest, "calibration", std::nullopt},
@@ -130,6 +134,9 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
       DigitizeOptions options;
       options.graticule.detect_width_px = args->detect_width_px;
       options.traces.method = ParseMethod(args->method);
+      // The manifest's corners are pixels of the manifest's photo, not of
+      // another one named on the command line.
+      if (args->photo.empty()) options.graticule.corners_px = target.corners_px;
       const DigitizeResult result =
           DigitizePhoto(photo, session.divisions, target.requests, options);
 
@@ -161,6 +168,9 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
           } else if (t.settings.impact) {
             fmt::print("  {}: no complete contact pulse seen\n", t.name);
           }
+        }
+        if (const std::string hints = HintsUsed(result); !hints.empty()) {
+          fmt::print("  manual hints used: {}\n", hints);
         }
         fmt::print("  {:.1f} ms beyond decoding\n", result.ProcessingMs());
       }

@@ -21,6 +21,22 @@ std::vector<unsigned char> EncodeOverlay(const Photo& photo, const DigitizeResul
   return jpeg;
 }
 
+// The manifest's corners hint for the photo at `path`: of the run or the
+// calibration whose photo it is (the first that gives one, should two
+// entries share a photo).
+std::optional<GraticuleCorners> CornersHintOf(const std::filesystem::path& path,
+                                              const Session& session) {
+  for (const Run& run : session.runs) {
+    if (run.photo == path && run.graticule_corners_px) return run.graticule_corners_px;
+  }
+  for (const Calibration& calibration : session.calibrations) {
+    if (calibration.photo == path && calibration.graticule_corners_px) {
+      return calibration.graticule_corners_px;
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
@@ -29,14 +45,16 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   const Photo photo = DecodePhoto(ReadSessionFile(session.folder, path), path);
   std::vector<TraceRequest> requests;
   for (const auto& [name, settings] : traces) requests.push_back({name, settings});
-  const DigitizeResult result =
-      DigitizePhoto(photo, session.divisions, requests, DigitizeOptions{});
+  DigitizeOptions options;
+  options.graticule.corners_px = CornersHintOf(path, session);
+  const DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
 
   DigitizedPhoto out;
   out.overlay.photo = std::filesystem::relative(path, session.folder).string();
   out.overlay.jpeg = EncodeOverlay(photo, result);
   out.overlay.graticule_residual_px = result.graticule.residual_px;
   out.overlay.processing_ms = result.ProcessingMs();
+  out.overlay.hints = HintsUsed(result);
   for (std::size_t i = 0; i < result.traces.size(); ++i) {
     const DigitizedTrace& t = result.traces[i];
     out.traces[t.name] = t.trace;

@@ -51,6 +51,8 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
 void WriteOverlay(Hdf5File& f, const std::string& h, const PhotoOverlay& o) {
   f.CreateGroup(h);
   f.SetAttribute(h, "photo", o.photo);
+  // Said where a reader of the results looks: the numbers rest on the user's hints.
+  if (!o.hints.empty()) f.SetAttribute(h, "hints", o.hints);
   f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
   f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
   f.WriteStrings(h + "/trace_names", o.trace_names);
@@ -63,6 +65,7 @@ void WriteOverlay(Hdf5File& f, const std::string& h, const PhotoOverlay& o) {
 PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
   PhotoOverlay o;
   o.photo = f.ReadStringAttribute(h, "photo");
+  if (f.HasAttribute(h, "hints")) o.hints = f.ReadStringAttribute(h, "hints");
   o.jpeg = f.ReadBytes(h + "/overlay_jpeg");
   o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
   o.trace_names = f.ReadStrings(h + "/trace_names");

@@ -66,6 +66,16 @@ void AddTrace(Hasher& h, const std::filesystem::path& folder, const TraceSetting
   h.Add(s.time_per_div).Add(s.volts_per_div).Add(s.zero_div).Add(s.band_div[0]).Add(s.band_div[1]);
   h.Add(s.t0_div).Add(s.impact ? std::to_string(*s.impact) : "-");
   if (s.csv) h.AddFile(folder, *s.csv);
+  // A manual hint changes what is measured: a hinted photo is measured afresh.
+  h.Add(s.points_px.size());
+  for (const auto& [x, y] : s.points_px) h.Add(x).Add(y);
+}
+
+void AddCorners(Hasher& h, const std::optional<GraticuleCorners>& corners) {
+  h.Add(corners.has_value());
+  if (corners) {
+    for (const auto& [x, y] : *corners) h.Add(x).Add(y);
+  }
 }
 
 // The options structs reduce measures with (built with their defaults in
@@ -135,6 +145,7 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
   h.Add(run.contact_time.value_or(-1.0)).Add(run.rebound_uncertainty.value_or(-1.0));
   h.Add(run.contact_time_uncertainty.value_or(-1.0));
   if (run.photo) h.AddFile(session.folder, *run.photo);
+  AddCorners(h, run.graticule_corners_px);
   for (const auto& [name, trace] : run.traces) {
     h.Add(name);
     AddTrace(h, session.folder, trace);
@@ -146,6 +157,7 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
     if (c == session.calibrations.end()) continue;
     h.Add(c->cell).Add(c->initial_displacement);
     if (c->photo) h.AddFile(session.folder, *c->photo);
+    AddCorners(h, c->graticule_corners_px);
     AddTrace(h, session.folder, c->trace);
   }
   return h.Hex();

@@ -54,6 +54,9 @@ struct PhotoOverlay {
   // px^2 (0: not measured; digitize/beam_spread.h).
   std::vector<double> trace_spread_px2, trace_spread_sigma_px2;
   double processing_ms = 0;  // digitizing beyond decoding
+  // The manual hints of the manifest the digitizing used, e.g.
+  // "graticule_corners, left.points" (empty: none; digitize/digitize.h HintsUsed).
+  std::string hints;
 };
 
 // A sampled curve for the report's figures (decimated to a few thousand points).
