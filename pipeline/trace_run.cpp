@@ -349,7 +349,10 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   const DisplacementHistory average =
       histories.size() == 2 ? AverageHistories(histories["right"], histories["left"], max_bridge_s)
                             : histories.begin()->second;
-  BarRebounds from_average = extract(average);
+  // Bars drawn in alternate chopper slots longer than a bridge have no time
+  // both can be read at: the mean of the bars' own maxima then stands alone.
+  const bool averaged = histories.size() == 1 || average.time_s.size() >= kMinHistorySamples;
+  BarRebounds from_average = averaged ? extract(average) : BarRebounds{};
   if (histories.size() == 2) {
     // The average of the two histories reads through both curves.
     AddCurveSigma(from_average, [&](double x) {

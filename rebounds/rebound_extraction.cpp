@@ -314,8 +314,9 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
                                   const ReboundExtractionOptions& options) {
   std::string error;
   if (!options.Check(&error)) throw std::invalid_argument(error);
-  if (h.time_s.size() != h.displacement.size() || h.time_s.size() < 16) {
-    throw std::invalid_argument("a displacement history needs at least 16 samples");
+  if (h.time_s.size() != h.displacement.size() || h.time_s.size() < kMinHistorySamples) {
+    throw std::invalid_argument(
+        fmt::format("a displacement history needs at least {} samples", kMinHistorySamples));
   }
   const double largest = *std::max_element(h.displacement.begin(), h.displacement.end());
   if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");

@@ -23,6 +23,9 @@
 
 namespace impactlab {
 
+// The fewest samples a history must hold for ExtractRebounds.
+inline constexpr std::size_t kMinHistorySamples = 16;
+
 struct DisplacementHistory {
   std::vector<double> time_s;        // s since release, increasing
   std::vector<double> displacement;  // length units
