@@ -14,7 +14,9 @@
 #include <cmath>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fmt/core.h>
@@ -37,6 +39,32 @@ double NearestRank(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   const auto rank = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
   return v[std::min(rank, v.size() - 1)];
+}
+
+// Where a session's reduce spends its time, thread-seconds summed over its
+// runs (a calibration shared by runs counted once): the photos' decoding and
+// digitizing (load, of which digitizing beyond decoding), the calibrations'
+// fits, the rebounds' extraction and the fits.
+struct Stages {
+  double load = 0.0, digitize = 0.0, calibrate = 0.0, extract = 0.0, fit = 0.0;
+};
+
+Stages StagesOf(const SessionResult& result) {
+  Stages t;
+  std::set<std::string> calibrations;
+  for (const RunResult& run : result.runs) {
+    t.load += run.seconds.load;
+    t.calibrate += run.seconds.calibrate;
+    t.extract += run.seconds.extract;
+    t.fit += run.seconds.fit;
+    for (const PhotoOverlay& overlay : run.overlays) t.digitize += 1e-3 * overlay.processing_ms;
+    for (const CellCalibration& c : run.calibrations) {
+      if (c.overlay && calibrations.insert(c.calibration_id).second) {
+        t.digitize += 1e-3 * c.overlay->processing_ms;
+      }
+    }
+  }
+  return t;
 }
 
 struct Score {
@@ -144,6 +172,7 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
       jobs);
   fmt::print("|---|---|---|---|---|---|---|---|---|\n");
   Score all;
+  std::vector<std::tuple<std::string, double, double, Stages>> stage_rows;
   for (const fs::path& folder : folders) {
     std::ifstream in(folder.string() + ".truth.json");
     const nlohmann::json truth = nlohmann::json::parse(in);
@@ -162,6 +191,7 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
     s.reduce_s = Seconds(start);
     s.decode_s = decode_s;
     PrintRow(folder.filename().string(), s);
+    stage_rows.emplace_back(folder.filename().string(), decode_s, s.reduce_s, StagesOf(result));
     all.runs += s.runs;
     all.failed += s.failed;
     all.should_reduce += s.should_reduce;
@@ -180,6 +210,16 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
       "Targets (issue 15): every run reduces, no rebound missed, Xmax median <= 0.05 %, p95 <= "
       "0.15 %, contact median <= 0.1 %, worst <= 0.25 %, pull RMS 0.7-1.4; reduce / decode <= 1.5 "
       "(here in-process; decode is single-threaded).\n");
+  fmt::print(
+      "\nWhere the time goes (thread-seconds summed over each session's runs; load = the "
+      "photos' decoding and digitizing, of which digitizing beyond decoding):\n\n"
+      "| session | decode s (1 thread) | reduce s ({} threads) | load | of which digitizing | "
+      "calibrate | extract | fit |\n|---|---|---|---|---|---|---|---|\n",
+      jobs);
+  for (const auto& [name, decode_s, reduce_s, t] : stage_rows) {
+    fmt::print("| {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |\n", name,
+               decode_s, reduce_s, t.load, t.digitize, t.calibrate, t.extract, t.fit);
+  }
   return 0;
 }
 
