@@ -13,6 +13,7 @@
 #include "io/errors.h"
 #include "render/oscillograph.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/support/input_error.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -24,16 +25,7 @@ void WriteBytes(const std::filesystem::path& path, const std::vector<uchar>& byt
             static_cast<std::streamsize>(bytes.size()));
 }
 
-// The message of the InputError `f` throws (empty when none is thrown).
-template <typename F>
-std::string InputErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::InputErrorOf;
 
 std::vector<uchar> Encoded(const cv::Mat& image, const std::string& extension) {
   std::vector<uchar> bytes;

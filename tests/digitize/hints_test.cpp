@@ -12,6 +12,7 @@
 #include "io/errors.h"
 #include "photo_scenes.h"
 #include "render/oscillograph.h"
+#include "tests/support/input_error.h"
 
 namespace impactlab {
 namespace {
@@ -69,16 +70,7 @@ testing::TraceScore ScoreTurned(const DigitizedTrace& trace, const RenderedPhoto
   return score;
 }
 
-// The message of the InputError `f` throws (empty when none is thrown).
-template <typename F>
-std::string InputErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::InputErrorOf;
 
 // The screen's corners in the photo as a user would click them: the truth
 // moved by up to `click_px` in varied directions.

@@ -276,7 +276,11 @@ TEST_CASE("oscillograph: samples off the graticule are clipped and have no truth
   CHECK(truth.time_s.back() <= 5.0);
 }
 
-TEST_CASE("oscillograph: chopped traces on one beam alternate in dashes") {
+namespace {
+
+// Two flat traces chopped on one beam, 1.5 divisions above and below the
+// centre, over a 5 s sweep.
+OscillographScene TwoFlatChoppedTraces() {
   OscillographScene scene;
   ScreenTrace upper{"right", {}, {}, Sweep(0.5, 0.2, 1.5), BeamMode::kChopped, 0};
   ScreenTrace lower{"left", {}, {}, Sweep(0.5, 0.2, -1.5), BeamMode::kChopped, 0};
@@ -287,6 +291,13 @@ TEST_CASE("oscillograph: chopped traces on one beam alternate in dashes") {
   lower.time_s = upper.time_s;
   lower.volts = upper.volts;
   scene.traces = {upper, lower};
+  return scene;
+}
+
+}  // namespace
+
+TEST_CASE("oscillograph: chopped traces on one beam alternate in dashes") {
+  const OscillographScene scene = TwoFlatChoppedTraces();
   RenderOptions options;
   options.width_px = 1200;
   options.chop_dash_div = 0.25;
@@ -510,16 +521,7 @@ TEST_CASE("oscillograph: the randomised style's traces lie where the truth says"
 }
 
 TEST_CASE("oscillograph: the chopper's phase shifts the dashes, a beam's brightness its light") {
-  OscillographScene scene;
-  ScreenTrace upper{"right", {}, {}, Sweep(0.5, 0.2, 1.5), BeamMode::kChopped, 0};
-  ScreenTrace lower{"left", {}, {}, Sweep(0.5, 0.2, -1.5), BeamMode::kChopped, 0};
-  for (int i = 0; i <= 4000; ++i) {
-    upper.time_s.push_back(5.0 * i / 4000);
-    upper.volts.push_back(0.0);
-  }
-  lower.time_s = upper.time_s;
-  lower.volts = upper.volts;
-  scene.traces = {upper, lower};
+  OscillographScene scene = TwoFlatChoppedTraces();
   RenderOptions options;
   options.width_px = 1200;
   options.chop_dash_div = 0.25;
