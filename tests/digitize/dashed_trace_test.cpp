@@ -108,6 +108,45 @@ TEST_CASE("digitize dashed: sparse dashes on a bright graticule or across scratc
 namespace impactlab {
 namespace {
 
+TEST_CASE("digitize dashed: a continuous scratch across sparse dots does not take their course") {
+  // Dots a fifth of a 0.12-division slot long: a scratch crossing the band
+  // steeply holds a peak in every column it crosses, the trace in one of
+  // four or five, so column by column the scratch earns more than the dots
+  // even where it is fainter, and where it crosses the trace's own flank it
+  // continues the trace's course.
+  const testing::RunScene run = testing::StandardRunScene();
+  for (const auto& [level, thickness] :
+       {std::pair{0.5, 1}, std::pair{0.8, 1}, std::pair{0.4, 5}, std::pair{0.6, 5}}) {
+    RenderOptions options;
+    options.style = PhotoStyle::kClean;
+    options.width_px = 2000;
+    options.seed = 5;
+    options.chop_dash_div = 0.12;
+    options.chop_duty = 0.22;
+    options.beam_fwhm_div = 0.025;
+    RenderedPhoto photo = RenderOscillograph(run.scene, options);
+    // Across the right trace's band, steeply, and across the left's.
+    testing::Scratch(photo.image, photo, {5.3, -0.2}, {6.4, 4.0}, level, thickness);
+    testing::Scratch(photo.image, photo, {2.2, 0.2}, {3.1, -2.6}, level, thickness);
+    const DigitizeResult result =
+        DigitizePhoto({photo.image, "dots-and-scratch.png"}, {10, 8}, run.requests, {});
+    for (std::size_t k = 0; k < 2; ++k) {
+      const std::vector<double> misses = Misses(result.traces[k], photo);
+      const auto far =
+          std::count_if(misses.begin(), misses.end(), [](double d) { return d > 3.0; });
+      INFO("scratch " << thickness << " px at " << level << " of full scale, "
+                      << result.traces[k].name << ": " << misses.size() << " samples, " << far
+                      << " off the line");
+      // Followed along the dots: what lies off them is the crossing itself,
+      // where the scratch's light pulls the centre (a tenth of a division
+      // of the sweep for the thick bright scratch). Taking the scratch's
+      // course put 29-38 % of the right trace's samples off it.
+      CHECK(misses.size() > 100);
+      CHECK(static_cast<std::size_t>(far) <= misses.size() / 10);
+    }
+  }
+}
+
 TEST_CASE("digitize dashed: traces as bright as the grid are read where they leave its lines") {
   // The graticule redrawn as bright as the traces: nothing in brightness
   // tells a trace from a grid line, but a grid line lies on the graticule's

@@ -192,16 +192,16 @@ inline TraceScore ScoreTrace(const DigitizedTrace& digitized, const RenderedPhot
   return score;
 }
 
-// A thin straight line between two screen points, drawn at `level` of full
-// scale: a scratch or a hair (bright on a dark print, dark on a negative's
+// A straight line between two screen points, `thickness_px` wide, drawn at
+// `level` of full scale: a scratch or a hair (bright on a dark print, dark on a negative's
 // light ground), or a grid line redrawn.
 inline void Scratch(cv::Mat& image, const RenderedPhoto& photo, cv::Point2d from_div,
-                    cv::Point2d to_div, double level) {
+                    cv::Point2d to_div, double level, int thickness_px = 1) {
   const cv::Point2d a = photo.ImageFromScreen(from_div), b = photo.ImageFromScreen(to_div);
   const double full = image.depth() == CV_16U ? 65535.0 : 255.0;
   cv::line(image, cv::Point(cvRound(a.x * 16), cvRound(a.y * 16)),
-           cv::Point(cvRound(b.x * 16), cvRound(b.y * 16)), cv::Scalar::all(level * full), 1,
-           cv::LINE_AA, 4);
+           cv::Point(cvRound(b.x * 16), cvRound(b.y * 16)), cv::Scalar::all(level * full),
+           thickness_px, cv::LINE_AA, 4);
 }
 
 // Redraws the graticule's lines brighter, as on a print whose graticule was lit
