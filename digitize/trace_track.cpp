@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "digitize/course_search.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
 #include "digitize/select.h"
@@ -22,19 +23,12 @@ constexpr double kOverscanDiv = 0.3;
 // Candidate peaks kept per column.
 constexpr int kCandidatesPerColumn = 6;
 
-// Path costs, in units of one full-height peak's reward.
-constexpr double kBendWeight = 0.5;    // per (dy div off the course's slope)^2 / (dx div)
-constexpr double kSteepWeight = 0.02;  // per (dy div)^2 / (dx div): keeps a course from wandering
-constexpr double kGapWeight = 2.0;     // per division of gap
-constexpr double kRestartCost = 3.0;   // a trace reappearing off its course after a gap
-constexpr double kJumpCost = 2.0;      // a contact trace's step, whatever its height
-constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to pay
 // A course found without a suspected foreign run that passes this far from it
 // went elsewhere: the run was not the trace's, divisions.
 constexpr double kAwayDiv = 0.1;
 // A peak beside a point the user gave (TraceSettings::points_px) earns this
 // much more: more than any detour to reach it costs (a restart costs
-// kRestartCost), so the best path passes through every hinted point.
+// 3, course_search.cpp), so the best path passes through every hinted point.
 constexpr double kHintReward = 10.0;
 // How near a hinted point a peak must lie to earn it, divisions (at least 2
 // strip pixels): a click is good to a few photo pixels, and a steep flank
@@ -176,18 +170,6 @@ class GridNeighbourhood {
   double line_reach_;
 };
 
-struct Node {
-  int column = 0;
-  double row = 0.0;  // sub-row peak position
-  float value = 0.0f;
-  double hint_reward = 0.0;  // beside a hinted point: kHintReward, less with the distance
-  double score = 0.0;
-  int previous = -1;  // node index, or -1 for a start
-  unsigned char link = CoarsePath::kOnCourse;
-  double slope = 0.0;  // the course's slope arriving here, rows' direction, div/div
-  double trust = 0.0;  // 0..1: how far that slope is to be believed
-};
-
 // The points a trace's settings say it passes through, in strip columns and
 // rows: the reward a peak near one of them earns, and, between two points
 // at most kFenceSpanDiv apart, the corridor the trace keeps to. Attraction
@@ -254,179 +236,6 @@ class HintedPoints {
   double px_per_div_;                // strip pixels per division
   std::vector<cv::Point2d> points_;  // (column, row), by column
 };
-
-// The chosen candidates of a course, in column order.
-struct Chosen {
-  int column = 0;
-  int index = 0;  // in its column's candidates
-  unsigned char link = CoarsePath::kOnCourse;
-};
-
-// The best-scoring course through the columns' candidates by dynamic
-// programming: per column one candidate or none, rewarded for its peak and
-// charged for leaving the course, steepness, gaps and restarts.
-std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, const TrackGrid& grid,
-                               double level, bool step_trace, int max_gap) {
-  std::vector<Node> nodes;
-  std::vector<int> first_of(grid.columns + 1, 0);
-  for (int c = 0; c < grid.columns; ++c) {
-    first_of[c] = static_cast<int>(nodes.size());
-    nodes.insert(nodes.end(), columns[c].begin(), columns[c].end());
-  }
-  first_of[grid.columns] = static_cast<int>(nodes.size());
-  // best_up_to[c]: the best-scoring node in columns 0..c (index), for restarts.
-  std::vector<int> best_up_to(grid.columns, -1);
-  // column_best[c]: the best score in column c. Leaving the course and gaps
-  // only cost, so no node of a column scores more than that less the gap:
-  // columns that cannot beat the best link so far are passed over.
-  std::vector<double> column_best(grid.columns, -std::numeric_limits<double>::infinity());
-  const double dx_unit = 1.0 / grid.px_per_div;
-  for (int c = 0; c < grid.columns; ++c) {
-    for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
-      Node& node = nodes[k];
-      const double reward = std::min(node.value / level, 1.5) - kRewardOffset + node.hint_reward;
-      double best = 0.0, best_slope = 0.0, best_trust = 0.0;
-      int previous = -1;
-      unsigned char link = CoarsePath::kOnCourse;
-      for (int d = 1; d <= max_gap && c - d >= 0; ++d) {
-        const double dx = d * dx_unit;
-        const double gap = kGapWeight * (d - 1) * dx_unit;
-        if (!(column_best[c - d] - gap > best)) continue;
-        for (int j = first_of[c - d]; j < first_of[c - d + 1]; ++j) {
-          const Node& from = nodes[j];
-          // Rows grow downwards; slopes here are in rows' direction, div/div.
-          const double dy = (node.row - from.row) * dx_unit;
-          const double off_course = dy - from.slope * dx;
-          double bend =
-              kBendWeight * from.trust * off_course * off_course / dx + kSteepWeight * dy * dy / dx;
-          unsigned char kind = CoarsePath::kOnCourse;
-          if (step_trace && bend > kJumpCost) bend = kJumpCost, kind = CoarsePath::kStep;
-          const double score = from.score - bend - gap;
-          if (score > best) {
-            best = score, previous = j, link = kind;
-            if (step_trace) {
-              best_slope = 0.0, best_trust = 1.0;  // a contact trace's levels are flat
-            } else {
-              // The course's slope, smoothed over the last few columns; trust
-              // in it grows with the path's length.
-              const double weight = std::min(1.0, d / 4.0);
-              best_slope =
-                  from.trust > 0.0 ? (1.0 - weight) * from.slope + weight * dy / dx : dy / dx;
-              best_trust = std::min(1.0, from.trust + 0.2 * d);
-            }
-          }
-        }
-      }
-      // After a gap the trace may reappear anywhere, at a price.
-      if (c - 2 >= 0) {
-        const int j = best_up_to[c - 2];
-        if (j >= 0 && nodes[j].score - kRestartCost > best) {
-          best = nodes[j].score - kRestartCost, previous = j, link = CoarsePath::kRestart;
-          best_slope = 0.0, best_trust = step_trace ? 1.0 : 0.0;
-        }
-      }
-      node.slope = best_slope;
-      node.trust = step_trace ? 1.0 : best_trust;
-      node.score = reward + best;
-      node.previous = previous;
-      node.link = link;
-      column_best[c] = std::max(column_best[c], node.score);
-    }
-    best_up_to[c] = c > 0 ? best_up_to[c - 1] : -1;
-    for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
-      if (best_up_to[c] < 0 || nodes[k].score > nodes[best_up_to[c]].score) best_up_to[c] = k;
-    }
-  }
-  std::vector<Chosen> chosen;
-  for (int k = best_up_to[grid.columns - 1]; k >= 0; k = nodes[k].previous) {
-    chosen.push_back({nodes[k].column, k - first_of[nodes[k].column], nodes[k].link});
-  }
-  std::reverse(chosen.begin(), chosen.end());
-  return chosen;
-}
-
-// A chopped trace is drawn in only part of each chopper slot, so its course
-// holds candidates in runs of neighbouring columns no longer than a dash,
-// all alike, over about the chopper's duty of its columns. A run spanning
-// several of the chopper's periods, on a course that is otherwise under
-// kChoppedShare occupied, is something else the course took: a scratch or a hair crossing
-// the band, whose continuous line out-earns sparse dashes column by column
-// (and may even continue the trace's course where it crosses it). Returns
-// those runs' candidates.
-std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
-  constexpr double kChoppedShare = 0.6;  // of the rest of the course's columns
-  constexpr int kMinColumns = 8;
-  constexpr double kPeriods = 3.0;  // a foreign run spans more of the chopper's periods
-  struct Run {
-    std::size_t first = 0, end = 0;  // into `chosen`
-  };
-  std::vector<Run> runs;
-  for (std::size_t i = 0; i < chosen.size(); ++i) {
-    const bool joined = i > 0 && chosen[i].column == chosen[i - 1].column + 1 &&
-                        chosen[i].link != CoarsePath::kRestart;
-    if (!joined) runs.push_back({i, i});
-    runs.back().end = i + 1;
-  }
-  // Chopped: many runs, nearly all of a dash's length (a continuous trace
-  // seen in pieces has few, of every length).
-  constexpr std::size_t kMinRuns = 10;
-  constexpr double kRegularShare = 0.8;
-  if (runs.size() < kMinRuns) return {};
-  std::vector<float> lengths;
-  for (const Run& r : runs) lengths.push_back(static_cast<float>(r.end - r.first));
-  const double usual = MedianOf(lengths);
-  const auto regular =
-      std::count_if(lengths.begin(), lengths.end(), [&](float l) { return l <= 2.0 * usual; });
-  if (regular < kRegularShare * static_cast<double>(runs.size())) return {};
-  // The chopper's period on the course: a dash and the gap after it.
-  std::vector<float> gaps;
-  for (std::size_t k = 1; k < runs.size(); ++k) {
-    gaps.push_back(
-        static_cast<float>(chosen[runs[k].first].column - chosen[runs[k - 1].end - 1].column - 1));
-  }
-  // A chopper the columns resolve: its gaps two columns or more. Finer
-  // chopping (dense dot chains) leaves runs that grid lines and their
-  // ticks cut, not the chopper, and says nothing of a foreign line.
-  const double usual_gap = MedianOf(gaps);
-  if (usual_gap < 2.0) return {};
-  const double period = usual + usual_gap;
-  const int span = chosen.back().column - chosen.front().column + 1;
-  std::vector<Chosen> foreign;
-  for (const Run& r : runs) {
-    const auto length = static_cast<double>(r.end - r.first);
-    if (length < std::max<double>(kMinColumns, kPeriods * period)) continue;
-    const double rest_seen = static_cast<double>(chosen.size()) - length;
-    if (!(rest_seen < kChoppedShare * (span - length))) continue;
-    foreign.insert(foreign.end(), chosen.begin() + r.first, chosen.begin() + r.end);
-  }
-  return foreign;
-}
-
-// Whether `course` (on the candidates `kept`) runs more than `away_rows`
-// from the `suspect` candidates (on `all`) in at least half their columns,
-// its row taken between its own candidates either side.
-bool RunsElsewhere(const std::vector<Chosen>& course, const std::vector<std::vector<Node>>& kept,
-                   const std::vector<Chosen>& suspect, const std::vector<std::vector<Node>>& all,
-                   double away_rows) {
-  if (course.empty()) return false;
-  std::size_t away = 0, next = 0;
-  for (const Chosen& s : suspect) {
-    while (next < course.size() && course[next].column < s.column) ++next;
-    double row = 0.0;
-    if (next < course.size() && course[next].column == s.column) {
-      row = kept[s.column][course[next].index].row;
-    } else if (next > 0 && next < course.size()) {
-      const Chosen& a = course[next - 1];
-      const Chosen& b = course[next];
-      const double f = static_cast<double>(s.column - a.column) / (b.column - a.column);
-      row = (1.0 - f) * kept[a.column][a.index].row + f * kept[b.column][b.index].row;
-    } else {
-      continue;  // beyond the course's ends: no course there to compare
-    }
-    away += std::abs(row - all[s.column][s.index].row) > away_rows;
-  }
-  return 2 * away >= suspect.size();
-}
 
 }  // namespace
 
@@ -504,7 +313,8 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
     });
     const auto hinted = std::count_if(nodes.begin(), nodes.end(),
                                       [](const Node& n) { return n.hint_reward > 0.0; });
-    if (nodes.size() > kCandidatesPerColumn + hinted) nodes.resize(kCandidatesPerColumn + hinted);
+    const auto keep = static_cast<std::size_t>(kCandidatesPerColumn + hinted);
+    if (nodes.size() > keep) nodes.resize(keep);
     float brightest = 0.0f;
     for (const Node& n : nodes) {
       if (n.hint_reward == 0.0) brightest = std::max(brightest, n.value);

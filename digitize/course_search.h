@@ -1,0 +1,50 @@
+// The coarse course through a band's candidate peaks (internal to
+// digitize/): dynamic programming over the strip's columns, and the check
+// that takes a continuous line crossing a chopped trace out of its course.
+#pragma once
+
+#include <vector>
+
+#include "digitize/trace_track.h"
+
+namespace impactlab::digitize {
+
+// A candidate peak in a strip column, and the best course reaching it.
+struct Node {
+  int column = 0;
+  double row = 0.0;  // sub-row peak position
+  float value = 0.0f;
+  double hint_reward = 0.0;  // beside a hinted point: the hint's reward, less with the distance
+  double score = 0.0;
+  int previous = -1;  // node index, or -1 for a start
+  unsigned char link = CoarsePath::kOnCourse;
+  double slope = 0.0;  // the course's slope arriving here, rows' direction, div/div
+  double trust = 0.0;  // 0..1: how far that slope is to be believed
+};
+
+// A course's chosen candidates, in column order.
+struct Chosen {
+  int column = 0;
+  int index = 0;  // in its column's candidates
+  unsigned char link = CoarsePath::kOnCourse;
+};
+
+// The best-scoring course through the columns' candidates: per column one
+// candidate or none, rewarded for its peak (relative to `level`) and charged
+// for leaving the course, steepness, gaps (bridged up to `max_gap` columns)
+// and restarts; a step trace's levels are flat and its edges jump.
+std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, const TrackGrid& grid,
+                               double level, bool step_trace, int max_gap);
+
+// The candidates of runs of neighbouring columns that look foreign to a
+// chopped trace's course: a continuous line (scratch, hair) it took. Empty
+// when the course does not show a chopper the columns resolve.
+std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen);
+
+// Whether `course` (on the candidates `kept`) runs more than `away_rows`
+// from the `suspect` candidates (on `all`) in at least half their columns.
+bool RunsElsewhere(const std::vector<Chosen>& course, const std::vector<std::vector<Node>>& kept,
+                   const std::vector<Chosen>& suspect, const std::vector<std::vector<Node>>& all,
+                   double away_rows);
+
+}  // namespace impactlab::digitize
