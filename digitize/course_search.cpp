@@ -17,6 +17,7 @@ constexpr double kGapWeight = 2.0;     // per division of gap
 constexpr double kRestartCost = 3.0;   // a trace reappearing off its course after a gap
 constexpr double kJumpCost = 2.0;      // a contact trace's step, whatever its height
 constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to pay
+
 double MedianOf(std::vector<float>& values) {
   if (values.empty()) return 0.0;
   return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
