@@ -12,15 +12,12 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "render/random_draw.h"
 #include "render/styles.h"
 
 namespace impactlab::render {
 
 namespace {
-
-double Uniform(std::mt19937_64& random, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(random);
-}
 
 // Uniform in log: for scale factors whose small values matter as much as
 // their large ones (size, blur, noise, brightness).
@@ -28,19 +25,7 @@ double LogUniform(std::mt19937_64& random, double lo, double hi) {
   return std::exp(Uniform(random, std::log(lo), std::log(hi)));
 }
 
-int UniformInt(std::mt19937_64& random, int lo, int hi) {
-  return std::uniform_int_distribution<int>(lo, hi)(random);
-}
-
 bool Chance(std::mt19937_64& random, double p) { return Uniform(random, 0.0, 1.0) < p; }
-
-std::vector<cv::Point2d> Corners(const cv::Rect2d& r) {
-  return {{r.x, r.y}, {r.x + r.width, r.y}, {r.x + r.width, r.y + r.height}, {r.x, r.y + r.height}};
-}
-
-cv::Rect2d Grow(const cv::Rect2d& r, double dx, double dy) {
-  return {r.x - dx, r.y - dy, r.width + 2 * dx, r.height + 2 * dy};
-}
 
 // Phosphors a scope of the time might have: P31 (green, most), P11 (blue,
 // for photography), P7 (bluish white).

@@ -7,25 +7,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "render/random_draw.h"
+
 namespace impactlab::render {
 
 namespace {
-
-double Uniform(std::mt19937_64& random, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(random);
-}
-
-int UniformInt(std::mt19937_64& random, int lo, int hi) {
-  return std::uniform_int_distribution<int>(lo, hi)(random);
-}
-
-std::vector<cv::Point2d> Corners(const cv::Rect2d& r) {
-  return {{r.x, r.y}, {r.x + r.width, r.y}, {r.x + r.width, r.y + r.height}, {r.x, r.y + r.height}};
-}
-
-cv::Rect2d Grow(const cv::Rect2d& r, double dx, double dy) {
-  return {r.x - dx, r.y - dy, r.width + 2 * dx, r.height + 2 * dy};
-}
 
 // P31 phosphor (peak near 520 nm): a yellowish green whose saturated core
 // turns whitish in a photo, because the red and blue channels catch up.
