@@ -3,10 +3,8 @@
 // and their standard errors must say so (issue 15).
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <random>
 
-#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "io/manifest.h"
@@ -14,6 +12,7 @@
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
 #include "pipeline/reduce.h"
+#include "tests/pipeline/csv_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -27,13 +26,7 @@ const Pendulum kPendulum{kL, kG, PendulumConvention::kExact};
 double RightCell(double x) { return 0.54 - 0.53 * 1.37 * std::tanh((x / 0.35) / 1.37 * (1 + x)); }
 double LeftCell(double x) { return 0.2 + 2.2 * x - 1.4 * x * x; }
 
-void WriteCsv(const std::filesystem::path& path, const std::vector<double>& t,
-              const std::vector<double>& v) {
-  Trace trace;
-  trace.time_s = t;
-  trace.volts = v;
-  WriteTraceCsv(path, trace);
-}
+using testing::WriteCsv;
 
 // The calibration sweeps with first-order autoregressive errors of rms
 // `cal_noise` V correlated over `tau` s; the run's traces with independent
@@ -67,33 +60,7 @@ std::vector<double> WriteSession(const std::filesystem::path& dir, double x0, do
   }
   WriteCsv(dir / "traces" / "run-right.csv", h.time, vr);
   WriteCsv(dir / "traces" / "run-left.csv", h.time, vl);
-  std::ofstream(dir / "session.toml") << fmt::format(R"(format = 1
-title = "CSV traces, calibrations with correlated errors"
-[apparatus]
-pendulum_length = {}
-weight = 2.23
-[[calibration]]
-id = "R"
-cell = "right"
-initial_displacement = {}
-[calibration.trace]
-csv = "traces/R.csv"
-[[calibration]]
-id = "L"
-cell = "left"
-initial_displacement = {}
-[calibration.trace]
-csv = "traces/L.csv"
-[[run]]
-id = "run"
-initial_displacement = {}
-calibration = {{ right = "R", left = "L" }}
-[run.traces.right]
-csv = "traces/run-right.csv"
-[run.traces.left]
-csv = "traces/run-left.csv"
-)",
-                                                     kL, x0, x0, x0);
+  testing::WriteCsvManifest(dir, "CSV traces, calibrations with correlated errors", kL, x0);
   return truth.xmax;
 }
 

@@ -7,7 +7,6 @@
 #include <limits>
 #include <random>
 
-#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "io/manifest.h"
@@ -18,6 +17,7 @@
 #include "pipeline/results_file.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
+#include "tests/pipeline/csv_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -34,13 +34,7 @@ struct Written {
   ReboundSequence truth;
 };
 
-void WriteCsv(const std::filesystem::path& path, const std::vector<double>& t,
-              const std::vector<double>& v) {
-  Trace trace;
-  trace.time_s = t;
-  trace.volts = v;
-  WriteTraceCsv(path, trace);
-}
+using testing::WriteCsv;
 
 // The calibration sweep of one cell and the run's three traces.
 Written WriteSession(const std::filesystem::path& dir, double x0, double noise_volts) {
@@ -77,37 +71,8 @@ Written WriteSession(const std::filesystem::path& dir, double x0, double noise_v
     vc.push_back((s >= 100e-6 && s < 100e-6 + tau_c ? 2.5 : 0.1) + noise(rng) * 0.1);
   }
   WriteCsv(dir / "traces" / "run-contact.csv", tc, vc);
-  std::ofstream(dir / "session.toml") << fmt::format(R"(format = 1
-title = "CSV traces from the model"
-[apparatus]
-pendulum_length = {}
-weight = 2.23
-[[calibration]]
-id = "R"
-cell = "right"
-initial_displacement = {}
-[calibration.trace]
-csv = "traces/R.csv"
-[[calibration]]
-id = "L"
-cell = "left"
-initial_displacement = {}
-[calibration.trace]
-csv = "traces/L.csv"
-[[run]]
-id = "run"
-initial_displacement = {}
-calibration = {{ right = "R", left = "L" }}
-fit_rebounds = [0, 2]
-[run.traces.right]
-csv = "traces/run-right.csv"
-[run.traces.left]
-csv = "traces/run-left.csv"
-[run.traces.contact]
-csv = "traces/run-contact.csv"
-impact = 2
-)",
-                                                     kL, x0, x0, x0);
+  testing::WriteCsvManifest(dir, "CSV traces from the model", kL, x0, "fit_rebounds = [0, 2]\n",
+                            "[run.traces.contact]\ncsv = \"traces/run-contact.csv\"\nimpact = 2\n");
   return w;
 }
 
