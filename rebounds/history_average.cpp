@@ -13,17 +13,22 @@
 namespace impactlab {
 namespace {
 
-// x of history h at time t inside a gap between samples k - 1 and k: the
+// The curve across the gap between samples k - 1 and k of a history: the
 // least-squares cubic through the samples within one gap's length either
-// side, with its one-sigma. A chopped trace draws each bar only in its own
+// side, with its covariance. A chopped trace draws each bar only in its own
 // dashes, so a sweep shared by two bars leaves each a gap in every other
 // chopper slot; a chord across one cuts under a peak by X'' g^2 / 8 (a
 // quarter percent of X for a 0.036 s gap on a 1.5 s pendulum), a cubic
 // through both sides by about X (w g)^4 / 400, a millionth. Needs three
 // samples on each side spanning a quarter of the gap, or there is no curve to
 // carry across.
-std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, std::size_t k,
-                                                double t) {
+struct GapCubic {
+  double centre = 0.0, gap = 1.0;  // u = (t - centre) / gap
+  Eigen::Vector4d coefficients;    // of 1, u, u^2, u^3
+  Eigen::Matrix4d covariance;      // theirs, the fit's scatter allowed for
+};
+
+std::optional<GapCubic> FitGap(const DisplacementHistory& h, std::size_t k) {
   const double before = h.time_s[k - 1], after = h.time_s[k], gap = after - before;
   const auto lo = static_cast<std::size_t>(
       std::lower_bound(h.time_s.begin(), h.time_s.begin() + k, before - gap) - h.time_s.begin());
@@ -35,14 +40,16 @@ std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, st
     return std::nullopt;
   }
   // Powers of u = (t - centre) / gap: of order 1 across the window.
-  const double centre = 0.5 * (before + after);
+  GapCubic fit;
+  fit.centre = 0.5 * (before + after);
+  fit.gap = gap;
   const auto n = static_cast<Eigen::Index>(hi - lo);
   Eigen::MatrixXd design(n, 4);
   Eigen::VectorXd x(n), weight(n);
   const bool weighted = !h.sigma.empty();
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::size_t j = lo + static_cast<std::size_t>(i);
-    const double u = (h.time_s[j] - centre) / gap;
+    const double u = (h.time_s[j] - fit.centre) / gap;
     design.row(i) << 1.0, u, u * u, u * u * u;
     x(i) = h.displacement[j];
     weight(i) = weighted && h.sigma[j] > 0.0 ? 1.0 / h.sigma[j] : 1.0;
@@ -51,21 +58,38 @@ std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, st
   const Eigen::VectorXd b = weight.asDiagonal() * x;
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
   if (qr.rank() < 4) return std::nullopt;
-  const Eigen::Vector4d coefficients = qr.solve(b);
-  const double u = (t - centre) / gap;
-  const Eigen::Vector4d at(1.0, u, u * u, u * u * u);
-  // The value's variance from the samples' sigmas, (e^T (A^T A)^-1 e), widened
-  // by the fit's own scatter where the samples scatter more than they say.
-  const Eigen::Matrix4d normal = a.transpose() * a;
-  const double variance = at.dot(normal.ldlt().solve(at));
+  fit.coefficients = qr.solve(b);
   const double dof = static_cast<double>(n - 4);
-  const double chi2 = (a * coefficients - b).squaredNorm();
+  const double chi2 = (a * fit.coefficients - b).squaredNorm();
   // No smooth curve runs through both sides (an impact's corner lies in the
   // gap, or a side is misread): four standard deviations of chi^2 beyond its
   // mean, and the gap stays a gap.
   if (weighted && dof > 0.0 && chi2 > dof + 4.0 * std::sqrt(2.0 * dof)) return std::nullopt;
+  // (A^T A)^-1 from the samples' sigmas, widened by the fit's own scatter
+  // where the samples scatter more than they say.
   const double scale = dof > 0.0 ? std::max(1.0, chi2 / dof) : 1.0;
-  return std::pair{at.dot(coefficients), std::sqrt(variance * scale)};
+  fit.covariance = scale * (a.transpose() * a).inverse();
+  return fit;
+}
+
+// One history's gap fit, kept while the times asked for stay in that gap
+// (every time the other bar was read at in it).
+struct GapCache {
+  std::size_t k = 0;  // 0: none yet (a gap ends at a sample k >= 1)
+  std::optional<GapCubic> fit;
+};
+
+// x of history h at time t inside the gap between samples k - 1 and k, with
+// its one-sigma: the least-squares cubic through the samples within one
+// gap's length either side (FitGap).
+std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, std::size_t k,
+                                                double t, GapCache& cache) {
+  if (cache.k != k) cache = {k, FitGap(h, k)};
+  if (!cache.fit) return std::nullopt;
+  const GapCubic& fit = *cache.fit;
+  const double u = (t - fit.centre) / fit.gap;
+  const Eigen::Vector4d at(1.0, u, u * u, u * u * u);
+  return std::pair{at.dot(fit.coefficients), std::sqrt(at.dot(fit.covariance * at))};
 }
 
 // x of history h at time t, if t lies between two of its samples no further
@@ -76,7 +100,8 @@ std::optional<std::pair<double, double>> Bridge(const DisplacementHistory& h, st
 // X'' h^2 / 8, which across a slow sweep's chopper gaps is a tenth of a
 // percent of the maximum.
 std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& h, double t,
-                                                     double max_span_s, double max_bridge_s) {
+                                                     double max_span_s, double max_bridge_s,
+                                                     GapCache& cache) {
   const auto it = std::lower_bound(h.time_s.begin(), h.time_s.end(), t);
   if (it == h.time_s.end()) return std::nullopt;
   const auto k = static_cast<std::size_t>(it - h.time_s.begin());
@@ -86,7 +111,7 @@ std::optional<std::pair<double, double>> Interpolate(const DisplacementHistory& 
   if (k == 0) return std::nullopt;
   if (!joined(k)) {
     if (h.time_s[k] - h.time_s[k - 1] > max_bridge_s) return std::nullopt;
-    return Bridge(h, k, t);
+    return Bridge(h, k, t, cache);
   }
   const double sigma = std::max(sigma_at(k - 1), sigma_at(k));
   if (k >= 2 && k + 1 < h.time_s.size() && joined(k - 1) && joined(k + 1)) {
@@ -134,9 +159,10 @@ DisplacementHistory AverageHistories(const DisplacementHistory& a, const Displac
   times.erase(std::unique(times.begin(), times.end()), times.end());
   const double span_a = 4.0 * MedianStep(a.time_s), span_b = 4.0 * MedianStep(b.time_s);
   DisplacementHistory out;
+  GapCache cache_a, cache_b;
   for (double t : times) {
-    const auto xa = Interpolate(a, t, span_a, max_bridge_s);
-    const auto xb = Interpolate(b, t, span_b, max_bridge_s);
+    const auto xa = Interpolate(a, t, span_a, max_bridge_s, cache_a);
+    const auto xb = Interpolate(b, t, span_b, max_bridge_s, cache_b);
     if (!xa || !xb) continue;
     out.time_s.push_back(t);
     out.displacement.push_back(0.5 * (xa->first + xb->first));
