@@ -9,6 +9,8 @@
 #include <Eigen/Dense>
 #include <boost/math/tools/roots.hpp>
 
+#include "fit/uncertainty.h"
+
 namespace impactlab {
 namespace {
 
@@ -54,29 +56,6 @@ OrderFit FitOrder(const Eigen::MatrixXd& basis_all, const Eigen::VectorXd& v,
   fit.bic = static_cast<double>(n) * std::log(std::max(fit.rss, 1e-300) / static_cast<double>(n)) +
             static_cast<double>(order + 1) * std::log(static_cast<double>(n));
   return fit;
-}
-
-// How much a least-squares coefficient's variance grows because the residuals
-// are correlated along the trace rather than independent: 1 + 2 sum rho_k, the
-// residuals' autocorrelation at lag k summed while it stays positive (the
-// initial positive sequence). A digitized photo's trace errs smoothly over
-// many samples (the spot's blur, the graticule's residual mapping), a scope's
-// quantised record in runs of equal codes; s^2 (A^T A)^-1 alone counts every
-// sample as an independent reading and understates the curve's band by the
-// square root of this. For a basis that varies slowly over the correlation
-// length, the exact sandwich covariance reduces to this factor times it.
-double CorrelationInflation(const Eigen::VectorXd& residual) {
-  const Eigen::Index n = residual.size();
-  const double variance = residual.squaredNorm();
-  if (n < 8 || !(variance > 0.0)) return 1.0;
-  const Eigen::Index max_lag = std::min<Eigen::Index>(n / 4, 4096);
-  double sum = 0.0;
-  for (Eigen::Index k = 1; k <= max_lag; ++k) {
-    const double rho = residual.head(n - k).dot(residual.tail(n - k)) / variance;
-    if (!(rho > 0.0)) break;
-    sum += rho;
-  }
-  return std::max(1.0, 1.0 + 2.0 * sum);
 }
 
 }  // namespace
@@ -214,7 +193,8 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   // The band from the residuals as they are: correlated along the trace.
   const Eigen::VectorXd weighted_residual =
       weight.cwiseProduct(v - basis.leftCols(best_order + 1) * best.coefficients);
-  out.correlation_inflation = CorrelationInflation(weighted_residual);
+  out.correlation_inflation = CorrelationInflation(
+      {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
   best.covariance *= out.correlation_inflation;
 
   std::vector<double> coefficients(best.coefficients.data(),

@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "fit/uncertainty.h"
+
 namespace impactlab {
 namespace {
 
@@ -134,7 +136,11 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   residuals(q, r, nullptr);
   const double dof = std::max(1, n - 3);
   const double scatter = r.squaredNorm() / dof;
-  const Eigen::Matrix3d cov = scatter * (jac.transpose() * jac).inverse();
+  // The residuals err together over neighbouring samples (a digitized
+  // trace's blur and dashes, a scope's runs of equal codes): the fit holds
+  // fewer independent readings than samples.
+  const double inflation = CorrelationInflation({r.data(), static_cast<std::size_t>(n)});
+  const Eigen::Matrix3d cov = inflation * scatter * (jac.transpose() * jac).inverse();
 
   PeakFit fit;
   // X max = amplitude + offset.
