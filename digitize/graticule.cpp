@@ -386,15 +386,22 @@ cv::Matx33d PhotoFromScreenByCorners(const PreparedPhoto& photo, std::array<int,
   return digitize::FitHomography(from, to);
 }
 
+// What the lines measured say against a lattice, and the whole divisions
+// (screen x, y) by which a lattice placed one line off would move to fit.
+struct DivisionProblem {
+  std::string what;
+  cv::Point2d shift_div;
+};
+
 // A lattice of the wrong size fits too: the lines it has beyond the screen's
 // are simply not measured, and one too small takes a part of the screen.
 // So every line of the lattice must be seen along much of its length, and
 // no line may be seen a division beyond the outermost ones.
-void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const GraticuleFit& fit,
-                    const std::vector<LineSample>& samples, const GraticuleOptions& options,
-                    double half_length_px, double search_px) {
+std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
+                                              const std::vector<LineSample>& samples,
+                                              const GraticuleOptions& options,
+                                              double half_length_px, double search_px) {
   const std::array<int, 2> divisions = fit.divisions;
-  const bool hinted = fit.from_corners_hint;
   const char* axis[2] = {"x", "y"};
   // A measurement sees its line when it found a line where the fit puts it
   // (whether or not it was used: a trace lying along a grid line hides it).
@@ -417,20 +424,23 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
             sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px;
       }
     }
-    // Where a trace runs on or near the line (something far brighter than
-    // a grid line within 0.2 division of it), the line may be present but
-    // its measurements disturbed.
+    // Where a trace runs on or near the line, or a bezel's lip or a print's
+    // edge lies beside it (something far brighter than a grid line within
+    // the reach of the profiles it is measured on, or 0.2 division), the
+    // line may be present but its measurements disturbed.
     const bool centre_axis = 2 * index == divisions[family];
     const std::vector<double> along =
         SamplePositions(divisions[1 - family], options.samples_per_div, centre_axis);
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
     const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
+    const int reach = static_cast<int>(std::ceil(
+        std::max(0.2, (half_length_px + 2.0 * fit.line_width_px) / fit.px_per_div) / 0.02));
     int hidden = 0;
     for (const double a : along) {
       const cv::Point2d on =
           family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
       double brightest = 0.0, darkest = 1.0;
-      for (int k = -10; k <= 10; ++k) {
+      for (int k = -reach; k <= reach; ++k) {
         const double v = ink(ImageFromScreen(fit.mapping, on + across * k));
         brightest = std::max(brightest, v), darkest = std::min(darkest, v);
       }
@@ -454,12 +464,14 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
       const bool inner = index > 0 && index < divisions[family];
       if (missing == 1 && inner && f[index - 1] && f[index + 1]) continue;
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
-      NotFound(photo, divisions,
-               fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
-                           "does the screen have {} x {} divisions?",
-                           axis[family], line_div, counts[family][index].first,
-                           counts[family][index].second, divisions[0], divisions[1]),
-               hinted);
+      // An outermost line unseen: the grid may lie a division further in.
+      const int toward = inner ? 0 : (index == 0 ? 1 : -1);
+      return DivisionProblem{
+          fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
+                      "does the screen have {} x {} divisions?",
+                      axis[family], line_div, counts[family][index].first,
+                      counts[family][index].second, divisions[0], divisions[1]),
+          family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward)};
     }
   }
   const std::vector<std::pair<int, int>> beyond = {
@@ -476,14 +488,28 @@ void CheckDivisions(const PreparedPhoto& photo, const InkSampler& ink, const Gra
     }
     if (seen > 0.75 * divisions[1 - family] * options.samples_per_div) {
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
-      NotFound(photo, divisions,
-               fmt::format("the photo shows a grid line at {} = {:g} div too: the screen has more "
-                           "divisions",
-                           axis[family], line_div),
-               hinted);
+      // A line beyond one end: the grid may lie a division further that way.
+      const int toward = index < 0 ? -1 : 1;
+      return DivisionProblem{
+          fmt::format("the photo shows a grid line at {} = {:g} div too: the screen has more "
+                      "divisions",
+                      axis[family], line_div),
+          family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward)};
     }
   }
+  return std::nullopt;
 }
+
+// The lattice from `homography` (photo pixels from screen divisions) fitted
+// to the lines measured, and what its lines say against it. Throws
+// InputError when the lines cannot be measured or fitted.
+struct Refined {
+  GraticuleFit fit;
+  std::optional<DivisionProblem> problem;
+};
+Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
+               const GraticuleOptions& options, const cv::Matx33d& homography, bool hinted,
+               std::chrono::steady_clock::time_point start);
 
 }  // namespace
 
@@ -498,10 +524,10 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   }
   const auto start = std::chrono::steady_clock::now();
   const bool hinted = options.corners_px.has_value();
-  GraticuleMapping mapping;
+  cv::Matx33d homography;
   if (hinted) {
     // The user's corners stand in for the search; everything after it is the same.
-    mapping.homography = PhotoFromScreenByCorners(photo, divisions, *options.corners_px);
+    homography = PhotoFromScreenByCorners(photo, divisions, *options.corners_px);
   } else {
     std::string why;
     const std::optional<digitize::Lattice> lattice =
@@ -511,8 +537,35 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
     const double f = photo.shrink;
     const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0,
                                          1.0);
-    mapping.homography = photo_from_working * lattice->working_from_screen;
+    homography = photo_from_working * lattice->working_from_screen;
   }
+  Refined refined = Refine(photo, divisions, options, homography, hinted, start);
+  if (refined.problem && !hinted && refined.problem->shift_div != cv::Point2d(0.0, 0.0)) {
+    // The Hough lines place a lattice along each family only up to whole
+    // divisions: a bezel's lip or a print's edge a division beyond the grid
+    // can stand in for its outermost line. The lines measured decide: the
+    // lattice moved a division the way they point is kept when every one of
+    // its lines is seen and none beyond.
+    const cv::Point2d d = refined.problem->shift_div;
+    const cv::Matx33d moved(1.0, 0.0, d.x, 0.0, 1.0, d.y, 0.0, 0.0, 1.0);
+    try {
+      Refined other = Refine(photo, divisions, options, homography * moved, hinted, start);
+      if (!other.problem) refined = std::move(other);
+    } catch (const InputError&) {
+      // The moved lattice fits worse: the first one's problem stands.
+    }
+  }
+  if (refined.problem) NotFound(photo, divisions, refined.problem->what, hinted);
+  return refined.fit;
+}
+
+namespace {
+
+Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
+               const GraticuleOptions& options, const cv::Matx33d& homography, bool hinted,
+               std::chrono::steady_clock::time_point start) {
+  GraticuleMapping mapping;
+  mapping.homography = homography;
   const cv::Size size = photo.image.size();
   const NormalisedModel model(divisions, size);
   mapping.distortion_centre_px = {0.5 * (size.width - 1), 0.5 * (size.height - 1)};
@@ -593,14 +646,17 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
                          result.samples_used, expected),
              hinted);
   }
-  CheckDivisions(photo, ink, result, samples, options, half_length_px, search_px);
-  if (result.residual_px > options.max_residual_px) {
+  std::optional<DivisionProblem> problem =
+      CheckDivisions(ink, result, samples, options, half_length_px, search_px);
+  if (!problem && result.residual_px > options.max_residual_px) {
     NotFound(photo, divisions,
              fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px)",
                          result.residual_px, options.max_residual_px),
              hinted);
   }
-  return result;
+  return {std::move(result), std::move(problem)};
 }
+
+}  // namespace
 
 }  // namespace impactlab

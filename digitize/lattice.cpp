@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "digitize/grid_comb.h"
 #include "digitize/line_profile.h"
 #include "digitize/select.h"
 
@@ -125,6 +126,24 @@ class Accumulator {
     for (; i + kTogether <= bins.size(); i += kTogether) VoteIn<kTogether>(&bins[i]);
     for (; i < bins.size(); ++i) VoteIn<1>(&bins[i]);
   }
+
+  // How many ridge points lie along each rho in direction t and its two
+  // neighbours, whatever their height: a faint line's points count as much
+  // as a frame's, and it shows by its length.
+  std::vector<double> CountProfile(int t) const {
+    std::vector<double> profile(rho_bins_, 0.0);
+    const float offset = rho_offset_ + 0.5f;
+    for (int tt = std::max(0, t - 1); tt <= std::min(kThetaBins - 1, t + 1); ++tt) {
+      const float c = static_cast<float>(std::cos(Theta(tt)));
+      const float s = static_cast<float>(std::sin(Theta(tt)));
+      for (std::size_t i = 0; i < xs_.size(); ++i) {
+        profile[static_cast<int>(xs_[i] * c + ys_[i] * s + offset)] += 1.0;
+      }
+    }
+    return profile;
+  }
+  int rho_offset() const { return rho_offset_; }
+  float unit() const { return unit_; }
 
   static double Theta(double bin) { return (kThetaFirstDeg + bin * kThetaStepDeg) * kDegree; }
   static int Bin(double theta_deg) {
@@ -641,6 +660,18 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
     matches[f] =
         MatchFamily(lines[f], Accumulator::Theta(dominant[f]), n_lines, min_spacing, max_spacing);
     const int needed = std::max(3, (n_lines + 1) / 2);
+    // A grid too faint for its lines to be peaks one by one (the photo's
+    // brightest lines set the floor) is looked for as a whole: the comb of
+    // evenly spaced lines the family's direction holds most of.
+    if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed) {
+      const double theta = Accumulator::Theta(dominant[f]);
+      for (const CombLine& line :
+           FindComb(accumulator.CountProfile(dominant[f]), n_lines, min_spacing, max_spacing)) {
+        lines[f].push_back(
+            {theta, line.rho - accumulator.rho_offset(), line.votes * accumulator.unit()});
+      }
+      matches[f] = MatchFamily(lines[f], theta, n_lines, min_spacing, max_spacing);
+    }
     if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed) {
       *why = fmt::format("found {} of the {} {} grid lines in step",
                          matches[f] ? matches[f]->lines.size() : 0, n_lines, family_names[f]);
