@@ -43,6 +43,7 @@ struct LineSample {
   double px_per_div = 1.0;  // image length of a division along the profile
   double height = 0.0;      // ink above the screen
   double fwhm_px = 0.0;
+  double side_step = 0.0;  // background right of the line less left of it
   bool used = false;
 };
 
@@ -127,6 +128,7 @@ std::vector<LineSample> MeasureGridLines(const InkSampler& ink, const GraticuleM
         sample.measured_px = profile.PointAt(centre.offset_px);
         sample.height = centre.height;
         sample.fwhm_px = centre.fwhm_px;
+        sample.side_step = centre.background_step;
         samples.push_back(sample);
       }
     }
@@ -483,8 +485,10 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
     int seen = 0;
     for (const LineSample& s : outside) {
       if (s.family != family || s.index != index) continue;
+      // A line, not an edge: a bezel's lip or a print's border a division
+      // beyond the grid steps from one level to another across it.
       seen += sees(s) && s.height > 0.5 * fit.line_contrast && s.height < 2.0 * fit.line_contrast &&
-              s.fwhm_px < 1.5 * fit.line_width_px;
+              s.fwhm_px < 1.5 * fit.line_width_px && std::abs(s.side_step) < 0.5 * s.height;
     }
     if (seen > 0.75 * divisions[1 - family] * options.samples_per_div) {
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];

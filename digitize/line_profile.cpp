@@ -148,6 +148,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
   if (left.empty()) left.push_back(v[0]);
   if (right.empty()) right.push_back(v[n - 1]);
   const double background_left = MedianOf(left), background_right = MedianOf(right);
+  result.background_step = background_right - background_left;
   const double u_left = profile.OffsetAt((fifth - 1) / 2);
   const double u_right = profile.OffsetAt(n - 1 - (fifth - 1) / 2);
   auto background = [&](double u) {

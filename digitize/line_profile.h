@@ -42,12 +42,14 @@ Profile ReadProfile(const InkSampler& ink, cv::Point2d origin_px, cv::Point2d di
 
 struct LineCentre {
   bool found = false;
-  double offset_px = 0.0;       // the centre along the profile, from its origin
-  double height = 0.0;          // peak above the background, ink units
-  double background = 0.0;      // at the centre, ink units
-  double fwhm_px = 0.0;         // full width at half maximum
-  double crossing_share = 0.0;  // share of the profile's asymmetry a crossing line explained
-                                // (0: none crossed near, or it did not matter)
+  double offset_px = 0.0;        // the centre along the profile, from its origin
+  double height = 0.0;           // peak above the background, ink units
+  double background = 0.0;       // at the centre, ink units
+  double background_step = 0.0;  // right side's background less the left's, ink units: a
+                                 // line has the same either side, an edge does not
+  double fwhm_px = 0.0;          // full width at half maximum
+  double crossing_share = 0.0;   // share of the profile's asymmetry a crossing line explained
+                                 // (0: none crossed near, or it did not matter)
 };
 
 struct CentreSettings {

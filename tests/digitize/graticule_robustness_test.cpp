@@ -147,6 +147,21 @@ TEST_CASE(
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.2);
 }
 
+// Randomised seed 1013, calibration L-0.405 (a scanned print): a division
+// below the grid the screen's dark edge meets the print's white border. As
+// a profile across it the step has a peak over its ramp, and the lattice,
+// right to a pixel, was refused ("the photo shows a grid line at y = -5 div
+// too"). A line has the same background either side; an edge does not.
+TEST_CASE("graticule: a print's border a division beyond the grid is no extra grid line") {
+  testing::TempDir dir;
+  const RandomisedPhoto p = LoadRandomised(dir, 1013, "L-0.405");
+  const GraticuleOptions options;
+  const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+  // Measured 0.087 and 0.054 px.
+  CHECK(fit.residual_px < 0.2);
+  CHECK(testing::WorstMappingError(fit, p.truth) < 0.2);
+}
+
 // Randomised seed 1018, calibration R-0.405: a grid lit at 1.7 % of full
 // scale inside a print's bright frame. No grid line is a Hough peak next to
 // the frame's lines; the eleven together, as an evenly spaced comb, are.
