@@ -418,25 +418,16 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
   std::array<std::vector<std::pair<int, int>>, 2> counts{
       std::vector<std::pair<int, int>>(divisions[0] + 1),
       std::vector<std::pair<int, int>>(divisions[1] + 1)};
-  for (const auto& [family, index] : GridLines(divisions)) {
-    int seen = 0;
-    for (const LineSample& s : samples) {
-      if (s.family == family && s.index == index) {
-        seen +=
-            sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px;
-      }
-    }
-    // Where a trace runs on or near the line, or a bezel's lip or a print's
-    // edge lies beside it (something far brighter than a grid line within
-    // the reach of the profiles it is measured on, or 0.2 division), the
-    // line may be present but its measurements disturbed.
-    const bool centre_axis = 2 * index == divisions[family];
-    const std::vector<double> along =
-        SamplePositions(divisions[1 - family], options.samples_per_div, centre_axis);
+  // How many of the places `along` line `index` of `family` is measured at
+  // have something far brighter than a grid line within the reach of the
+  // profiles measured there, or 0.2 division: a trace running on or near the
+  // line, a bezel's lip or a print's edge beside it. The line may be there,
+  // its measurements disturbed.
+  const int reach = static_cast<int>(
+      std::ceil(std::max(0.2, (half_length_px + 2.0 * fit.line_width_px) / fit.px_per_div) / 0.02));
+  auto HiddenPlaces = [&](int family, int index, const std::vector<double>& along) {
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
     const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
-    const int reach = static_cast<int>(std::ceil(
-        std::max(0.2, (half_length_px + 2.0 * fit.line_width_px) / fit.px_per_div) / 0.02));
     int hidden = 0;
     for (const double a : along) {
       const cv::Point2d on =
@@ -448,6 +439,20 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
       }
       hidden += brightest - darkest > 2.5 * fit.line_contrast;
     }
+    return hidden;
+  };
+  for (const auto& [family, index] : GridLines(divisions)) {
+    int seen = 0;
+    for (const LineSample& s : samples) {
+      if (s.family == family && s.index == index) {
+        seen +=
+            sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px;
+      }
+    }
+    const bool centre_axis = 2 * index == divisions[family];
+    const std::vector<double> along =
+        SamplePositions(divisions[1 - family], options.samples_per_div, centre_axis);
+    const int hidden = HiddenPlaces(family, index, along);
     const int expected = static_cast<int>(along.size());
     // Judged where at least a few places are clear of traces.
     found[family][index] = !(expected - hidden >= 3 && seen < 0.4 * (expected - hidden));
@@ -490,7 +495,20 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
       seen += sees(s) && s.height > 0.5 * fit.line_contrast && s.height < 2.0 * fit.line_contrast &&
               s.fwhm_px < 1.5 * fit.line_width_px && std::abs(s.side_step) < 0.5 * s.height;
     }
-    if (seen > 0.75 * divisions[1 - family] * options.samples_per_div) {
+    // Judged, like the grid's own lines, where the places are clear: a trace
+    // running along the line beyond (the lowest trace on the bottom line of
+    // a grid a division lower) hides it there. Seen at half of them is
+    // enough: a lattice a division off, taken, shifts every volt and second
+    // read from the photo, where one refused only asks for its corners.
+    const std::vector<double> along =
+        SamplePositions(divisions[1 - family], options.samples_per_div, false);
+    const int clear = static_cast<int>(along.size()) - HiddenPlaces(family, index, along);
+    // The line beyond one end seen more than the outermost line at the
+    // other: the lattice has taken an edge (the screen meeting the bezel)
+    // or a hidden stretch for that line, and lies a division off.
+    const int opposite = counts[family][index < 0 ? divisions[family] : 0].first;
+    const bool better_than_opposite = seen >= 3 && seen > 2 * opposite;
+    if ((clear >= 3 && seen > 0.5 * clear) || better_than_opposite) {
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
       // A line beyond one end: the grid may lie a division further that way.
       const int toward = index < 0 ? -1 : 1;

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -111,19 +113,32 @@ struct RandomisedPhoto {
   GraticuleMapping truth;
 };
 
-RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const std::string& id) {
+// Every photo of a generated randomised quick session (`width_px` 0: each
+// photo's own drawn size).
+std::vector<std::pair<std::string, RandomisedPhoto>> LoadRandomisedSession(
+    const testing::TempDir& dir, unsigned seed, int width_px = 0) {
   SynthOptions synth;
   synth.preset = "quick";
   synth.style = PhotoStyle::kRandomised;
   synth.seed = seed;
+  synth.width_px = width_px;
   const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  std::vector<std::pair<std::string, RandomisedPhoto>> photos;
   for (const char* kind : {"runs", "calibrations"}) {
     for (const auto& item : summary.truth[kind]) {
-      if (item["id"] != id) continue;
       const auto& photo = item["photo"];
-      return {LoadPhoto(dir.path() / "s" / photo["file"].get<std::string>()),
-              MappingFromTruth(photo["mapping"])};
+      if (photo.is_null()) continue;
+      photos.push_back({item["id"].get<std::string>(),
+                        {LoadPhoto(dir.path() / "s" / photo["file"].get<std::string>()),
+                         MappingFromTruth(photo["mapping"])}});
     }
+  }
+  return photos;
+}
+
+RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const std::string& id) {
+  for (auto& [photo_id, photo] : LoadRandomisedSession(dir, seed)) {
+    if (photo_id == id) return std::move(photo);
   }
   FAIL("no photo " << id << " in seed " << seed);
   return {};
@@ -173,6 +188,36 @@ TEST_CASE("graticule: a grid too faint for its lines to be peaks one by one is f
   // Measured 0.54 and 0.30 px.
   CHECK(fit.residual_px < 0.8);
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.5);
+}
+
+// A lattice a division off fits its lines as well as the right one: its
+// outermost line on an edge (the screen meeting the bezel, a print's border)
+// or in glare, the grid's own line beyond it hidden by a trace. Such a
+// graticule must be moved onto the grid or refused, never taken: a division
+// off shifts every volt and second read from the photo. Randomised seeds 1-3
+// at 1000 px held two such photos, both taken before: seed 1's run 0.405
+// (now refused) and seed 3's calibration R-0.405 (now moved onto the grid).
+// Seed 4's run 0.713 is still taken a division off (its left line on the
+// print's edge, its right one in glare, each seen at a few places): the gap
+// this test does not cover.
+TEST_CASE("graticule: a randomised photo's graticule is right or refused, never a division off") {
+  int right = 0, refused = 0;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    testing::TempDir dir;
+    for (const auto& [id, p] : LoadRandomisedSession(dir, seed, 1000)) {
+      INFO("seed " << seed << " photo " << id);
+      const GraticuleOptions options;
+      try {
+        const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+        CHECK(testing::WorstMappingError(fit, p.truth) < 0.1 * fit.px_per_div);
+        ++right;
+      } catch (const InputError&) {
+        ++refused;
+      }
+    }
+  }
+  // 16 right and 2 refused when written.
+  CHECK(right >= 14);
 }
 
 }  // namespace impactlab
