@@ -144,6 +144,22 @@ RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const
   return {};
 }
 
+// The graticule found on randomised seed `seed`'s photo `id` (the photo's
+// own drawn size), and its worst error against the truth, px.
+struct FoundGraticule {
+  GraticuleFit fit;
+  double worst_px = 0.0;
+};
+
+FoundGraticule FindRandomised(unsigned seed, const std::string& id) {
+  testing::TempDir dir;
+  const RandomisedPhoto p = LoadRandomised(dir, seed, id);
+  const GraticuleOptions options;
+  GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+  const double worst = testing::WorstMappingError(fit, p.truth);
+  return {std::move(fit), worst};
+}
+
 }  // namespace
 
 // Randomised seed 1027, calibration L-0.713 (a scanned print): the screen's
@@ -153,13 +169,10 @@ RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const
 // points, every line is seen.
 TEST_CASE(
     "graticule: a lattice placed a division off by the screen's edge is moved onto the grid") {
-  testing::TempDir dir;
-  const RandomisedPhoto p = LoadRandomised(dir, 1027, "L-0.713");
-  const GraticuleOptions options;
-  const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+  const FoundGraticule g = FindRandomised(1027, "L-0.713");
   // Measured 0.077 and 0.054 px.
-  CHECK(fit.residual_px < 0.2);
-  CHECK(testing::WorstMappingError(fit, p.truth) < 0.2);
+  CHECK(g.fit.residual_px < 0.2);
+  CHECK(g.worst_px < 0.2);
 }
 
 // Randomised seed 1013, calibration L-0.405 (a scanned print): a division
@@ -168,26 +181,20 @@ TEST_CASE(
 // right to a pixel, was refused ("the photo shows a grid line at y = -5 div
 // too"). A line has the same background either side; an edge does not.
 TEST_CASE("graticule: a print's border a division beyond the grid is no extra grid line") {
-  testing::TempDir dir;
-  const RandomisedPhoto p = LoadRandomised(dir, 1013, "L-0.405");
-  const GraticuleOptions options;
-  const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+  const FoundGraticule g = FindRandomised(1013, "L-0.405");
   // Measured 0.087 and 0.054 px.
-  CHECK(fit.residual_px < 0.2);
-  CHECK(testing::WorstMappingError(fit, p.truth) < 0.2);
+  CHECK(g.fit.residual_px < 0.2);
+  CHECK(g.worst_px < 0.2);
 }
 
 // Randomised seed 1018, calibration R-0.405: a grid lit at 1.7 % of full
 // scale inside a print's bright frame. No grid line is a Hough peak next to
 // the frame's lines; the eleven together, as an evenly spaced comb, are.
 TEST_CASE("graticule: a grid too faint for its lines to be peaks one by one is found as a comb") {
-  testing::TempDir dir;
-  const RandomisedPhoto p = LoadRandomised(dir, 1018, "R-0.405");
-  const GraticuleOptions options;
-  const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
+  const FoundGraticule g = FindRandomised(1018, "R-0.405");
   // Measured 0.54 and 0.30 px.
-  CHECK(fit.residual_px < 0.8);
-  CHECK(testing::WorstMappingError(fit, p.truth) < 0.5);
+  CHECK(g.fit.residual_px < 0.8);
+  CHECK(g.worst_px < 0.5);
 }
 
 // A lattice a division off fits its lines as well as the right one: its
