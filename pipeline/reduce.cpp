@@ -426,6 +426,13 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     }
   });
   result.runs = std::move(runs);
+  for (const RunResult& run : result.runs) {
+    if (!run.ok || !run.right || !run.left) continue;
+    if (const auto disagreement = FirstDisagreement(*run.right, *run.left)) {
+      result.warnings.push_back(fmt::format("run \"{}\": its maxima stop at rebound {}: {}", run.id,
+                                            disagreement->rebound, disagreement->why));
+    }
+  }
   if (options.products != Products::kFit) return result;
 
   std::vector<double> own_stiffness;

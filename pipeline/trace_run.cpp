@@ -156,10 +156,30 @@ void AddCurveSigma(BarRebounds& bar, SigmaAt&& sigma_at) {
 
 }  // namespace
 
+std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
+                                                 const BarRebounds& left) {
+  constexpr double kPeakShareOfDuration = 0.1;
+  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
+  for (std::size_t n = 0; n < both; ++n) {
+    const double duration = 0.5 * (right.duration[n] + left.duration[n]);
+    const double apart_s = std::abs(right.t_peak[n] - left.t_peak[n]);
+    if (apart_s > kPeakShareOfDuration * duration) {
+      return BarDisagreement{
+          n, fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
+                         "{:.4g} s), more than a tenth of its duration: one bar's trace was "
+                         "misread and its rebounds slipped",
+                         n, apart_s, right.t_peak[n], left.t_peak[n])};
+    }
+  }
+  return std::nullopt;
+}
+
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged) {
   BarRebounds out;
-  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
+  const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
+  const std::size_t both =
+      disagreement ? disagreement->rebound : std::min(right.xmax.size(), left.xmax.size());
   for (std::size_t n = 0; n < both; ++n) {
     out.xmax.push_back(0.5 * (right.xmax[n] + left.xmax[n]));
     out.xmax_sigma.push_back(0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]));
@@ -167,6 +187,7 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
     out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
     out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
   }
+  if (disagreement) return out;
   for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
     out.xmax.push_back(averaged.xmax[n]);
     out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
@@ -365,10 +386,13 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   const BarRebounds both =
       histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average) : from_average;
   if (both.xmax.size() < 2) {
+    const std::optional<BarDisagreement> disagreement =
+        histories.size() == 2 ? FirstDisagreement(*out.right, *out.left) : std::nullopt;
     throw InputError({session.manifest, RunKey(run), std::nullopt},
                      fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
-                                 "complete in the traces; at least 2 are needed",
-                                 both.xmax.size(), run.first_rebound));
+                                 "complete in the traces{}; at least 2 are needed",
+                                 both.xmax.size(), run.first_rebound,
+                                 disagreement ? " (" + disagreement->why + ")" : ""));
   }
   const std::size_t stride = std::max<std::size_t>(1, average.time_s.size() / 4000);
   for (std::size_t i = 0; i < average.time_s.size(); i += stride) {

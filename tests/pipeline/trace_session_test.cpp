@@ -426,6 +426,47 @@ TEST_CASE("trace runs: the session's maxima are the bars' mean, then the average
   CHECK(both.xmax_sigma[2] == Approx(2e-4));
 }
 
+TEST_CASE("trace runs: the maxima stop where one bar's rebounds slipped against the other's") {
+  // The right bar misread its rebound 2 (a scratch near the peak) and from
+  // there on numbers each rebound one early: its rebound 2 peaks 0.29 s after
+  // the left bar's, its rebound 3 is the left bar's 4. Averaged by number,
+  // rebound 3 would mix two rebounds (randomised seed 1011's run 0.713: 9.4 %
+  // of X0 off, with a sigma of 0.03 %).
+  BarRebounds right, left;
+  const double left_peaks[] = {0.75, 1.50, 2.25, 3.00, 3.75};
+  const double right_peaks[] = {0.75, 1.50, 2.54, 3.75, 4.50};
+  const double left_xmax[] = {0.57, 0.46, 0.37, 0.30, 0.24};
+  const double right_xmax[] = {0.57, 0.46, 0.50, 0.24, 0.19};
+  for (int n = 0; n < 5; ++n) {
+    left.xmax.push_back(left_xmax[n]);
+    right.xmax.push_back(right_xmax[n]);
+    left.t_peak.push_back(left_peaks[n]);
+    right.t_peak.push_back(right_peaks[n] + 2e-4);
+    for (BarRebounds* b : {&right, &left}) {
+      b->xmax_sigma.push_back(1e-3);
+      b->t_peak_sigma.push_back(1e-4);
+      b->duration.push_back(0.75);
+    }
+  }
+  const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
+  REQUIRE(disagreement.has_value());
+  CHECK(disagreement->rebound == 2);
+  CHECK_THAT(disagreement->why, Catch::Contains("slipped"));
+  const BarRebounds both = MeanOfBars(right, left, left);
+  REQUIRE(both.xmax.size() == 2);  // the averaged history's own are not appended either
+  CHECK(both.xmax[1] == Approx(0.46));
+
+  // Peaks 0.2 ms apart, maxima 6 % apart (the bars' exchange of momentum
+  // leaves them a constant length apart): they agree.
+  right = left;
+  for (std::size_t n = 0; n < 5; ++n) {
+    right.t_peak[n] += 2e-4;
+    right.xmax[n] += (n % 2 == 0 ? 1.0 : -1.0) * 0.014;
+  }
+  CHECK_FALSE(FirstDisagreement(right, left).has_value());
+  CHECK(MeanOfBars(right, left, left).xmax.size() == 5);
+}
+
 TEST_CASE("trace runs: bars drawn in alternate slots too long to bridge give the bars' mean") {
   // A chopper whose slots are 0.2 s long (0.4 division at 0.5 s/div): each
   // bar is drawn in its half, so each has 0.1 s gaps, more than the 0.075 s
