@@ -20,7 +20,7 @@ namespace {
 // of X0 off. The digitizer is being improved in parallel (issue 15), so raise
 // them as it gets better; they are a floor against regressions, not targets
 // (issue 15's target is 99 % of photos reduced, maxima within 0.15 % p95).
-constexpr double kMinShareReduced = 0.12;   // of the sample's photo runs (2 of 16)
+constexpr double kMinShareReduced = 0.18;   // of the sample's photo runs (3 of 16)
 constexpr double kMaxXmaxErrorPctX0 = 0.5;  // any reported maximum, % of X0
 
 }  // namespace
