@@ -70,6 +70,7 @@ Stages StagesOf(const SessionResult& result) {
 struct Score {
   int runs = 0, failed = 0, should_reduce = 0, missing_rebounds = 0;
   std::vector<double> xmax_error, xmax_pull, contact_error, contact_pull;
+  std::vector<double> peak_error_ms, peak_pull;  // the maxima's times
   double decode_s = 0.0, reduce_s = 0.0;
 };
 
@@ -104,6 +105,20 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
         ++score.missing_rebounds;
       }
       worst = std::max(worst, score.xmax_error.back());
+      // The peak's time: the truth's mean of the bars' peaks (table index i
+      // is session rebound i).
+      for (const nlohmann::json& row : run.value("rebound_table", nlohmann::json::array())) {
+        if (!ok || row.value("index", -1) != static_cast<int>(i) || i >= got->t_peak.size()) {
+          continue;
+        }
+        const double truth_t =
+            0.5 * (row.at("t_peak_right").get<double>() + row.at("t_peak_left").get<double>());
+        const double error = got->t_peak[i] - truth_t;
+        score.peak_error_ms.push_back(1e3 * std::abs(error));
+        if (i < got->t_peak_sigma.size() && got->t_peak_sigma[i] > 0.0) {
+          score.peak_pull.push_back(error / got->t_peak_sigma[i]);
+        }
+      }
     }
     std::optional<double> contact_error;
     if (run.contains("contact_time") && run.at("contact_time").is_number()) {
@@ -142,14 +157,17 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
 
 void PrintRow(const std::string& name, const Score& s) {
   fmt::print(
-      "| {} | {}/{} | {} | {:.3f} / {:.3f} / {:.3f} | {:.2f} ({}; {:.0f} %, {:.0f} %) | {:.3f} / "
+      "| {} | {}/{} | {} | {:.3f} / {:.3f} / {:.3f} | {:.2f} ({}; {:.0f} %, {:.0f} %) | {:.2f} / "
+      "{:.2f} | {:.2f} ({}) | {:.3f} / "
       "{:.3f} | {:.2f} ({}) | {:.2f} | {:.2f} |\n",
       name, s.should_reduce - s.failed, s.should_reduce, s.missing_rebounds,
       Percentile(s.xmax_error, 0.5), NearestRank(s.xmax_error, 0.95),
       NearestRank(s.xmax_error, 1.0), Rms(s.xmax_pull), s.xmax_pull.size(),
       100.0 * ShareWithin(s.xmax_pull, 1.0), 100.0 * ShareWithin(s.xmax_pull, 2.0),
-      Percentile(s.contact_error, 0.5), NearestRank(s.contact_error, 1.0), Rms(s.contact_pull),
-      s.contact_pull.size(), s.reduce_s, s.decode_s > 0.0 ? s.reduce_s / s.decode_s : NAN);
+      Percentile(s.peak_error_ms, 0.5), NearestRank(s.peak_error_ms, 0.95), Rms(s.peak_pull),
+      s.peak_pull.size(), Percentile(s.contact_error, 0.5), NearestRank(s.contact_error, 1.0),
+      Rms(s.contact_pull), s.contact_pull.size(), s.reduce_s,
+      s.decode_s > 0.0 ? s.reduce_s / s.decode_s : NAN);
 }
 
 int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
@@ -167,10 +185,10 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
   std::sort(folders.begin(), folders.end());
   fmt::print(
       "| session | runs reduced | rebounds missed | Xmax err % X0 median / p95 / max | Xmax pull "
-      "RMS (n; within 1, 2) | contact err % median / worst | contact pull RMS (n) | reduce s "
-      "({} threads) | reduce / decode |\n",
+      "RMS (n; within 1, 2) | peak time err ms median / p95 | peak time pull RMS (n) | contact "
+      "err % median / worst | contact pull RMS (n) | reduce s ({} threads) | reduce / decode |\n",
       jobs);
-  fmt::print("|---|---|---|---|---|---|---|---|---|\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|\n");
   Score all;
   std::vector<std::tuple<std::string, double, double, Stages>> stage_rows;
   for (const fs::path& folder : folders) {
@@ -199,7 +217,9 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
     for (auto [to, from] :
          {std::pair{&all.xmax_error, &s.xmax_error}, std::pair{&all.xmax_pull, &s.xmax_pull},
           std::pair{&all.contact_error, &s.contact_error},
-          std::pair{&all.contact_pull, &s.contact_pull}}) {
+          std::pair{&all.contact_pull, &s.contact_pull},
+          std::pair{&all.peak_error_ms, &s.peak_error_ms},
+          std::pair{&all.peak_pull, &s.peak_pull}}) {
       to->insert(to->end(), from->begin(), from->end());
     }
     all.reduce_s += s.reduce_s;

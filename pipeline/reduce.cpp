@@ -138,6 +138,7 @@ void CopyMeasurement(const RunResult& from, RunResult& to) {
   to.xmax = from.xmax;
   to.xmax_sigma = from.xmax_sigma;
   to.t_peak = from.t_peak;
+  to.t_peak_sigma = from.t_peak_sigma;
   to.t_peak_source = from.t_peak_source;
   to.contact_time = from.contact_time;
   to.contact_time_sigma = from.contact_time_sigma;

@@ -388,6 +388,9 @@ void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
     f.WriteVector(g + "/rebounds/xmax_std_error", run.xmax_sigma, u.length);
     f.WriteVector(g + "/rebounds/t_peak", run.t_peak, "s");
     f.SetAttribute(g + "/rebounds/t_peak", "source", run.t_peak_source);
+    if (!run.t_peak_sigma.empty()) {
+      f.WriteVector(g + "/rebounds/t_peak_std_error", run.t_peak_sigma, "s");
+    }
   }
   if (!run.rebound_duration.empty()) {
     f.WriteVector(g + "/rebounds/duration", run.rebound_duration, "s");
@@ -513,6 +516,9 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
     run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
     run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
     run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
+    if (f.Exists(g + "/rebounds/t_peak_std_error")) {
+      run.t_peak_sigma = f.ReadVector(g + "/rebounds/t_peak_std_error");
+    }
   }
   if (f.Exists(g + "/rebounds/duration"))
     run.rebound_duration = f.ReadVector(g + "/rebounds/duration");

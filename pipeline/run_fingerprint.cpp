@@ -208,6 +208,7 @@ std::string ReuseProblem(const RunResult& r) {
       {"xmax", &r.xmax},
       {"xmax_std_error", &r.xmax_sigma},
       {"t_peak", &r.t_peak},
+      {"t_peak_std_error", &r.t_peak_sigma},
       {"duration", &r.rebound_duration},
       {"displacement/time", &r.measured_displacement.time_s},
       {"displacement/average", &r.measured_displacement.value}};
@@ -218,6 +219,9 @@ std::string ReuseProblem(const RunResult& r) {
       SizesDiffer("xmax", r.xmax.size(), "xmax_std_error", r.xmax_sigma.size()),
       r.t_peak.empty() ? std::string()
                        : SizesDiffer("xmax", r.xmax.size(), "t_peak", r.t_peak.size()),
+      r.t_peak_sigma.empty()
+          ? std::string()
+          : SizesDiffer("t_peak", r.t_peak.size(), "t_peak_std_error", r.t_peak_sigma.size()),
       r.rebound_duration.empty()
           ? std::string()
           : SizesDiffer("xmax", r.xmax.size(), "duration", r.rebound_duration.size()),

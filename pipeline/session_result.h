@@ -99,10 +99,11 @@ struct RunResult {
   double initial_displacement = 0.0;  // X0, length units
   int first_rebound = 1;
 
-  std::vector<double> xmax;        // rebound 0, 1, ... (session numbering)
-  std::vector<double> xmax_sigma;  // one-sigma, same length (0 where unknown)
-  std::vector<double> t_peak;      // s since release
-  std::string t_peak_source;       // "trace", or "model" for typed-in runs
+  std::vector<double> xmax;          // rebound 0, 1, ... (session numbering)
+  std::vector<double> xmax_sigma;    // one-sigma, same length (0 where unknown)
+  std::vector<double> t_peak;        // s since release
+  std::vector<double> t_peak_sigma;  // one-sigma, same length when read from traces, else empty
+  std::string t_peak_source;         // "trace", or "model" for typed-in runs
 
   std::optional<double> contact_time;  // s
   double contact_time_sigma = 0.0;

@@ -402,6 +402,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   out.xmax = both.xmax;
   out.xmax_sigma = both.xmax_sigma;
   out.t_peak = both.t_peak;
+  out.t_peak_sigma = both.t_peak_sigma;
   out.t_peak_source = "trace";
   out.rebound_duration = both.duration;
 

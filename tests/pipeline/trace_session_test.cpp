@@ -400,6 +400,25 @@ TEST_CASE("products: --only calibration and --only rebounds stop where asked") {
 
 namespace impactlab {
 
+TEST_CASE("trace_session: each peak time carries its standard error, into the file and back") {
+  testing::TempDir dir;
+  const Written w = WriteSession(dir.path(), 0.6, 0.002);
+  const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
+  REQUIRE(result.runs.size() == 1);
+  const RunResult& run = result.runs[0];
+  REQUIRE(run.ok);
+  REQUIRE(run.t_peak_sigma.size() == run.t_peak.size());
+  for (std::size_t n = 0; n < run.t_peak.size(); ++n) {
+    INFO("rebound " << n);
+    CHECK(run.t_peak_sigma[n] > 0.0);
+    CHECK(std::abs(run.t_peak[n] - w.truth.peak_time[n + 1]) < 5.0 * run.t_peak_sigma[n]);
+  }
+  WriteResults(result, dir.path() / "r.h5");
+  const SessionResult back = ReadResults(dir.path() / "r.h5");
+  REQUIRE(back.runs.size() == 1);
+  CHECK(back.runs[0].t_peak_sigma == run.t_peak_sigma);
+}
+
 TEST_CASE("trace runs: the session's maxima are the bars' mean, then the average's own") {
   const auto bar = [](std::vector<double> xmax, double sigma, double t0) {
     BarRebounds b;
