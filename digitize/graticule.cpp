@@ -398,7 +398,8 @@ struct DivisionProblem {
 // A lattice of the wrong size fits too: the lines it has beyond the screen's
 // are simply not measured, and one too small takes a part of the screen.
 // So every line of the lattice must be seen along much of its length, and
-// no line may be seen a division beyond the outermost ones.
+// no line may be seen a division beyond the outermost ones. Returns the
+// first thing the lines say against the lattice, nullopt when nothing.
 std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
                                               const std::vector<LineSample>& samples,
                                               const GraticuleOptions& options,
