@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 #include <boost/math/tools/roots.hpp>
 
-#include "fit/uncertainty.h"
+#include "model/estimate.h"
 
 namespace impactlab {
 namespace {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "model/contact.h"
+#include "model/estimate.h"
 #include "model/pendulum.h"
 
 namespace impactlab {
@@ -35,13 +36,6 @@ struct ReboundMeasurements {
 struct TwoPointOptions {
   std::array<int, 2> rebounds = {0, 1};  // a < b, session numbering
   Separation separation = Separation::kKinematic;
-};
-
-// An estimate and its one-sigma uncertainty (linear propagation of the
-// measurement uncertainties; 0 when the inputs carry none).
-struct Estimate {
-  double value = 0.0;
-  double sigma = 0.0;
 };
 
 // An estimate with its name and units, as fits report their parameters.

@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
-#include "fit/uncertainty.h"
+#include "model/estimate.h"
 
 namespace impactlab {
 namespace {

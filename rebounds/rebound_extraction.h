@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "model/estimate.h"
 #include "io/trace.h"
 #include "model/pendulum.h"
 

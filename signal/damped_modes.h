@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "model/estimate.h"
 
 namespace impactlab {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "model/estimate.h"
 #include "io/log_reader.h"               // LogChannelKind
 
 namespace impactlab {

@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/kelvin_voigt_two_point.h"  // Estimate
+#include "model/estimate.h"
 #include "io/log_reader.h"
 #include "io/session.h"
 #include "signal/damped_modes.h"

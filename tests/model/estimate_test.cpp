@@ -1,4 +1,4 @@
-#include "fit/uncertainty.h"
+#include "model/estimate.h"
 
 #include <cmath>
 #include <random>
@@ -21,13 +21,13 @@ std::vector<double> Ar1(double rho, std::size_t n, unsigned seed) {
   return x;
 }
 
-TEST_CASE("uncertainty: independent residuals need no inflation") {
+TEST_CASE("estimate: independent residuals need no inflation") {
   const double inflation = CorrelationInflation(Ar1(0.0, 20000, 1));
   CHECK(inflation >= 1.0);
   CHECK(inflation < 1.1);
 }
 
-TEST_CASE("uncertainty: AR(1) residuals inflate by (1 + rho) / (1 - rho)") {
+TEST_CASE("estimate: AR(1) residuals inflate by (1 + rho) / (1 - rho)") {
   for (double rho : {0.5, 0.8, 0.95}) {
     INFO("rho " << rho);
     const double expected = (1.0 + rho) / (1.0 - rho);
@@ -45,7 +45,7 @@ TEST_CASE(
   CHECK(CorrelationInflation(x) == Approx(10.0).epsilon(0.15));
 }
 
-TEST_CASE("uncertainty: too few or all-zero residuals give 1") {
+TEST_CASE("estimate: too few or all-zero residuals give 1") {
   CHECK(CorrelationInflation(std::vector<double>{1.0, 1.0, 1.0}) == 1.0);
   CHECK(CorrelationInflation(std::vector<double>(100, 0.0)) == 1.0);
 }
