@@ -112,7 +112,7 @@ void Measure(const testing::RunScene& run, const Case& c, const DigitizeOptions&
     }
     if (result.pulses[t]) {
       const double truth = testing::kPulseFallS - testing::kPulseRiseS;
-      const double error = 100.0 * (result.pulses[t]->width_s - truth) / truth;
+      const double error = 100.0 * (result.pulses[t]->pulse.width_s.value - truth) / truth;
       tally.pulse_sum2 += error * error;
       ++tally.pulse_n;
     } else if (result.traces[t].settings.impact) {

@@ -163,8 +163,8 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
           if (result.pulses[i]) {
             const ContactPulseFit& p = *result.pulses[i];
             fmt::print("  {}: contact pulse {:.3f} +- {:.3f} us (rise {:.3f} us, fall {:.3f} us)\n",
-                       t.name, p.width_s * 1e6, p.width_sigma_s * 1e6, p.rise.time_s * 1e6,
-                       p.fall.time_s * 1e6);
+                       t.name, p.pulse.width_s.value * 1e6, p.pulse.width_s.sigma * 1e6,
+                       p.pulse.rise_s.value * 1e6, p.pulse.fall_s.value * 1e6);
           } else if (t.settings.impact) {
             fmt::print("  {}: no complete contact pulse seen\n", t.name);
           }

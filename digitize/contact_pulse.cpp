@@ -48,6 +48,16 @@ using digitize::StrokeFit;
 using digitize::StrokeNeighbour;
 using digitize::StrokeSearch;
 
+// An edge as measured: its time (screen divisions while measured, seconds
+// once finished) and sigma, and where it lies in the photo.
+struct PulseEdge {
+  double time_s = 0.0;      // where the beam crosses half way between the levels
+  double sigma_s = 0.0;     // one standard deviation
+  cv::Point2d centre_px;    // the crossing in the photo
+  bool from_image = false;  // measured in the photo (the stroke, the levels' ends), else put
+                            // between the last samples of each level
+};
+
 double Quantile(std::vector<double> values, double q) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
   return digitize::SelectNth(values.begin(), at, values.end());
@@ -824,14 +834,20 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     edge->sigma_s *= s.time_per_div;
     return *edge;
   };
+  const PulseEdge rise_edge = finish(rise_before, rise_after, rise, rise_jump, rise_bound);
+  const PulseEdge fall_edge = finish(fall_before, fall_after, fall, fall_jump, fall_bound);
   ContactPulseFit fit;
-  fit.rise = finish(rise_before, rise_after, rise, rise_jump, rise_bound);
-  fit.fall = finish(fall_before, fall_after, fall, fall_jump, fall_bound);
-  fit.width_s = fit.fall.time_s - fit.rise.time_s;
-  fit.width_sigma_s = std::hypot(fit.rise.sigma_s, fit.fall.sigma_s);
-  fit.low_volts = (std::min(low, high) - s.zero_div) * s.volts_per_div;
-  fit.high_volts = (std::max(low, high) - s.zero_div) * s.volts_per_div;
-  if (fit.low_volts > fit.high_volts) std::swap(fit.low_volts, fit.high_volts);
+  fit.pulse.rise_s = {rise_edge.time_s, rise_edge.sigma_s};
+  fit.pulse.fall_s = {fall_edge.time_s, fall_edge.sigma_s};
+  fit.pulse.width_s = {fall_edge.time_s - rise_edge.time_s,
+                       std::hypot(rise_edge.sigma_s, fall_edge.sigma_s)};
+  fit.pulse.low_volts = (std::min(low, high) - s.zero_div) * s.volts_per_div;
+  fit.pulse.high_volts = (std::max(low, high) - s.zero_div) * s.volts_per_div;
+  if (fit.pulse.low_volts > fit.pulse.high_volts) {
+    std::swap(fit.pulse.low_volts, fit.pulse.high_volts);
+  }
+  fit.rise = {rise_edge.centre_px, rise_edge.from_image};
+  fit.fall = {fall_edge.centre_px, fall_edge.from_image};
   return fit;
 }
 

@@ -32,6 +32,7 @@
 
 #include "io/session.h"
 #include "io/trace.h"
+#include "model/contact_pulse.h"
 
 namespace impactlab {
 
@@ -268,20 +269,18 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
 // ---------------------------------------------------------------------------
 // The contact pulse
 
-struct PulseEdge {
-  double time_s = 0.0;      // where the beam crosses half way between the levels, s
-  double sigma_s = 0.0;     // one standard deviation, s
-  cv::Point2d centre_px;    // the crossing in the photo
+// Where a contact edge was found in the photo.
+struct PulseEdgeInPhoto {
+  cv::Point2d centre_px;    // the half-height crossing in the photo
   bool from_image = false;  // measured in the photo (the stroke, the levels' ends), else put
                             // between the last samples of each level
 };
 
+// A contact pulse read from a photo: the pulse (its edges' times and its
+// width, with their sigmas) and where its edges lie in the photo.
 struct ContactPulseFit {
-  PulseEdge rise;
-  PulseEdge fall;
-  double width_s = 0.0;        // fall - rise: the contact time, s
-  double width_sigma_s = 0.0;  // s
-  double low_volts = 0.0, high_volts = 0.0;
+  ContactPulse pulse;
+  PulseEdgeInPhoto rise, fall;
 };
 
 // The first complete pulse of a contact (step) trace: its levels from the

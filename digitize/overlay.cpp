@@ -179,12 +179,15 @@ struct LabelledPoint {
 // crossing) and its width above its middle. The crossings go to `edges`; the
 // ticks beside them, clear of the stroke, to `inset_marks`.
 void DrawPulse(Canvas& canvas, const GraticuleMapping& mapping, const DigitizedTrace& trace,
-               const ContactPulseFit& pulse, double text_scale, std::vector<Mark>& inset_marks,
+               const ContactPulseFit& fit, double text_scale, std::vector<Mark>& inset_marks,
                std::vector<LabelledPoint>& edges) {
+  const ContactPulse& pulse = fit.pulse;
   const TraceSettings& s = trace.settings;
   auto y_of = [&](double volts) { return s.zero_div + volts / s.volts_per_div; };
-  for (const PulseEdge* edge : {&pulse.rise, &pulse.fall}) {
-    const double x = s.t0_div + edge->time_s / s.time_per_div;
+  const std::pair<const PulseEdgeInPhoto*, double> both[] = {{&fit.rise, pulse.rise_s.value},
+                                                             {&fit.fall, pulse.fall_s.value}};
+  for (const auto& [edge, time_s] : both) {
+    const double x = s.t0_div + time_s / s.time_per_div;
     DrawScreenCurve(canvas, mapping, {x, y_of(pulse.low_volts) - 0.3},
                     {x, y_of(pulse.high_volts) + 0.3}, kEdgeColour);
     cv::circle(canvas.image, Fixed(canvas.FromPhoto(edge->centre_px)),
@@ -195,11 +198,12 @@ void DrawPulse(Canvas& canvas, const GraticuleMapping& mapping, const DigitizedT
         mapping.ImageFromScreen({x + 0.05, 0.0}) - mapping.ImageFromScreen({x, 0.0});
     inset_marks.push_back({up + side, up + side * 0.4, kEdgeColour});
     inset_marks.push_back({up - side, up - side * 0.4, kEdgeColour});
-    edges.push_back({edge->centre_px, edge == &pulse.rise ? "rise" : "fall"});
+    edges.push_back({edge->centre_px, edge == &fit.rise ? "rise" : "fall"});
   }
-  const double middle_x = s.t0_div + 0.5 * (pulse.rise.time_s + pulse.fall.time_s) / s.time_per_div;
-  const std::string text = fmt::format("{}: {:.2f} +- {:.2f} us", trace.name, pulse.width_s * 1e6,
-                                       pulse.width_sigma_s * 1e6);
+  const double middle_x =
+      s.t0_div + 0.5 * (pulse.rise_s.value + pulse.fall_s.value) / s.time_per_div;
+  const std::string text = fmt::format("{}: {:.2f} +- {:.2f} us", trace.name,
+                                       pulse.width_s.value * 1e6, pulse.width_s.sigma * 1e6);
   const double scale = 0.6 * text_scale;
   int baseline = 0;
   const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 2, &baseline);

@@ -62,15 +62,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
     out.overlay.trace_coverage.push_back(t.coverage);
     out.overlay.trace_spread_px2.push_back(t.spread_px2);
     out.overlay.trace_spread_sigma_px2.push_back(t.spread_sigma_px2);
-    if (const auto& pulse = result.pulses[i]) {
-      ContactPulse p;
-      p.rise_s = {pulse->rise.time_s, pulse->rise.sigma_s};
-      p.fall_s = {pulse->fall.time_s, pulse->fall.sigma_s};
-      p.width_s = {pulse->width_s, pulse->width_sigma_s};
-      p.low_volts = pulse->low_volts;
-      p.high_volts = pulse->high_volts;
-      out.pulse = p;
-    }
+    if (const auto& fit = result.pulses[i]) out.pulse = fit->pulse;
   }
   return out;
 }

@@ -17,8 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "model/estimate.h"
 #include "io/trace.h"
+#include "model/contact_pulse.h"
+#include "model/estimate.h"
 #include "model/pendulum.h"
 
 namespace impactlab {
@@ -106,14 +107,6 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pend
 // samples either side; sigma combined. Wider gaps stay gaps.
 DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b,
                                      double max_bridge_s = 0.0);
-
-// The contact circuit's step pulse: high while the bars touch.
-struct ContactPulse {
-  Estimate rise_s;   // rising edge (half level), s on the trace's time axis
-  Estimate fall_s;   // falling edge, s
-  Estimate width_s;  // fall - rise, s: the contact time
-  double low_volts = 0.0, high_volts = 0.0;
-};
 
 // Finds the first complete pulse. Edges are located where the trace crosses
 // the level halfway between its low and high states, by linear interpolation

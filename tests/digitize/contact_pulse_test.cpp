@@ -88,19 +88,23 @@ TEST_CASE(
         DigitizePhoto({photo.image, "edge.png"}, {10, 8}, run.requests, {});
     INFO(PhotoStyleName(c.style) << ", edges " << c.offset_div << " division right of a line");
     REQUIRE(result.pulses[2]);
-    const ContactPulseFit& pulse = *result.pulses[2];
+    const ContactPulseFit& fit = *result.pulses[2];
     const double px_per_s = result.graticule.px_per_div / kTimePerDiv;
     const double fall_s = kStartS + (fall_div - rise_div) * kTimePerDiv;
-    for (const auto& [edge, truth] :
-         {std::pair{pulse.rise, kStartS}, std::pair{pulse.fall, fall_s}}) {
-      const double error_px = (edge.time_s - truth) * px_per_s;
-      INFO("edge at " << truth * 1e6 << " us: " << error_px << " px, sigma "
-                      << edge.sigma_s * px_per_s << " px");
+    const struct {
+      Estimate time_s;
+      PulseEdgeInPhoto in_photo;
+      double truth;
+    } edges[] = {{fit.pulse.rise_s, fit.rise, kStartS}, {fit.pulse.fall_s, fit.fall, fall_s}};
+    for (const auto& edge : edges) {
+      const double error_px = (edge.time_s.value - edge.truth) * px_per_s;
+      INFO("edge at " << edge.truth * 1e6 << " us: " << error_px << " px, sigma "
+                      << edge.time_s.sigma * px_per_s << " px");
       // Measured in the photo, not put between the levels' last samples.
-      CHECK(edge.from_image);
+      CHECK(edge.in_photo.from_image);
       CHECK(std::abs(error_px) < c.max_px);
       // And its uncertainty honest.
-      CHECK(std::abs(error_px) < 3.0 * edge.sigma_s * px_per_s);
+      CHECK(std::abs(error_px) < 3.0 * edge.time_s.sigma * px_per_s);
     }
   }
 }

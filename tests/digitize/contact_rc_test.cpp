@@ -131,13 +131,13 @@ TEST_CASE("digitize: a pulse with RC edges on a phone photo is timed between lik
     REQUIRE(result.pulses[2]);
     const ContactPulseFit& pulse = *result.pulses[2];
     const double truth_s = (c.fall_div - c.rise_div) * kTimePerDiv;
-    const double error = pulse.width_s - truth_s;
-    INFO("width " << pulse.width_s * 1e6 << " us, error " << 100.0 * error / truth_s << " %, sigma "
-                  << 100.0 * pulse.width_sigma_s / truth_s << " %");
+    const double error = pulse.pulse.width_s.value - truth_s;
+    INFO("width " << pulse.pulse.width_s.value * 1e6 << " us, error " << 100.0 * error / truth_s
+                  << " %, sigma " << 100.0 * pulse.pulse.width_s.sigma / truth_s << " %");
     CHECK(pulse.rise.from_image);
     CHECK(pulse.fall.from_image);
     CHECK(std::abs(error) < 1e-3 * truth_s);
-    CHECK(std::abs(error) < 3.0 * pulse.width_sigma_s);
+    CHECK(std::abs(error) < 3.0 * pulse.pulse.width_s.sigma);
   }
 }
 

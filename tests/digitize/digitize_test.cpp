@@ -98,12 +98,13 @@ TEST_CASE("digitize: every style gives the true traces, graticule and contact pu
     REQUIRE(result.pulses[2]);
     const ContactPulseFit& pulse = *result.pulses[2];
     const double truth = testing::kPulseFallS - testing::kPulseRiseS;
-    INFO("pulse " << pulse.width_s * 1e6 << " +- " << pulse.width_sigma_s * 1e6 << " us");
-    CHECK(std::abs(pulse.width_s - truth) < tolerance.pulse_percent / 100.0 * truth);
-    CHECK(pulse.width_sigma_s > 0.0);
-    CHECK(pulse.rise.time_s == Approx(testing::kPulseRiseS).margin(0.01 * truth));
-    CHECK(pulse.low_volts == Approx(0.0).margin(0.05));
-    CHECK(pulse.high_volts == Approx(1.0).margin(0.05));
+    INFO("pulse " << pulse.pulse.width_s.value * 1e6 << " +- " << pulse.pulse.width_s.sigma * 1e6
+                  << " us");
+    CHECK(std::abs(pulse.pulse.width_s.value - truth) < tolerance.pulse_percent / 100.0 * truth);
+    CHECK(pulse.pulse.width_s.sigma > 0.0);
+    CHECK(pulse.pulse.rise_s.value == Approx(testing::kPulseRiseS).margin(0.01 * truth));
+    CHECK(pulse.pulse.low_volts == Approx(0.0).margin(0.05));
+    CHECK(pulse.pulse.high_volts == Approx(1.0).margin(0.05));
   }
 }
 

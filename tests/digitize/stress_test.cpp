@@ -49,7 +49,7 @@ DigitizeResult CheckTraces(const RunScene& run, const RenderedPhoto& photo, cons
 double PulseError(const DigitizeResult& result) {
   const double truth = testing::kPulseFallS - testing::kPulseRiseS;
   for (const auto& pulse : result.pulses) {
-    if (pulse) return std::abs(pulse->width_s - truth) / truth;
+    if (pulse) return std::abs(pulse->pulse.width_s.value - truth) / truth;
   }
   return HUGE_VAL;
 }
@@ -174,7 +174,8 @@ TEST_CASE("digitize stress: a tiny photo") {
   REQUIRE(result.pulses[2]);
   const double truth = testing::kPulseFallS - testing::kPulseRiseS;
   CHECK(PulseError(result) < 0.03);
-  CHECK(std::abs(result.pulses[2]->width_s - truth) < 3.0 * result.pulses[2]->width_sigma_s);
+  const ContactPulse& pulse = result.pulses[2]->pulse;
+  CHECK(std::abs(pulse.width_s.value - truth) < 3.0 * pulse.width_s.sigma);
 }
 
 }  // namespace impactlab
