@@ -31,6 +31,26 @@ std::vector<double> Misses(const DigitizedTrace& trace, const RenderedPhoto& pho
   return misses;
 }
 
+// A 2000 px photo of the standard run scene's settings with a chopper
+// drawing dashes `duty` of each `dash_div` slot, the beam `beam_fwhm_div` wide.
+RenderOptions DashedOptions(PhotoStyle style, unsigned seed, double dash_div, double duty,
+                            double beam_fwhm_div) {
+  RenderOptions options;
+  options.style = style;
+  options.width_px = 2000;
+  options.seed = seed;
+  options.chop_dash_div = dash_div;
+  options.chop_duty = duty;
+  options.beam_fwhm_div = beam_fwhm_div;
+  return options;
+}
+
+// How many samples lie more than 3 px off the true centre line.
+std::size_t FarOff(const std::vector<double>& misses) {
+  return static_cast<std::size_t>(
+      std::count_if(misses.begin(), misses.end(), [](double d) { return d > 3.0; }));
+}
+
 struct Case {
   PhotoStyle style;
   double dash_div;  // one chopper slot along the sweep
@@ -53,14 +73,8 @@ TEST_CASE("digitize dashed: sparse dashes on a bright graticule or across scratc
                         {PhotoStyle::kNegative, 0.06, 0.35, true, 0.0, 0.45},
                         {PhotoStyle::kClean, 0.1, 0.2, false, 0.3, 0.0}};
   for (const Case& c : cases) {
-    RenderOptions options;
-    options.style = c.style;
-    options.width_px = 2000;
-    options.seed = 7;
-    options.chop_dash_div = c.dash_div;
-    options.chop_duty = c.duty;
+    RenderOptions options = DashedOptions(c.style, 7, c.dash_div, c.duty, 0.012);
     options.sixteen_bit = c.sixteen_bit;
-    options.beam_fwhm_div = 0.012;
     RenderedPhoto photo = RenderOscillograph(run.scene, options);
     if (c.grid > 0.0) testing::BrightenGraticule(photo.image, photo, c.grid);
     if (c.scratch > 0.0) {
@@ -117,14 +131,8 @@ TEST_CASE("digitize dashed: a continuous scratch across sparse dots does not tak
   const testing::RunScene run = testing::StandardRunScene();
   for (const auto& [level, thickness] :
        {std::pair{0.5, 1}, std::pair{0.8, 1}, std::pair{0.4, 5}, std::pair{0.6, 5}}) {
-    RenderOptions options;
-    options.style = PhotoStyle::kClean;
-    options.width_px = 2000;
-    options.seed = 5;
-    options.chop_dash_div = 0.12;
-    options.chop_duty = 0.22;
-    options.beam_fwhm_div = 0.025;
-    RenderedPhoto photo = RenderOscillograph(run.scene, options);
+    RenderedPhoto photo =
+        RenderOscillograph(run.scene, DashedOptions(PhotoStyle::kClean, 5, 0.12, 0.22, 0.025));
     // Across the right trace's band, steeply, and across the left's.
     testing::Scratch(photo.image, photo, {5.3, -0.2}, {6.4, 4.0}, level, thickness);
     testing::Scratch(photo.image, photo, {2.2, 0.2}, {3.1, -2.6}, level, thickness);
@@ -132,8 +140,7 @@ TEST_CASE("digitize dashed: a continuous scratch across sparse dots does not tak
         DigitizePhoto({photo.image, "dots-and-scratch.png"}, {10, 8}, run.requests, {});
     for (std::size_t k = 0; k < 2; ++k) {
       const std::vector<double> misses = Misses(result.traces[k], photo);
-      const auto far =
-          std::count_if(misses.begin(), misses.end(), [](double d) { return d > 3.0; });
+      const std::size_t far = FarOff(misses);
       INFO("scratch " << thickness << " px at " << level << " of full scale, "
                       << result.traces[k].name << ": " << misses.size() << " samples, " << far
                       << " off the line");
@@ -142,7 +149,7 @@ TEST_CASE("digitize dashed: a continuous scratch across sparse dots does not tak
       // of the sweep for the thick bright scratch). Taking the scratch's
       // course put 29-38 % of the right trace's samples off it.
       CHECK(misses.size() > 100);
-      CHECK(static_cast<std::size_t>(far) <= misses.size() / 10);
+      CHECK(far <= misses.size() / 10);
     }
   }
 }
@@ -152,23 +159,17 @@ TEST_CASE("digitize dashed: traces as bright as the grid are read where they lea
   // tells a trace from a grid line, but a grid line lies on the graticule's
   // lattice and the traces swing across it.
   const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kPolaroid;
-  options.width_px = 2000;
-  options.seed = 7;
-  options.chop_dash_div = 0.05;
-  options.chop_duty = 0.4;
-  options.beam_fwhm_div = 0.012;
-  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  RenderedPhoto photo =
+      RenderOscillograph(run.scene, DashedOptions(PhotoStyle::kPolaroid, 7, 0.05, 0.4, 0.012));
   testing::BrightenGraticule(photo.image, photo, 1.0);
   const DigitizeResult result =
       DigitizePhoto({photo.image, "bright-grid.png"}, {10, 8}, run.requests, {});
   for (std::size_t k = 0; k < 2; ++k) {
     const std::vector<double> misses = Misses(result.traces[k], photo);
-    const auto far = std::count_if(misses.begin(), misses.end(), [](double d) { return d > 3.0; });
+    const std::size_t far = FarOff(misses);
     INFO(result.traces[k].name << ": " << misses.size() << " samples, " << far << " off the line");
     CHECK(misses.size() > 100);
-    CHECK(static_cast<std::size_t>(far) <= misses.size() / 50);
+    CHECK(far <= misses.size() / 50);
   }
 }
 
