@@ -1,0 +1,321 @@
+// docs/results.md against the files: the sample sessions, reduced (a typed-in
+// session with a failing and a level pair added, the photo session with a
+// manual hint, its calibrations alone, the logs), hold every name the page
+// lists, and the page lists every group, dataset and attribute they hold, with
+// ids, indices and the fixed vocabularies (cells, log sources, comparison
+// models) as the page's placeholders.
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <hdf5.h>
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "io/manifest.h"
+#include "pipeline/reduce.h"
+#include "pipeline/results_file.h"
+#include "tests/support/temp_dir.h"
+
+namespace impactlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSamples = fs::path(IMPACTLAB_SOURCE_DIR) / "sample_data";
+
+std::string ReadText(const fs::path& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
+
+// The names a results file may use for its ids: the page writes them as
+// placeholders.
+struct Vocabulary {
+  std::set<std::string> run_ids, channels, models;
+};
+
+void Add(Vocabulary& v, const SessionResult& r) {
+  for (const RunResult& run : r.runs) v.run_ids.insert(run.id);
+  for (const LogResult& log : r.logs) {
+    for (const LogSourceResult& s : log.sources) {
+      for (const LogChannelResult& c : s.channels) v.channels.insert(c.channel);
+    }
+  }
+  if (r.model_comparison) {
+    for (const ModelComparisonRow& m : r.model_comparison->models) v.models.insert(m.model);
+  }
+}
+
+// `name` with a run id suffix ("log_restitution_0.115", "…_std_error") as
+// "log_restitution_<run id>".
+std::string GeneraliseRunSuffix(const std::string& name, const Vocabulary& v) {
+  for (const std::string& id : v.run_ids) {
+    for (const std::string tail : {"", "_std_error"}) {
+      const std::string suffix = "_" + id + tail;
+      if (name.size() > suffix.size() && name.ends_with(suffix)) {
+        return name.substr(0, name.size() - suffix.size()) + "_<run id>" + tail;
+      }
+    }
+  }
+  return name;
+}
+
+// One path component as the page writes it, given the generalised path of
+// its parent.
+std::string GeneraliseComponent(const std::string& parent, const std::string& c,
+                                const Vocabulary& v) {
+  const auto in = [&](std::initializer_list<const char*> words) {
+    for (const char* w : words) {
+      if (c == w) return true;
+    }
+    return false;
+  };
+  if (parent == "/runs") return "<run id>";
+  if (parent == "/calibrations") return "<calibration id>";
+  if (parent == "/predictions") return "<target>_from_<source>";
+  if (parent == "/logs") return "<log id>";
+  if (parent == "/logs/<log id>" && in({"experiment", "simulation"})) return "<source>";
+  if ((parent == "/logs/<log id>/<source>" || parent == "/logs/<log id>/comparison") &&
+      v.channels.contains(c)) {
+    return "<channel>";
+  }
+  if (parent == "/runs/<run id>/digitized") return "<i>";
+  if ((parent == "/runs/<run id>/calibration" || parent == "/runs/<run id>/rebounds") &&
+      in({"right", "left"})) {
+    return "<cell>";
+  }
+  if (parent == "/session/model_comparison" && v.models.contains(c)) return "<model>";
+  if (parent == "/session/model_comparison/<model>") return GeneraliseRunSuffix(c, v);
+  return c;
+}
+
+// Groups written alike in several places, which the page describes once.
+struct Template {
+  std::string name;
+  std::vector<std::string> places;
+};
+const std::vector<Template> kTemplates = {
+    {"<calibration>", {"/runs/<run id>/calibration/<cell>", "/calibrations/<calibration id>"}},
+    {"<photo>", {"<calibration>/digitized", "/runs/<run id>/digitized/<i>"}},
+    {"<least-squares fit>",
+     {"/runs/<run id>/fit/kelvin_voigt_least_squares", "/runs/<run id>/fit/poynting_thomson",
+      "/session/joint_fits/poynting_thomson"}},
+};
+
+// A generalised name with what lies inside a template's place written from
+// the template ("<calibration>@cell"); the place itself keeps its path.
+std::string InTemplates(std::string name) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Template& t : kTemplates) {
+      for (const std::string& place : t.places) {
+        if (name.size() > place.size() && name.starts_with(place) &&
+            (name[place.size()] == '/' || name[place.size()] == '@')) {
+          name = t.name + name.substr(place.size());
+          changed = true;
+        }
+      }
+    }
+  }
+  return name;
+}
+
+std::string Generalise(const std::string& path, const Vocabulary& v) {
+  std::string out;
+  std::size_t start = 1;
+  while (start <= path.size() && path != "/") {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    out += "/" + GeneraliseComponent(out, path.substr(start, end - start), v);
+    start = end + 1;
+  }
+  return out.empty() ? "/" : out;
+}
+
+// Every name in a results file, generalised, with one place it was seen.
+using Names = std::map<std::string, std::string>;
+
+struct Walk {
+  const Vocabulary* vocabulary;
+  std::string file;
+  Names* names;
+  std::string object;  // the object whose attributes are listed
+  bool is_dataset = false;
+};
+
+// H5Aiterate2's callback (C: it returns a status, never throws).
+herr_t CollectAttribute(hid_t, const char* attribute, const H5A_info_t*, void* data) {
+  Walk& walk = *static_cast<Walk*>(data);
+  const std::string name = attribute;
+  const std::string where = fmt::format("{}: {}@{}", walk.file, walk.object, name);
+  if (walk.is_dataset && name == "units") {
+    walk.names->emplace("<dataset>@units", where);  // the page says it once, for all
+  } else {
+    walk.names->emplace(InTemplates(Generalise(walk.object, *walk.vocabulary) + "@" + name), where);
+  }
+  return 0;
+}
+
+// H5Ovisit2's callback: the object's name and its attributes'.
+herr_t CollectObject(hid_t file, const char* relative, const H5O_info_t* info, void* data) {
+  Walk& walk = *static_cast<Walk*>(data);
+  walk.object = std::string(relative) == "." ? "/" : "/" + std::string(relative);
+  walk.is_dataset = info->type == H5O_TYPE_DATASET;
+  walk.names->emplace(InTemplates(Generalise(walk.object, *walk.vocabulary)),
+                      walk.file + ": " + walk.object);
+  const hid_t object = H5Oopen(file, relative, H5P_DEFAULT);
+  if (object < 0) return -1;
+  hsize_t index = 0;
+  const herr_t status =
+      H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &index, CollectAttribute, &walk);
+  return H5Oclose(object) < 0 ? -1 : status;
+}
+
+void CollectNames(const fs::path& path, const Vocabulary& v, Names& names) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  Walk walk{&v, path.filename().string(), &names};
+  CHECK(H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_INC, CollectObject, &walk, H5O_INFO_BASIC) >= 0);
+  REQUIRE(H5Fclose(file) >= 0);
+}
+
+// The names docs/results.md lists: in each table whose first column is
+// "name", the backquoted names of that column, relative to the path in
+// backquotes of the heading above (a path from "/", or a template such as
+// "<calibration>"); a heading's path is itself listed.
+std::set<std::string> DocumentedNames(const std::string& text) {
+  static const std::regex kQuoted("`([^`]+)`");
+  std::set<std::string> names;
+  std::string base;
+  bool name_table = false;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.starts_with("#")) {
+      base.clear();
+      std::smatch m;
+      if (std::regex_search(line, m, kQuoted) && (m[1].str()[0] == '/' || m[1].str()[0] == '<')) {
+        base = m[1].str();
+        if (base.starts_with("/")) names.insert(base);
+      }
+      continue;
+    }
+    if (!line.starts_with("|")) {
+      name_table = false;
+      continue;
+    }
+    const std::string first = line.substr(1, line.find('|', 1) - 1);
+    if (first == " name ") {
+      name_table = true;
+      continue;
+    }
+    if (!name_table || base.empty()) continue;
+    for (std::sregex_iterator m(first.begin(), first.end(), kQuoted), end; m != end; ++m) {
+      const std::string token = (*m)[1];
+      if (token.starts_with("@")) {
+        names.insert(base + token);
+      } else {
+        names.insert(base == "/" ? "/" + token : base + "/" + token);
+      }
+    }
+  }
+  return names;
+}
+
+// A copy of the thesis's typed-in session with two more runs: one whose fit
+// pair shows no dissipation (the fit fails) and one whose pair is level (the
+// fit succeeds with a caveat).
+fs::path TypedInSession(const fs::path& dir) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "session.toml") << ReadText(kSamples / "thesis-1969" / "session.toml") << R"(
+[[run]]
+id = "rising"
+initial_displacement = 0.3
+rebounds = [0.15, 0.18, 0.1]
+fit_rebounds = [0, 1]
+
+[[run]]
+id = "level"
+initial_displacement = 0.3
+rebounds = [0.15, 0.15, 0.1]
+fit_rebounds = [0, 1]
+rebound_uncertainty = 0.0005
+)";
+  return dir;
+}
+
+// A copy of the photo session whose first run's left trace has three points
+// given by hand (from the truth), so its digitized photo records hints.
+fs::path HintedPhotoSession(const fs::path& dir) {
+  fs::copy(kSamples / "thesis-photos", dir, fs::copy_options::recursive);
+  const nlohmann::json truth =
+      nlohmann::json::parse(ReadText(kSamples / "thesis-photos.truth.json"));
+  std::string points = "points = [";
+  for (const auto& trace : truth["runs"][0]["photo"]["traces"]) {
+    if (trace["name"] != "left") continue;
+    const auto& samples = trace["points_t_x_y_px"];
+    for (std::size_t k = 1; k <= 3; ++k) {
+      const auto& s = samples[k * samples.size() / 4];
+      points += fmt::format("{}[{:.1f}, {:.1f}]", k > 1 ? ", " : "", s[1].get<double>(),
+                            s[2].get<double>());
+    }
+  }
+  std::string text = ReadText(dir / "session.toml");
+  const std::string table = "\n[run.traces.left]\n";
+  const std::size_t at = text.find(table, text.find("[[run]]"));
+  REQUIRE(at != std::string::npos);
+  text.insert(at + table.size(), points + "]\n");
+  std::ofstream(dir / "session.toml") << text;
+  return dir;
+}
+
+TEST_CASE("results_names: docs/results.md lists every name of the files, and no other") {
+  testing::TempDir dir;
+  const fs::path photos = HintedPhotoSession(dir.path() / "photos");
+  struct Reduction {
+    fs::path session;
+    Products products;
+  };
+  const std::vector<Reduction> reductions = {
+      {TypedInSession(dir.path() / "typed-in"), Products::kFit},
+      {photos, Products::kFit},
+      {photos, Products::kCalibration},
+      {kSamples / "logs-two-link", Products::kFit},
+  };
+  Vocabulary vocabulary;
+  std::vector<fs::path> files;
+  for (const Reduction& r : reductions) {
+    ReduceOptions options;
+    options.products = r.products;
+    options.jobs = 2;
+    const SessionResult result = ReduceSession(ReadManifest(r.session).session, options);
+    Add(vocabulary, result);
+    files.push_back(dir.path() /
+                    fmt::format("{}-{}.h5", files.size(), r.session.filename().string()));
+    WriteResults(result, files.back());
+  }
+  Names in_files;
+  for (const fs::path& file : files) CollectNames(file, vocabulary, in_files);
+
+  const std::set<std::string> documented =
+      DocumentedNames(ReadText(fs::path(IMPACTLAB_SOURCE_DIR) / "docs" / "results.md"));
+  for (const auto& [name, where] : in_files) {
+    if (!documented.contains(name)) {
+      FAIL_CHECK("docs/results.md does not list " << name << " (" << where << ")");
+    }
+  }
+  for (const std::string& name : documented) {
+    if (!in_files.contains(name)) {
+      FAIL_CHECK("docs/results.md lists " << name << ", which no file of the sample sessions has");
+    }
+  }
+  CHECK(in_files.size() > 200);
+}
+
+}  // namespace
+}  // namespace impactlab
