@@ -1,0 +1,239 @@
+// Results files of layout 1 still read: `reduce` reuses the measurements of an
+// earlier results file, which may be of layout 1. The fixture
+// tests/pipeline/data/layout1/results.h5 was written by the layout-1 writer
+// from the session beside it.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "io/hdf5_file.h"
+#include "pipeline/results_file.h"
+#include "tests/support/temp_dir.h"
+
+namespace impactlab {
+namespace {
+
+const std::filesystem::path kLayout1 = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "tests" /
+                                       "pipeline" / "data" / "layout1" / "results.h5";
+
+// Equal, or both NaN (a value the file stores as it was computed).
+bool Same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+bool Same(const Estimate& a, const Estimate& b) {
+  return Same(a.value, b.value) && Same(a.sigma, b.sigma);
+}
+bool Same(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!Same(a[i], b[i])) return false;
+  }
+  return true;
+}
+bool Same(const std::optional<Estimate>& a, const std::optional<Estimate>& b) {
+  return a.has_value() == b.has_value() && (!a || Same(*a, *b));
+}
+bool Same(const std::vector<NamedEstimate>& a, const std::vector<NamedEstimate>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].name != b[i].name || a[i].units != b[i].units || !Same(a[i].estimate, b[i].estimate))
+      return false;
+  }
+  return true;
+}
+
+void CheckSame(const LeastSquaresSummary& a, const LeastSquaresSummary& b) {
+  INFO("least-squares fit " << a.model);
+  CHECK(a.model == b.model);
+  CHECK(a.ok == b.ok);
+  CHECK(a.converged == b.converged);
+  CHECK(a.message == b.message);
+  CHECK(a.identifiable == b.identifiable);
+  CHECK(a.rank == b.rank);
+  CHECK(a.identifiability == b.identifiability);
+  CHECK(Same(a.parameters, b.parameters));
+  CHECK(Same(a.chi2, b.chi2));
+  CHECK(a.dof == b.dof);
+  CHECK(Same(a.seconds, b.seconds));
+  CHECK(Same(a.predicted_xmax, b.predicted_xmax));
+  CHECK(Same(a.normalized_residuals, b.normalized_residuals));
+  CHECK(a.covariance_names == b.covariance_names);
+  CHECK(Same(a.correlation, b.correlation));
+}
+
+void CheckSame(const RunResult& a, const RunResult& b) {
+  INFO("run " << a.id);
+  CHECK(a.id == b.id);
+  CHECK(a.fingerprint == b.fingerprint);
+  CHECK(a.ok == b.ok);
+  CHECK(a.failure == b.failure);
+  CHECK(a.source == b.source);
+  CHECK(Same(a.initial_displacement, b.initial_displacement));
+  CHECK(a.first_rebound == b.first_rebound);
+  CHECK(Same(a.xmax, b.xmax));
+  CHECK(Same(a.xmax_sigma, b.xmax_sigma));
+  CHECK(Same(a.t_peak, b.t_peak));
+  CHECK(Same(a.t_peak_sigma, b.t_peak_sigma));
+  CHECK(a.t_peak_source == b.t_peak_source);
+  CHECK(a.contact_time == b.contact_time);
+  CHECK(Same(a.contact_time_sigma, b.contact_time_sigma));
+  CHECK(a.contact_time_source == b.contact_time_source);
+  CHECK(Same(a.model_response.time_s, b.model_response.time_s));
+  CHECK(Same(a.model_response.value, b.model_response.value));
+  CHECK(a.stiffness_source == b.stiffness_source);
+  CHECK(Same(a.deviation, b.deviation));
+  CHECK(Same(a.deviation_pct_peak, b.deviation_pct_peak));
+  CHECK(Same(a.deviation_pct_x0, b.deviation_pct_x0));
+  REQUIRE(a.kelvin_voigt.has_value() == b.kelvin_voigt.has_value());
+  if (a.kelvin_voigt) {
+    const KelvinVoigtTwoPointFit &p = *a.kelvin_voigt, &q = *b.kelvin_voigt;
+    CHECK(p.ok == q.ok);
+    CHECK(p.diagnostic == q.diagnostic);
+    CHECK(p.separation == q.separation);
+    CHECK(p.rebounds_used == q.rebounds_used);
+    CHECK(Same(p.damping_ratio, q.damping_ratio));
+    CHECK(Same(p.restitution, q.restitution));
+    CHECK(Same(p.log_restitution, q.log_restitution));
+    CHECK(Same(p.stiffness, q.stiffness));
+    CHECK(Same(p.damping, q.damping));
+    CHECK(p.contact_time == q.contact_time);
+    REQUIRE(p.predicted_xmax.size() == q.predicted_xmax.size());
+    for (std::size_t i = 0; i < p.predicted_xmax.size(); ++i) {
+      CHECK(Same(p.predicted_xmax[i], q.predicted_xmax[i]));
+    }
+  }
+  REQUIRE(a.least_squares.size() == b.least_squares.size());
+  for (std::size_t i = 0; i < a.least_squares.size(); ++i) {
+    CheckSame(a.least_squares[i], b.least_squares[i]);
+  }
+}
+
+void CheckSame(const ModelComparison& a, const ModelComparison& b) {
+  CHECK(a.run_ids == b.run_ids);
+  CHECK(a.best_by_leave_one_out == b.best_by_leave_one_out);
+  CHECK(a.best_by_bic == b.best_by_bic);
+  REQUIRE(a.models.size() == b.models.size());
+  for (std::size_t i = 0; i < a.models.size(); ++i) {
+    const ModelComparisonRow &p = a.models[i], &q = b.models[i];
+    INFO("model " << p.model);
+    CHECK(p.model == q.model);
+    CHECK(p.ok == q.ok);
+    CHECK(p.diagnostic == q.diagnostic);
+    CHECK(Same(p.parameters, q.parameters));
+    CHECK((p.maxima == q.maxima && p.parameter_count == q.parameter_count && p.dof == q.dof));
+    CHECK(Same(std::vector<double>{p.chi2, p.aic, p.bic, p.log_restitution_spread,
+                                   p.loo_rms_normalized, p.loo_rms_length},
+               std::vector<double>{q.chi2, q.aic, q.bic, q.log_restitution_spread,
+                                   q.loo_rms_normalized, q.loo_rms_length}));
+  }
+}
+
+// Everything ReadResults reads of a typed-in session.
+void CheckSame(const SessionResult& a, const SessionResult& b) {
+  CHECK(a.title == b.title);
+  CHECK(a.units == b.units);
+  CHECK(a.producer == b.producer);
+  CHECK(a.created == b.created);
+  CHECK(a.session_folder == b.session_folder);
+  CHECK(Same(
+      std::vector<double>{a.apparatus.pendulum_length, a.apparatus.mass, a.apparatus.gravity},
+      std::vector<double>{b.apparatus.pendulum_length, b.apparatus.mass, b.apparatus.gravity}));
+  CHECK(a.convention == b.convention);
+  CHECK(a.separation == b.separation);
+  CHECK(a.session_contact_time == b.session_contact_time);
+  CHECK(a.warnings == b.warnings);
+  REQUIRE(a.runs.size() == b.runs.size());
+  for (std::size_t i = 0; i < a.runs.size(); ++i) CheckSame(a.runs[i], b.runs[i]);
+  REQUIRE(a.kelvin_voigt.has_value() == b.kelvin_voigt.has_value());
+  if (a.kelvin_voigt) {
+    const SessionKelvinVoigt &p = *a.kelvin_voigt, &q = *b.kelvin_voigt;
+    CHECK(p.run_ids == q.run_ids);
+    CHECK(Same(p.sqrt_restitution, q.sqrt_restitution));
+    CHECK(Same(p.stiffness, q.stiffness));
+    CHECK(Same(p.damping, q.damping));
+    CHECK(Same(p.spread.average, q.spread.average));
+    CHECK(Same(p.spread.deviation, q.spread.deviation));
+    CHECK(Same(p.spread.pct_variation, q.spread.pct_variation));
+    CHECK(p.average_stiffness == q.average_stiffness);
+    REQUIRE(p.damping_line.has_value() == q.damping_line.has_value());
+    if (p.damping_line) {
+      CHECK(Same(p.damping_line->a, q.damping_line->a));
+      CHECK(Same(p.damping_line->b, q.damping_line->b));
+      CHECK(Same(p.damping_line->correlation_ab, q.damping_line->correlation_ab));
+      CHECK(Same(p.damping_line->rms_residual, q.damping_line->rms_residual));
+      CHECK(p.damping_line->points == q.damping_line->points);
+    }
+  }
+  REQUIRE(a.joint_fits.size() == b.joint_fits.size());
+  for (std::size_t i = 0; i < a.joint_fits.size(); ++i) CheckSame(a.joint_fits[i], b.joint_fits[i]);
+  REQUIRE(a.model_comparison.has_value() == b.model_comparison.has_value());
+  if (a.model_comparison) CheckSame(*a.model_comparison, *b.model_comparison);
+  REQUIRE(a.predictions.size() == b.predictions.size());
+  for (std::size_t i = 0; i < a.predictions.size(); ++i) {
+    const RunPrediction &p = a.predictions[i], &q = b.predictions[i];
+    CHECK(p.source_run == q.source_run);
+    CHECK(p.target_run == q.target_run);
+    CHECK(p.start_rebound == q.start_rebound);
+    CHECK(Same(p.start_xmax, q.start_xmax));
+    CHECK(Same(p.predicted, q.predicted));
+    CHECK(Same(p.calculated, q.calculated));
+    CHECK(Same(p.deviation, q.deviation));
+    CHECK(Same(p.pct_peak, q.pct_peak));
+    CHECK(Same(p.pct_start, q.pct_start));
+  }
+}
+
+TEST_CASE("results_layout1: a layout-1 file reads with its values where they were written") {
+  REQUIRE(Hdf5File::OpenReadOnly(kLayout1).ReadIntegerAttribute("/", "layout") == 1);
+  const SessionResult r = ReadResults(kLayout1);
+  CHECK(r.title == "Layout-1 fixture (three thesis runs and a failing pair)");
+  CHECK(r.apparatus.pendulum_length == 22.0);
+  REQUIRE(r.runs.size() == 4);
+  CHECK(r.runs[0].id == "0.234");  // manifest order
+  const RunResult& run = r.runs[2];
+  CHECK(run.id == "0.405");
+  CHECK(run.ok);
+  CHECK(run.source == "typed-in");
+  CHECK(run.xmax == std::vector<double>{0.293, 0.195, 0.117, 0.060, 0.053});
+  CHECK(run.t_peak_source == "model");
+  CHECK(run.contact_time_source == "session");
+  REQUIRE(run.kelvin_voigt.has_value());
+  CHECK(run.kelvin_voigt->stiffness->value == Approx(460000).epsilon(0.05));
+  CHECK(run.model_response.time_s.size() == run.model_response.value.size());
+  REQUIRE(run.least_squares.size() == 2);
+  const LeastSquaresSummary& kv = run.least_squares[0];
+  CHECK(kv.model == "kelvin_voigt_least_squares");
+  CHECK(kv.ok);
+  CHECK_THAT(kv.message, Catch::StartsWith("Function tolerance reached"));
+  CHECK(kv.correlation.size() == kv.covariance_names.size() * kv.covariance_names.size());
+  const LeastSquaresSummary& pt = run.least_squares[1];
+  CHECK(!pt.ok);
+  CHECK_THAT(pt.message, Catch::StartsWith("not identifiable"));
+  CHECK(pt.correlation.size() == 16);
+
+  const RunResult& rising = r.runs[3];
+  CHECK(!rising.ok);
+  CHECK_THAT(rising.failure, Catch::Contains("the pair shows no dissipation"));
+  REQUIRE(rising.kelvin_voigt.has_value());
+  CHECK(!rising.kelvin_voigt->ok);
+  CHECK_THAT(rising.kelvin_voigt->diagnostic, Catch::StartsWith("rebound 1 (0.18) exceeds"));
+
+  REQUIRE(r.joint_fits.size() == 1);
+  CHECK(r.joint_fits[0].correlation.size() == 36);
+  REQUIRE(r.model_comparison.has_value());
+  CHECK(r.model_comparison->models.size() == 3);
+  REQUIRE(r.predictions.size() == 1);
+  CHECK(r.predictions[0].target_run == "0.405");
+}
+
+TEST_CASE("results_layout1: a layout-1 file written again in today's layout reads the same") {
+  testing::TempDir dir;
+  const SessionResult layout1 = ReadResults(kLayout1);
+  WriteResults(layout1, dir.path() / "again.h5");
+  CHECK(Hdf5File::OpenReadOnly(dir.path() / "again.h5").ReadIntegerAttribute("/", "layout") ==
+        kResultsLayout);
+  CheckSame(ReadResults(dir.path() / "again.h5"), layout1);
+}
+
+}  // namespace
+}  // namespace impactlab
