@@ -4,11 +4,26 @@
 
 #include "io/errors.h"
 #include "io/hdf5_file.h"
+#include "pipeline/hdf5_extras.h"
 
 namespace impactlab {
 namespace {
 
-// Paths and unit strings in one place, so writer and reader cannot drift apart.
+// The file being written: the typed view, what layout 2 needs beyond it, and
+// the session's unit labels.
+struct Out {
+  Hdf5File& f;
+  const Hdf5Extras& x;
+  UnitLabels u;
+};
+
+// The file being read and its layout (1 or 2), where the two differ.
+struct In {
+  const Hdf5File& f;
+  long long layout;
+};
+
+// Paths in one place, so writer and reader cannot drift apart.
 std::string RunPath(const std::string& id) { return JoinPath({"runs", id}); }
 std::string KelvinVoigtPath(const std::string& id) { return RunPath(id) + "/fit/kelvin_voigt"; }
 
@@ -33,12 +48,21 @@ Estimate ReadEstimate(const Hdf5File& f, const std::string& name) {
   return {f.ReadScalar(name), f.ReadScalarIfPresent(name + "_std_error").value_or(0.0)};
 }
 
-void WriteBar(Hdf5File& f, const std::string& g, const BarRebounds& bar, const UnitLabels& u) {
-  f.WriteVector(g + "/xmax", bar.xmax, u.length);
-  f.WriteVector(g + "/xmax_std_error", bar.xmax_sigma, u.length);
-  f.WriteVector(g + "/t_peak", bar.t_peak, "s");
-  f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
-  f.WriteVector(g + "/duration", bar.duration, "s");
+std::vector<double> ReadVectorIfPresent(const Hdf5File& f, const std::string& name) {
+  return f.Exists(name) ? f.ReadVector(name) : std::vector<double>{};
+}
+
+// The reason of a "failed: <reason>" status.
+std::string ReasonOf(const std::string& status) {
+  return status.rfind("failed: ", 0) == 0 ? status.substr(8) : status;
+}
+
+void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
+  out.f.WriteVector(g + "/xmax", bar.xmax, out.u.length);
+  out.f.WriteVector(g + "/xmax_std_error", bar.xmax_sigma, out.u.length);
+  out.f.WriteVector(g + "/t_peak", bar.t_peak, "s");
+  out.f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
+  out.f.WriteVector(g + "/duration", bar.duration, "s");
 }
 
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
@@ -48,7 +72,8 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
 }
 
 // A digitized photo: the overlay image and the digitizer's figures of merit.
-void WriteOverlay(Hdf5File& f, const std::string& h, const PhotoOverlay& o) {
+void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
+  Hdf5File& f = out.f;
   f.CreateGroup(h);
   f.SetAttribute(h, "photo", o.photo);
   // Said where a reader of the results looks: the numbers rest on the user's hints.
@@ -78,22 +103,22 @@ PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
   return o;
 }
 
-void WriteCalibration(Hdf5File& f, const std::string& g, const CellCalibration& c,
-                      const UnitLabels& u) {
+void WriteCalibration(Out& out, const std::string& g, const CellCalibration& c) {
+  Hdf5File& f = out.f;
   f.CreateGroup(g);
   f.SetAttribute(g, "calibration_id", c.calibration_id);
   f.SetAttribute(g, "cell", c.cell);
   f.SetAttribute(g, "model", "V(X) = sum c_k T_k(2X/X0 - 1), Chebyshev, order by BIC");
-  f.WriteScalar(g + "/release_x", c.release_x, u.length);
+  f.WriteScalar(g + "/release_x", c.release_x, out.u.length);
   f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
   f.WriteScalar(g + "/residual_rms_volts", c.residual_rms_volts, "V");
-  f.WriteScalar(g + "/residual_rms_length", c.residual_rms_length, u.length);
+  f.WriteScalar(g + "/residual_rms_length", c.residual_rms_length, out.u.length);
   f.WriteScalar(g + "/volts_min", c.volts_min, "V");
   f.WriteScalar(g + "/volts_max", c.volts_max, "V");
   f.SetAttribute(g, "samples_used", static_cast<long long>(c.samples_used));
-  f.WriteVector(g + "/points_x", c.points_x, u.length);
+  f.WriteVector(g + "/points_x", c.points_x, out.u.length);
   f.WriteVector(g + "/points_volts", c.points_volts, "V");
-  if (c.overlay) WriteOverlay(f, g + "/digitized", *c.overlay);
+  if (c.overlay) WriteOverlay(out, g + "/digitized", *c.overlay);
 }
 
 CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const std::string& cell) {
@@ -126,16 +151,16 @@ std::string UnitsOf(const std::string& kind, const UnitLabels& u) {
 
 // A fit's parameters: one dataset each (+ _std_error), and their names and unit
 // kinds, so that they read back in order.
-void WriteNamedEstimates(Hdf5File& f, const std::string& g,
-                         const std::vector<NamedEstimate>& parameters, const UnitLabels& u) {
+void WriteNamedEstimates(Out& out, const std::string& g,
+                         const std::vector<NamedEstimate>& parameters) {
   std::vector<std::string> names, kinds;
   for (const NamedEstimate& p : parameters) {
     names.push_back(p.name);
     kinds.push_back(p.units);
-    WriteEstimate(f, g + "/" + p.name, p.estimate, UnitsOf(p.units, u));
+    WriteEstimate(out.f, g + "/" + p.name, p.estimate, UnitsOf(p.units, out.u));
   }
-  f.WriteStrings(g + "/parameter_names", names);
-  f.WriteStrings(g + "/parameter_unit_kinds", kinds);
+  out.f.WriteStrings(g + "/parameter_names", names);
+  out.f.WriteStrings(g + "/parameter_unit_kinds", kinds);
 }
 
 std::vector<NamedEstimate> ReadNamedEstimates(const Hdf5File& f, const std::string& g) {
@@ -148,33 +173,69 @@ std::vector<NamedEstimate> ReadNamedEstimates(const Hdf5File& f, const std::stri
   return parameters;
 }
 
-void WriteLeastSquares(Hdf5File& f, const std::string& g, const LeastSquaresSummary& fit,
-                       const UnitLabels& u) {
+// A least-squares fit's covariance is over its free parameters (fit/…:
+// zeta and v0; log K1, log K2, log C and ln v0 of each run). A correlation is
+// the same for a parameter and its logarithm, so the file names each row as
+// the estimate it is: rebound0_speed, stiffness_1, stiffness_2, damping,
+// rebound0_speed_<run id> (names already so are kept).
+std::string EstimateNameOf(const std::string& parameter) {
+  if (parameter == "v0") return "rebound0_speed";
+  if (parameter == "log K1") return "stiffness_1";
+  if (parameter == "log K2") return "stiffness_2";
+  if (parameter == "log C") return "damping";
+  const std::string per_run = "ln v0 ";
+  if (parameter.rfind(per_run, 0) == 0) return "rebound0_speed_" + parameter.substr(per_run.size());
+  return parameter;
+}
+
+std::vector<std::string> EstimateNamesOf(const std::vector<std::string>& parameters) {
+  std::vector<std::string> names;
+  for (const std::string& p : parameters) names.push_back(EstimateNameOf(p));
+  return names;
+}
+
+// Everything but the status applies only to a fit that ran (one that threw
+// has no estimates); the correlation only where it could be computed.
+void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary& fit) {
+  Hdf5File& f = out.f;
   f.CreateGroup(g);
   f.SetAttribute(g, "method", "least-squares");
   f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.message);
-  f.SetAttribute(g, "solver_message", fit.message);
+  if (fit.parameters.empty()) return;
+  // A failed fit's message is its reason, which the status holds.
+  if (fit.ok) f.SetAttribute(g, "termination", fit.message);
   f.SetAttribute(g, "converged", static_cast<long long>(fit.converged));
   f.SetAttribute(g, "identifiable", static_cast<long long>(fit.identifiable));
   f.SetAttribute(g, "rank", static_cast<long long>(fit.rank));
   f.SetAttribute(g, "identifiability", fit.identifiability);
   f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
-  WriteNamedEstimates(f, g, fit.parameters, u);
+  WriteNamedEstimates(out, g, fit.parameters);
   f.WriteScalar(g + "/chi2", fit.chi2, "1");
   f.WriteScalar(g + "/seconds", fit.seconds, "s");
-  if (!fit.predicted_xmax.empty())
-    f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, u.length);
+  if (!fit.predicted_xmax.empty()) {
+    f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, out.u.length);
+  }
   f.WriteVector(g + "/normalized_residuals", fit.normalized_residuals, "1");
-  f.WriteStrings(g + "/covariance_names", fit.covariance_names);
-  f.WriteVector(g + "/correlation", fit.correlation, "1");
+  const std::size_t n = fit.covariance_names.size();
+  if (n > 0) {
+    out.x.WriteMatrix(g + "/correlation", n, n, fit.correlation, "1");
+    out.x.SetStringsAttribute(g + "/correlation", "parameter_names",
+                              EstimateNamesOf(fit.covariance_names));
+  }
 }
 
-LeastSquaresSummary ReadLeastSquares(const Hdf5File& f, const std::string& g,
-                                     const std::string& model) {
+LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const std::string& model) {
+  const Hdf5File& f = in.f;
   LeastSquaresSummary fit;
   fit.model = model;
-  fit.ok = f.ReadStringAttribute(g, "status") == "ok";
-  fit.message = f.ReadStringAttribute(g, "solver_message");
+  const std::string status = f.ReadStringAttribute(g, "status");
+  fit.ok = status == "ok";
+  if (in.layout == 1) {
+    fit.message = f.ReadStringAttribute(g, "solver_message");
+  } else {
+    fit.message = fit.ok ? f.ReadStringAttribute(g, "termination") : ReasonOf(status);
+    if (!f.Exists(g + "/parameter_names")) return fit;  // the fit did not run
+  }
   fit.converged = f.ReadIntegerAttribute(g, "converged") != 0;
   fit.identifiable = f.ReadIntegerAttribute(g, "identifiable") != 0;
   fit.rank = static_cast<int>(f.ReadIntegerAttribute(g, "rank"));
@@ -183,14 +244,20 @@ LeastSquaresSummary ReadLeastSquares(const Hdf5File& f, const std::string& g,
   fit.parameters = ReadNamedEstimates(f, g);
   fit.chi2 = f.ReadScalar(g + "/chi2");
   fit.seconds = f.ReadScalar(g + "/seconds");
-  if (f.Exists(g + "/predicted_xmax")) fit.predicted_xmax = f.ReadVector(g + "/predicted_xmax");
+  fit.predicted_xmax = ReadVectorIfPresent(f, g + "/predicted_xmax");
   fit.normalized_residuals = f.ReadVector(g + "/normalized_residuals");
-  fit.covariance_names = f.ReadStrings(g + "/covariance_names");
-  fit.correlation = f.ReadVector(g + "/correlation");
+  if (in.layout == 1) {
+    fit.covariance_names = EstimateNamesOf(f.ReadStrings(g + "/covariance_names"));
+    fit.correlation = f.ReadVector(g + "/correlation");
+  } else if (f.Exists(g + "/correlation")) {
+    fit.covariance_names = ReadStringsAttribute(f.path(), g + "/correlation", "parameter_names");
+    fit.correlation = f.ReadVector(g + "/correlation");  // n x n, row by row
+  }
   return fit;
 }
 
-void WriteModelComparison(Hdf5File& f, const ModelComparison& c, const UnitLabels& u) {
+void WriteModelComparison(Out& out, const ModelComparison& c) {
+  Hdf5File& f = out.f;
   const std::string g = "/session/model_comparison";
   f.CreateGroup(g);
   f.SetAttribute(g, "best_by_leave_one_out", c.best_by_leave_one_out);
@@ -203,13 +270,13 @@ void WriteModelComparison(Hdf5File& f, const ModelComparison& c, const UnitLabel
     f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
     f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
     f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
-    WriteNamedEstimates(f, h, m.parameters, u);
+    WriteNamedEstimates(out, h, m.parameters);
     f.WriteScalar(h + "/chi2", m.chi2, "1");
     f.WriteScalar(h + "/aic", m.aic, "1");
     f.WriteScalar(h + "/bic", m.bic, "1");
     f.WriteScalar(h + "/log_restitution_spread", m.log_restitution_spread, "1");
     f.WriteScalar(h + "/leave_one_out_rms_normalized", m.loo_rms_normalized, "1");
-    f.WriteScalar(h + "/leave_one_out_rms", m.loo_rms_length, u.length);
+    f.WriteScalar(h + "/leave_one_out_rms", m.loo_rms_length, out.u.length);
   }
 }
 
@@ -252,7 +319,44 @@ std::optional<Estimate> ReadOptionalEstimate(const Hdf5File& f, const std::strin
   return ReadEstimate(f, name);
 }
 
-void WriteLog(Hdf5File& f, const LogResult& log) {
+void WriteLogChannel(Out& out, const std::string& k, const LogChannelResult& c) {
+  Hdf5File& f = out.f;
+  f.CreateGroup(k);
+  f.SetAttribute(k, "channel_units", c.units);
+  f.SetAttribute(k, "frequency_source", c.frequency_source);
+  f.SetAttribute(k, "frequency_mismatch", static_cast<long long>(c.frequency_mismatch));
+  WriteOptionalEstimate(f, k + "/dominant_frequency", c.dominant_frequency_hz, "Hz");
+  WriteOptionalEstimate(f, k + "/damping_ratio", c.damping_ratio, "1");
+  if (!c.spectrum_frequency_hz.empty()) {
+    f.WriteVector(k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz");
+    f.WriteVector(k + "/spectrum/psd", c.spectrum_psd, "(" + c.units + ")^2/Hz");
+  }
+  f.WriteStrings(k + "/notes", c.notes);
+  if (!c.series_time_s.empty()) {
+    f.WriteVector(k + "/series/time", c.series_time_s, "s");
+    f.WriteVector(k + "/series/value", c.series_value, c.units);
+  }
+}
+
+LogChannelResult ReadLogChannel(const Hdf5File& f, const std::string& k,
+                                const std::string& channel) {
+  LogChannelResult c;
+  c.channel = channel;
+  c.units = f.ReadStringAttribute(k, "channel_units");
+  c.frequency_source = f.ReadStringAttribute(k, "frequency_source");
+  c.frequency_mismatch = f.ReadIntegerAttribute(k, "frequency_mismatch") != 0;
+  c.dominant_frequency_hz = ReadOptionalEstimate(f, k + "/dominant_frequency");
+  c.damping_ratio = ReadOptionalEstimate(f, k + "/damping_ratio");
+  c.spectrum_frequency_hz = ReadVectorIfPresent(f, k + "/spectrum/frequency");
+  c.spectrum_psd = ReadVectorIfPresent(f, k + "/spectrum/psd");
+  c.notes = f.ReadStrings(k + "/notes");
+  c.series_time_s = ReadVectorIfPresent(f, k + "/series/time");
+  c.series_value = ReadVectorIfPresent(f, k + "/series/value");
+  return c;
+}
+
+void WriteLog(Out& out, const LogResult& log) {
+  Hdf5File& f = out.f;
   const std::string g = JoinPath({"logs", log.id});
   f.CreateGroup(g);
   f.SetAttribute(g, "status", log.status);
@@ -261,20 +365,7 @@ void WriteLog(Hdf5File& f, const LogResult& log) {
     f.CreateGroup(h);
     f.SetAttribute(h, "impact_method", s.impact_method);
     WriteOptionalEstimate(f, h + "/impact_time", s.impact_time_s, "s");
-    for (const LogChannelResult& c : s.channels) {
-      const std::string k = h + "/" + c.channel;
-      f.CreateGroup(k);
-      f.SetAttribute(k, "channel_units", c.units);
-      f.SetAttribute(k, "frequency_source", c.frequency_source);
-      f.SetAttribute(k, "frequency_mismatch", static_cast<long long>(c.frequency_mismatch));
-      WriteOptionalEstimate(f, k + "/dominant_frequency", c.dominant_frequency_hz, "Hz");
-      WriteOptionalEstimate(f, k + "/damping_ratio", c.damping_ratio, "1");
-      f.WriteVector(k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz");
-      f.WriteVector(k + "/spectrum/psd", c.spectrum_psd, "(" + c.units + ")^2/Hz");
-      f.WriteStrings(k + "/notes", c.notes);
-      f.WriteVector(k + "/series/time", c.series_time_s, "s");
-      f.WriteVector(k + "/series/value", c.series_value, c.units);
-    }
+    for (const LogChannelResult& c : s.channels) WriteLogChannel(out, h + "/" + c.channel, c);
   }
   if (log.sources.size() < 2) return;
   const std::string h = g + "/comparison";
@@ -307,20 +398,7 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
     s.impact_time_s = ReadOptionalEstimate(f, h + "/impact_time");
     for (const std::string& channel : f.Children(h)) {
       const std::string k = h + "/" + channel;
-      if (!f.IsGroup(k)) continue;
-      LogChannelResult c;
-      c.channel = channel;
-      c.units = f.ReadStringAttribute(k, "channel_units");
-      c.frequency_source = f.ReadStringAttribute(k, "frequency_source");
-      c.frequency_mismatch = f.ReadIntegerAttribute(k, "frequency_mismatch") != 0;
-      c.dominant_frequency_hz = ReadOptionalEstimate(f, k + "/dominant_frequency");
-      c.damping_ratio = ReadOptionalEstimate(f, k + "/damping_ratio");
-      c.spectrum_frequency_hz = f.ReadVector(k + "/spectrum/frequency");
-      c.spectrum_psd = f.ReadVector(k + "/spectrum/psd");
-      c.notes = f.ReadStrings(k + "/notes");
-      c.series_time_s = f.ReadVector(k + "/series/time");
-      c.series_value = f.ReadVector(k + "/series/value");
-      s.channels.push_back(std::move(c));
+      if (f.IsGroup(k)) s.channels.push_back(ReadLogChannel(f, k, channel));
     }
     log.sources.push_back(std::move(s));
   }
@@ -344,7 +422,8 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
   return log;
 }
 
-void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
+void WriteKelvinVoigt(Out& out, const RunResult& run) {
+  Hdf5File& f = out.f;
   const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
   const std::string g = KelvinVoigtPath(run.id);
   f.CreateGroup(g);
@@ -353,141 +432,161 @@ void WriteKelvinVoigt(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
   f.SetAttribute(g, "rebounds_used",
                  std::vector<long long>{fit.rebounds_used[0], fit.rebounds_used[1]});
   f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.diagnostic);
-  if (!fit.diagnostic.empty()) f.SetAttribute(g, "diagnostic", fit.diagnostic);
   if (!fit.ok) return;
+  // A caveat of a fit that succeeded (a failed fit's reason is its status).
+  if (!fit.diagnostic.empty()) f.SetAttribute(g, "diagnostic", fit.diagnostic);
   WriteEstimate(f, g + "/zeta", fit.damping_ratio, "1");
   WriteEstimate(f, g + "/restitution", fit.restitution, "1");
   WriteEstimate(f, g + "/log_restitution", fit.log_restitution, "1");
   if (fit.stiffness) {
-    WriteEstimate(f, g + "/stiffness", *fit.stiffness, u.stiffness);
-    WriteEstimate(f, g + "/damping", *fit.damping, u.damping);
+    WriteEstimate(f, g + "/stiffness", *fit.stiffness, out.u.stiffness);
+    WriteEstimate(f, g + "/damping", *fit.damping, out.u.damping);
     f.SetAttribute(g, "stiffness_source", run.stiffness_source);
   }
   if (fit.contact_time) f.WriteScalar(g + "/contact_time_used", *fit.contact_time, "s");
-  f.WriteVector(g + "/predicted_xmax", Values(fit.predicted_xmax), u.length);
-  f.WriteVector(g + "/predicted_xmax_std_error", Sigmas(fit.predicted_xmax), u.length);
-  f.WriteVector(g + "/deviation", run.deviation, u.length);
+  f.WriteVector(g + "/predicted_xmax", Values(fit.predicted_xmax), out.u.length);
+  f.WriteVector(g + "/predicted_xmax_std_error", Sigmas(fit.predicted_xmax), out.u.length);
+  f.WriteVector(g + "/deviation", run.deviation, out.u.length);
   f.WriteVector(g + "/deviation_pct_peak", run.deviation_pct_peak, "%");
   f.WriteVector(g + "/deviation_pct_x0", run.deviation_pct_x0, "%");
+  if (!run.model_response.time_s.empty()) {
+    f.WriteVector(g + "/response/time", run.model_response.time_s, "s");
+    f.WriteVector(g + "/response/displacement", run.model_response.value, out.u.length);
+  }
 }
 
-void WriteRun(Hdf5File& f, const RunResult& run, const UnitLabels& u) {
-  if (run.id.find('/') != std::string::npos || run.id.empty() || run.id == "." || run.id == "..") {
-    throw InputError({f.path(), "runs", std::nullopt},
-                     fmt::format("run id \"{}\" cannot name an HDF5 group", run.id));
+void WriteRebounds(Out& out, const RunResult& run) {
+  Hdf5File& f = out.f;
+  const std::string g = RunPath(run.id) + "/rebounds";
+  f.WriteVector(g + "/xmax", run.xmax, out.u.length);
+  f.WriteVector(g + "/xmax_std_error", run.xmax_sigma, out.u.length);
+  if (!run.t_peak.empty()) {
+    f.WriteVector(g + "/t_peak", run.t_peak, "s");
+    f.SetAttribute(g + "/t_peak", "source", run.t_peak_source);
   }
+  if (!run.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", run.t_peak_sigma, "s");
+  if (!run.rebound_duration.empty()) f.WriteVector(g + "/duration", run.rebound_duration, "s");
+  if (run.right) WriteBar(out, g + "/right", *run.right);
+  if (run.left) WriteBar(out, g + "/left", *run.left);
+}
+
+void CheckRunId(const Hdf5File& f, const std::string& id) {
+  if (id.find('/') != std::string::npos || id.empty() || id == "." || id == "..") {
+    throw InputError({f.path(), "runs", std::nullopt},
+                     fmt::format("run id \"{}\" cannot name an HDF5 group", id));
+  }
+}
+
+void WriteRun(Out& out, const RunResult& run) {
+  Hdf5File& f = out.f;
+  CheckRunId(f, run.id);
   const std::string g = RunPath(run.id);
   f.CreateGroup(g);
   f.SetAttribute(g, "status", run.Status());
-  f.SetAttribute(g, "first_rebound", static_cast<long long>(run.first_rebound));
+  // X0 is positive for every run the manifest accepted; a rejected one has
+  // neither it nor its numbering.
+  if (run.initial_displacement > 0.0) {
+    f.SetAttribute(g, "first_rebound", static_cast<long long>(run.first_rebound));
+    f.WriteScalar(g + "/initial_displacement", run.initial_displacement, out.u.length);
+  }
   if (!run.fingerprint.empty()) f.SetAttribute(g, "input_fingerprint", run.fingerprint);
   if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
-  f.WriteScalar(g + "/initial_displacement", run.initial_displacement, u.length);
-  if (!run.xmax.empty()) {
-    f.WriteVector(g + "/rebounds/xmax", run.xmax, u.length);
-    f.WriteVector(g + "/rebounds/xmax_std_error", run.xmax_sigma, u.length);
-    f.WriteVector(g + "/rebounds/t_peak", run.t_peak, "s");
-    f.SetAttribute(g + "/rebounds/t_peak", "source", run.t_peak_source);
-    if (!run.t_peak_sigma.empty()) {
-      f.WriteVector(g + "/rebounds/t_peak_std_error", run.t_peak_sigma, "s");
-    }
-  }
-  if (!run.rebound_duration.empty()) {
-    f.WriteVector(g + "/rebounds/duration", run.rebound_duration, "s");
-  }
+  if (!run.xmax.empty()) WriteRebounds(out, run);
   if (!run.measured_displacement.time_s.empty()) {
     f.WriteVector(g + "/displacement/time", run.measured_displacement.time_s, "s");
-    f.WriteVector(g + "/displacement/average", run.measured_displacement.value, u.length);
-  }
-  if (!run.model_response.time_s.empty()) {
-    f.WriteVector(g + "/fit/kelvin_voigt/response/time", run.model_response.time_s, "s");
-    f.WriteVector(g + "/fit/kelvin_voigt/response/displacement", run.model_response.value,
-                  u.length);
+    f.WriteVector(g + "/displacement/average", run.measured_displacement.value, out.u.length);
   }
   for (std::size_t i = 0; i < run.overlays.size(); ++i) {
-    WriteOverlay(f, fmt::format("{}/digitized/{}", g, i), run.overlays[i]);
+    WriteOverlay(out, fmt::format("{}/digitized/{}", g, i), run.overlays[i]);
   }
-  if (run.right) WriteBar(f, g + "/rebounds/right", *run.right, u);
-  if (run.left) WriteBar(f, g + "/rebounds/left", *run.left, u);
   for (const CellCalibration& c : run.calibrations) {
-    WriteCalibration(f, g + "/calibration/" + c.cell, c, u);
+    WriteCalibration(out, g + "/calibration/" + c.cell, c);
   }
   if (run.contact_time) {
     f.WriteScalar(g + "/contact_time", *run.contact_time, "s");
     f.WriteScalar(g + "/contact_time_std_error", run.contact_time_sigma, "s");
     f.SetAttribute(g + "/contact_time", "source", run.contact_time_source);
   }
-  if (run.kelvin_voigt) WriteKelvinVoigt(f, run, u);
+  if (run.kelvin_voigt) WriteKelvinVoigt(out, run);
   for (const LeastSquaresSummary& fit : run.least_squares) {
-    WriteLeastSquares(f, g + "/fit/" + fit.model, fit, u);
+    WriteLeastSquares(out, g + "/fit/" + fit.model, fit);
   }
 }
 
-void WriteSessionKelvinVoigt(Hdf5File& f, const SessionKelvinVoigt& s, const UnitLabels& u) {
+void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
+  Hdf5File& f = out.f;
   const std::string g = "/session/kelvin_voigt";
   f.CreateGroup(g);
   f.SetAttribute(g, "stiffness", s.average_stiffness ? "average" : "per-run");
   f.WriteStrings(g + "/run_ids", s.run_ids);
   f.WriteVector(g + "/sqrt_restitution", s.sqrt_restitution, "1");
-  f.WriteVector(g + "/stiffness", s.stiffness, u.stiffness);
-  f.WriteScalar(g + "/stiffness_average", s.spread.average, u.stiffness);
-  f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, u.stiffness);
+  f.WriteVector(g + "/stiffness", s.stiffness, out.u.stiffness);
+  f.WriteScalar(g + "/stiffness_average", s.spread.average, out.u.stiffness);
+  f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, out.u.stiffness);
   f.WriteVector(g + "/stiffness_pct_variation", s.spread.pct_variation, "%");
-  f.WriteVector(g + "/damping", s.damping, u.damping);
+  f.WriteVector(g + "/damping", s.damping, out.u.damping);
   if (s.damping_line) {
     const DampingLine& line = *s.damping_line;
     const std::string l = g + "/damping_line";
     f.CreateGroup(l);
     f.SetAttribute(l, "equation", "C = a (1 - b sqrt(xi))  (thesis eq. 40)");
-    WriteEstimate(f, l + "/a", line.a, u.damping);
+    WriteEstimate(f, l + "/a", line.a, out.u.damping);
     WriteEstimate(f, l + "/b", line.b, "1");
     f.WriteScalar(l + "/correlation_ab", line.correlation_ab, "1");
-    f.WriteScalar(l + "/rms_residual", line.rms_residual, u.damping);
+    f.WriteScalar(l + "/rms_residual", line.rms_residual, out.u.damping);
     f.SetAttribute(l, "points", static_cast<long long>(line.points));
   }
 }
 
-void WritePrediction(Hdf5File& f, const RunPrediction& p, const UnitLabels& u) {
+void WritePrediction(Out& out, const RunPrediction& p) {
+  Hdf5File& f = out.f;
   const std::string g = JoinPath({"predictions", p.target_run + "_from_" + p.source_run});
   f.CreateGroup(g);
   f.SetAttribute(g, "source_run", p.source_run);
   f.SetAttribute(g, "target_run", p.target_run);
   f.SetAttribute(g, "start_rebound", static_cast<long long>(p.start_rebound));
-  f.WriteScalar(g + "/start_xmax", p.start_xmax, u.length);
-  f.WriteVector(g + "/predicted_xmax", p.predicted, u.length);
-  f.WriteVector(g + "/calculated_xmax", p.calculated, u.length);
-  f.WriteVector(g + "/deviation", p.deviation, u.length);
+  f.WriteScalar(g + "/start_xmax", p.start_xmax, out.u.length);
+  f.WriteVector(g + "/predicted_xmax", p.predicted, out.u.length);
+  f.WriteVector(g + "/calculated_xmax", p.calculated, out.u.length);
+  f.WriteVector(g + "/deviation", p.deviation, out.u.length);
   f.WriteVector(g + "/deviation_pct_peak", p.pct_peak, "%");
   f.WriteVector(g + "/deviation_pct_start", p.pct_start, "%");
 }
 
+// The pendulum's settings apply to runs and calibrations (a session of logs
+// only has no pendulum).
+bool HasPendulum(const SessionResult& r) { return !r.runs.empty() || !r.calibrations.empty(); }
+
 void WriteAll(Hdf5File& f, const SessionResult& r) {
-  const UnitLabels u = LabelsFor(r.units);
+  const Hdf5Extras extras(f);
+  Out out{f, extras, LabelsFor(r.units)};
   f.SetAttribute("/", "layout", static_cast<long long>(kResultsLayout));
   f.SetAttribute("/", "producer", r.producer);
   f.SetAttribute("/", "session_title", r.title);
   f.SetAttribute("/", "units", std::string(UnitSystemName(r.units)));
   f.SetAttribute("/", "created", r.created);
   f.SetAttribute("/", "session_folder", r.session_folder);
-  f.SetAttribute("/", "convention", ConventionName(r.convention));
-  f.SetAttribute("/", "separation", SeparationName(r.separation));
-  f.WriteScalar("/apparatus/pendulum_length", r.apparatus.pendulum_length, u.length);
-  f.WriteScalar("/apparatus/mass", r.apparatus.mass, u.mass);
-  f.WriteScalar("/apparatus/gravity", r.apparatus.gravity, u.acceleration);
+  if (HasPendulum(r)) {
+    f.SetAttribute("/", "convention", ConventionName(r.convention));
+    f.SetAttribute("/", "separation", SeparationName(r.separation));
+    f.WriteScalar("/apparatus/pendulum_length", r.apparatus.pendulum_length, out.u.length);
+    f.WriteScalar("/apparatus/mass", r.apparatus.mass, out.u.mass);
+    f.WriteScalar("/apparatus/gravity", r.apparatus.gravity, out.u.acceleration);
+  }
   if (r.session_contact_time) f.WriteScalar("/session/contact_time", *r.session_contact_time, "s");
   f.WriteStrings("/session/warnings", r.warnings);
-  f.CreateGroup("/runs");
-  for (const RunResult& run : r.runs) WriteRun(f, run, u);
+  if (!r.runs.empty()) f.CreateGroup("/runs");
+  for (const RunResult& run : r.runs) WriteRun(out, run);
   for (const CellCalibration& c : r.calibrations) {
-    WriteCalibration(f, JoinPath({"calibrations", c.calibration_id}), c, u);
+    WriteCalibration(out, JoinPath({"calibrations", c.calibration_id}), c);
   }
-  if (r.kelvin_voigt) WriteSessionKelvinVoigt(f, *r.kelvin_voigt, u);
+  if (r.kelvin_voigt) WriteSessionKelvinVoigt(out, *r.kelvin_voigt);
   for (const LeastSquaresSummary& fit : r.joint_fits) {
-    WriteLeastSquares(f, "/session/joint_fits/" + fit.model, fit, u);
+    WriteLeastSquares(out, "/session/joint_fits/" + fit.model, fit);
   }
-  if (r.model_comparison) WriteModelComparison(f, *r.model_comparison, u);
-  for (const LogResult& log : r.logs) WriteLog(f, log);
-  for (const RunPrediction& p : r.predictions) WritePrediction(f, p, u);
+  if (r.model_comparison) WriteModelComparison(out, *r.model_comparison);
+  for (const LogResult& log : r.logs) WriteLog(out, log);
+  for (const RunPrediction& p : r.predictions) WritePrediction(out, p);
 }
 
 std::vector<Estimate> Zip(const std::vector<double>& values, const std::vector<double>& sigmas) {
@@ -498,67 +597,20 @@ std::vector<Estimate> Zip(const std::vector<double>& values, const std::vector<d
   return out;
 }
 
-RunResult ReadRun(const Hdf5File& f, const std::string& id) {
-  const std::string g = RunPath(id);
-  RunResult run;
-  run.id = id;
-  const std::string status = f.ReadStringAttribute(g, "status");
-  run.ok = status == "ok";
-  if (!run.ok) run.failure = status.rfind("failed: ", 0) == 0 ? status.substr(8) : status;
-  run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
-  if (f.HasAttribute(g, "source")) run.source = f.ReadStringAttribute(g, "source");
-  if (f.HasAttribute(g, "input_fingerprint")) {
-    run.fingerprint = f.ReadStringAttribute(g, "input_fingerprint");
-  }
-  run.initial_displacement = f.ReadScalar(g + "/initial_displacement");
-  if (f.Exists(g + "/rebounds/xmax")) {
-    run.xmax = f.ReadVector(g + "/rebounds/xmax");
-    run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
-    run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
-    run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
-    if (f.Exists(g + "/rebounds/t_peak_std_error")) {
-      run.t_peak_sigma = f.ReadVector(g + "/rebounds/t_peak_std_error");
-    }
-  }
-  if (f.Exists(g + "/rebounds/duration"))
-    run.rebound_duration = f.ReadVector(g + "/rebounds/duration");
-  if (f.Exists(g + "/displacement/time")) {
-    run.measured_displacement = {f.ReadVector(g + "/displacement/time"),
-                                 f.ReadVector(g + "/displacement/average")};
-  }
-  if (f.Exists(g + "/fit/kelvin_voigt/response/time")) {
-    run.model_response = {f.ReadVector(g + "/fit/kelvin_voigt/response/time"),
-                          f.ReadVector(g + "/fit/kelvin_voigt/response/displacement")};
-  }
-  if (f.Exists(g + "/digitized")) {
-    for (const std::string& i : f.Children(g + "/digitized")) {
-      run.overlays.push_back(ReadOverlay(f, g + "/digitized/" + i));
-    }
-  }
-  if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
-  if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
-  if (f.Exists(g + "/calibration")) {
-    for (const std::string& cell : f.Children(g + "/calibration")) {
-      run.calibrations.push_back(ReadCalibration(f, g + "/calibration/" + cell, cell));
-    }
-  }
-  if (f.Exists(g + "/contact_time")) {
-    run.contact_time = f.ReadScalar(g + "/contact_time");
-    run.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
-    run.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
-  }
-  for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
-    const std::string g_fit = g + "/fit/" + model;
-    if (f.Exists(g_fit)) run.least_squares.push_back(ReadLeastSquares(f, g_fit, model));
-  }
-  const std::string k = KelvinVoigtPath(id);
-  if (!f.Exists(k)) return run;
+void ReadKelvinVoigt(const In& in, RunResult& run) {
+  const Hdf5File& f = in.f;
+  const std::string k = KelvinVoigtPath(run.id);
   KelvinVoigtTwoPointFit fit;
   fit.separation = ParseSeparation(f.ReadStringAttribute(k, "separation"));
   const auto used = f.ReadIntegerArrayAttribute(k, "rebounds_used");
   fit.rebounds_used = {static_cast<int>(used.at(0)), static_cast<int>(used.at(1))};
-  fit.ok = f.ReadStringAttribute(k, "status") == "ok";
-  if (f.HasAttribute(k, "diagnostic")) fit.diagnostic = f.ReadStringAttribute(k, "diagnostic");
+  const std::string status = f.ReadStringAttribute(k, "status");
+  fit.ok = status == "ok";
+  if (f.HasAttribute(k, "diagnostic")) {
+    fit.diagnostic = f.ReadStringAttribute(k, "diagnostic");
+  } else if (!fit.ok) {
+    fit.diagnostic = ReasonOf(status);  // layout 2 says it once, in the status
+  }
   if (fit.ok) {
     fit.damping_ratio = ReadEstimate(f, k + "/zeta");
     fit.restitution = ReadEstimate(f, k + "/restitution");
@@ -575,7 +627,69 @@ RunResult ReadRun(const Hdf5File& f, const std::string& id) {
     run.deviation_pct_peak = f.ReadVector(k + "/deviation_pct_peak");
     run.deviation_pct_x0 = f.ReadVector(k + "/deviation_pct_x0");
   }
+  if (f.Exists(k + "/response/time")) {
+    run.model_response = {f.ReadVector(k + "/response/time"),
+                          f.ReadVector(k + "/response/displacement")};
+  }
   run.kelvin_voigt = std::move(fit);
+}
+
+void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
+  if (f.Exists(g + "/rebounds/xmax")) {
+    run.xmax = f.ReadVector(g + "/rebounds/xmax");
+    run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
+  }
+  if (f.Exists(g + "/rebounds/t_peak")) {
+    run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
+    run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
+  }
+  run.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
+  run.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
+  if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
+  if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
+}
+
+RunResult ReadRun(const In& in, const std::string& id) {
+  const Hdf5File& f = in.f;
+  const std::string g = RunPath(id);
+  RunResult run;
+  run.id = id;
+  const std::string status = f.ReadStringAttribute(g, "status");
+  run.ok = status == "ok";
+  if (!run.ok) run.failure = ReasonOf(status);
+  if (f.HasAttribute(g, "first_rebound")) {
+    run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
+  }
+  if (f.HasAttribute(g, "source")) run.source = f.ReadStringAttribute(g, "source");
+  if (f.HasAttribute(g, "input_fingerprint")) {
+    run.fingerprint = f.ReadStringAttribute(g, "input_fingerprint");
+  }
+  run.initial_displacement = f.ReadScalarIfPresent(g + "/initial_displacement").value_or(0.0);
+  ReadRebounds(f, g, run);
+  if (f.Exists(g + "/displacement/time")) {
+    run.measured_displacement = {f.ReadVector(g + "/displacement/time"),
+                                 f.ReadVector(g + "/displacement/average")};
+  }
+  if (f.Exists(g + "/digitized")) {
+    for (const std::string& i : f.Children(g + "/digitized")) {
+      run.overlays.push_back(ReadOverlay(f, g + "/digitized/" + i));
+    }
+  }
+  if (f.Exists(g + "/calibration")) {
+    for (const std::string& cell : f.Children(g + "/calibration")) {
+      run.calibrations.push_back(ReadCalibration(f, g + "/calibration/" + cell, cell));
+    }
+  }
+  if (f.Exists(g + "/contact_time")) {
+    run.contact_time = f.ReadScalar(g + "/contact_time");
+    run.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
+    run.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
+  }
+  for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
+    const std::string g_fit = g + "/fit/" + model;
+    if (f.Exists(g_fit)) run.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
+  }
+  if (f.Exists(KelvinVoigtPath(id))) ReadKelvinVoigt(in, run);
   return run;
 }
 
@@ -618,6 +732,33 @@ RunPrediction ReadPrediction(const Hdf5File& f, const std::string& name) {
   return p;
 }
 
+// The root's attributes and the apparatus (absent in layout 2 without runs
+// or calibrations: the defaults stay).
+void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
+  r.producer = f.ReadStringAttribute("/", "producer");
+  r.title = f.ReadStringAttribute("/", "session_title");
+  const auto units = ParseUnitSystem(f.ReadStringAttribute("/", "units"));
+  if (!units) throw InputError({f.path(), "/units", std::nullopt}, "unknown unit system");
+  r.units = *units;
+  r.created = f.ReadStringAttribute("/", "created");
+  r.session_folder = f.ReadStringAttribute("/", "session_folder");
+  if (f.HasAttribute("/", "convention")) {
+    r.convention = ParseConvention(f.ReadStringAttribute("/", "convention"));
+    r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
+  }
+  if (f.Exists("/apparatus")) {
+    r.apparatus.pendulum_length = f.ReadScalar("/apparatus/pendulum_length");
+    r.apparatus.mass = f.ReadScalar("/apparatus/mass");
+    r.apparatus.gravity = f.ReadScalar("/apparatus/gravity");
+  }
+  r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
+  r.warnings = f.ReadStrings("/session/warnings");
+}
+
+std::vector<std::string> ChildrenIfPresent(const Hdf5File& f, const std::string& group) {
+  return f.Exists(group) ? f.Children(group) : std::vector<std::string>{};
+}
+
 }  // namespace
 
 void WriteResults(const SessionResult& result, const std::filesystem::path& path) {
@@ -626,46 +767,28 @@ void WriteResults(const SessionResult& result, const std::filesystem::path& path
 
 SessionResult ReadResults(const std::filesystem::path& path) {
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
-  if (!f.HasAttribute("/", "layout") || f.ReadIntegerAttribute("/", "layout") != kResultsLayout) {
-    throw InputError({path, "/layout", std::nullopt},
-                     fmt::format("not an impactlab results file of layout {}", kResultsLayout));
+  const long long layout =
+      f.HasAttribute("/", "layout") ? f.ReadIntegerAttribute("/", "layout") : 0;
+  if (layout != 1 && layout != kResultsLayout) {
+    throw InputError(
+        {path, "/layout", std::nullopt},
+        fmt::format("not an impactlab results file of layout 1 or {}", kResultsLayout));
   }
+  const In in{f, layout};
   SessionResult r;
-  r.producer = f.ReadStringAttribute("/", "producer");
-  r.title = f.ReadStringAttribute("/", "session_title");
-  const auto units = ParseUnitSystem(f.ReadStringAttribute("/", "units"));
-  if (!units) throw InputError({path, "/units", std::nullopt}, "unknown unit system");
-  r.units = *units;
-  r.created = f.ReadStringAttribute("/", "created");
-  r.session_folder = f.ReadStringAttribute("/", "session_folder");
-  r.convention = ParseConvention(f.ReadStringAttribute("/", "convention"));
-  r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
-  r.apparatus.pendulum_length = f.ReadScalar("/apparatus/pendulum_length");
-  r.apparatus.mass = f.ReadScalar("/apparatus/mass");
-  r.apparatus.gravity = f.ReadScalar("/apparatus/gravity");
-  r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
-  r.warnings = f.ReadStrings("/session/warnings");
-  for (const std::string& id : f.Children("/runs")) r.runs.push_back(ReadRun(f, id));
-  if (f.Exists("/calibrations")) {
-    for (const std::string& id : f.Children("/calibrations")) {
-      const std::string g = JoinPath({"calibrations", id});
-      r.calibrations.push_back(ReadCalibration(f, g, ""));
-    }
+  ReadSessionSettings(f, r);
+  for (const std::string& id : ChildrenIfPresent(f, "/runs")) r.runs.push_back(ReadRun(in, id));
+  for (const std::string& id : ChildrenIfPresent(f, "/calibrations")) {
+    r.calibrations.push_back(ReadCalibration(f, JoinPath({"calibrations", id}), ""));
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
   if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
-  if (f.Exists("/logs")) {
-    for (const std::string& id : f.Children("/logs")) r.logs.push_back(ReadLog(f, id));
+  for (const std::string& id : ChildrenIfPresent(f, "/logs")) r.logs.push_back(ReadLog(f, id));
+  for (const std::string& model : ChildrenIfPresent(f, "/session/joint_fits")) {
+    r.joint_fits.push_back(ReadLeastSquares(in, "/session/joint_fits/" + model, model));
   }
-  if (f.Exists("/session/joint_fits")) {
-    for (const std::string& model : f.Children("/session/joint_fits")) {
-      r.joint_fits.push_back(ReadLeastSquares(f, "/session/joint_fits/" + model, model));
-    }
-  }
-  if (f.Exists("/predictions")) {
-    for (const std::string& name : f.Children("/predictions")) {
-      r.predictions.push_back(ReadPrediction(f, name));
-    }
+  for (const std::string& name : ChildrenIfPresent(f, "/predictions")) {
+    r.predictions.push_back(ReadPrediction(f, name));
   }
   return r;
 }

@@ -1,5 +1,6 @@
-// The results file, layout 1 (docs/results.md; minimum in results-layout.md).
-// Written atomically (temporary file, then rename); read back for the report.
+// The results file, layout 2 (docs/results.md; minimum in results-layout.md).
+// Written atomically (temporary file, then rename); read back for the report
+// and for the measurements `reduce` reuses, from files of layout 1 or 2.
 #pragma once
 
 #include <filesystem>
@@ -8,14 +9,14 @@
 
 namespace impactlab {
 
-inline constexpr int kResultsLayout = 1;
+inline constexpr int kResultsLayout = 2;
 
 // Throws InputError naming the file if it cannot be written; an earlier file
 // at `path` is then left as it was.
 void WriteResults(const SessionResult& result, const std::filesystem::path& path);
 
-// Throws InputError naming the file and object for a file that is not a
-// layout-1 results file.
+// Reads a results file of layout 1 or 2. Throws InputError naming the file
+// and object for a file that is neither.
 SessionResult ReadResults(const std::filesystem::path& path);
 
 }  // namespace impactlab

@@ -38,8 +38,11 @@ struct LeastSquaresSummary {
   double seconds = 0.0;
   std::vector<double> predicted_xmax;        // rebound 0, 1, ... (when the model predicts them)
   std::vector<double> normalized_residuals;  // (measured - model)/sigma per maximum
+  // The rows of `correlation`: the fit's free parameters as fit/ names them
+  // ("log K1"), or, read from a results file, named as the estimates they are
+  // ("stiffness_1"; the results file names them so).
   std::vector<std::string> covariance_names;
-  std::vector<double> correlation;  // row-major
+  std::vector<double> correlation;  // n x n, row-major
 };
 
 // A digitized photo as the report shows it: the photo with the grid and

@@ -35,7 +35,7 @@ TEST_CASE("results_file: the minimum layout is present and every numeric dataset
   const auto path = dir.path() / "results.h5";
   WriteResults(ReducedThesis(), path);
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
-  CHECK(f.ReadIntegerAttribute("/", "layout") == 1);
+  CHECK(f.ReadIntegerAttribute("/", "layout") == kResultsLayout);
   CHECK_THAT(f.ReadStringAttribute("/", "producer"), Catch::StartsWith("impactlab"));
   CHECK(f.ReadStringAttribute("/", "units") == "in-lbf-s");
   CHECK(f.ReadStringAttribute("/runs/0.234", "status") == "ok");

@@ -132,7 +132,9 @@ std::string Generalise(const std::string& path, const Vocabulary& v) {
   std::size_t start = 1;
   while (start <= path.size() && path != "/") {
     const std::size_t end = std::min(path.find('/', start), path.size());
-    out += "/" + GeneraliseComponent(out, path.substr(start, end - start), v);
+    const std::string component = GeneraliseComponent(out, path.substr(start, end - start), v);
+    out += '/';
+    out += component;
     start = end + 1;
   }
   return out.empty() ? "/" : out;
@@ -165,7 +167,8 @@ herr_t CollectAttribute(hid_t, const char* attribute, const H5A_info_t*, void* d
 // H5Ovisit2's callback: the object's name and its attributes'.
 herr_t CollectObject(hid_t file, const char* relative, const H5O_info_t* info, void* data) {
   Walk& walk = *static_cast<Walk*>(data);
-  walk.object = std::string(relative) == "." ? "/" : "/" + std::string(relative);
+  const std::string name = relative;
+  walk.object = name == "." ? std::string("/") : std::string("/").append(name);
   walk.is_dataset = info->type == H5O_TYPE_DATASET;
   walk.names->emplace(InTemplates(Generalise(walk.object, *walk.vocabulary)),
                       walk.file + ": " + walk.object);
@@ -180,7 +183,7 @@ herr_t CollectObject(hid_t file, const char* relative, const H5O_info_t* info, v
 void CollectNames(const fs::path& path, const Vocabulary& v, Names& names) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   REQUIRE(file >= 0);
-  Walk walk{&v, path.filename().string(), &names};
+  Walk walk{&v, path.filename().string(), &names, "", false};
   CHECK(H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_INC, CollectObject, &walk, H5O_INFO_BASIC) >= 0);
   REQUIRE(H5Fclose(file) >= 0);
 }

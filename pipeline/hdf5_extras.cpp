@@ -1,0 +1,160 @@
+#include "pipeline/hdf5_extras.h"
+
+#include <type_traits>
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include "io/errors.h"
+
+namespace impactlab {
+namespace {
+
+static_assert(std::is_same_v<hid_t, std::int64_t>, "Hdf5Extras keeps a hid_t as int64_t");
+
+// One HDF5 identifier, closed when it goes out of scope. (Hdf5File checks,
+// when the file is written out, that nothing was left open.)
+class Id {
+ public:
+  Id(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Id(Id&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = -1; }
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+  ~Id() {
+    if (id_ >= 0) close_(id_);
+  }
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+[[noreturn]] void Fail(const std::filesystem::path& file, const std::string& object,
+                       const std::string& problem) {
+  throw InputError({file, object, std::nullopt}, problem);
+}
+
+Id Make(hid_t id, herr_t (*close)(hid_t), const std::filesystem::path& file,
+        const std::string& object, const char* what) {
+  if (id < 0) Fail(file, object, fmt::format("HDF5 could not {}", what));
+  return Id(id, close);
+}
+
+// The variable-length UTF-8 string type Hdf5File writes strings with.
+Id StringType(const std::filesystem::path& file, const std::string& object) {
+  Id type = Make(H5Tcopy(H5T_C_S1), H5Tclose, file, object, "copy the string type");
+  if (H5Tset_size(type.get(), H5T_VARIABLE) < 0 || H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) {
+    Fail(file, object, "HDF5 could not make the string type");
+  }
+  return type;
+}
+
+// The name HDF5 knows an open file by.
+std::string FileName(hid_t file) {
+  const ssize_t size = H5Fget_name(file, nullptr, 0);
+  if (size <= 0) return {};
+  std::string name(static_cast<std::size_t>(size), '\0');
+  if (H5Fget_name(file, name.data(), name.size() + 1) != size) return {};
+  return name;
+}
+
+// The file open for writing under `path`, among all files HDF5 has open (the
+// identifiers H5Fget_obj_ids returns are borrowed, not new); -1 unless
+// exactly one matches.
+hid_t WritableFileNamed(const std::filesystem::path& path) {
+  const ssize_t count = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
+  if (count <= 0) return -1;
+  std::vector<hid_t> ids(static_cast<std::size_t>(count));
+  if (H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_FILE, ids.size(), ids.data()) != count) return -1;
+  hid_t found = -1;
+  int matches = 0;
+  for (hid_t id : ids) {
+    unsigned intent = 0;
+    if (H5Fget_intent(id, &intent) < 0 || (intent & H5F_ACC_RDWR) == 0) continue;
+    if (FileName(id) == path.string()) {
+      found = id;
+      ++matches;
+    }
+  }
+  return matches == 1 ? found : -1;
+}
+
+}  // namespace
+
+Hdf5Extras::Hdf5Extras(const Hdf5File& file) : path_(file.path()) {
+  file_ = WritableFileNamed(path_);
+  if (file_ < 0) Fail(path_, "", "HDF5 does not have this file open for writing (a bug)");
+}
+
+void Hdf5Extras::Check(int status, const std::string& object, const char* what) const {
+  if (status < 0) Fail(path_, object, fmt::format("HDF5 could not {}", what));
+}
+
+void Hdf5Extras::WriteMatrix(const std::string& dataset, std::size_t rows, std::size_t cols,
+                             const std::vector<double>& values, std::string_view units) const {
+  if (values.size() != rows * cols) {
+    Fail(path_, dataset,
+         fmt::format("{} values for a {} x {} matrix (a bug)", values.size(), rows, cols));
+  }
+  const hsize_t dims[2] = {rows, cols};
+  const Id space =
+      Make(H5Screate_simple(2, dims, nullptr), H5Sclose, path_, dataset, "create a dataspace");
+  const Id dset = Make(H5Dcreate2(file_, dataset.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                                  H5P_DEFAULT, H5P_DEFAULT),
+                       H5Dclose, path_, dataset, "create the dataset (does it exist already?)");
+  if (!values.empty()) {
+    Check(H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+          dataset, "write the dataset");
+  }
+  const Id type = StringType(path_, dataset);
+  const Id scalar = Make(H5Screate(H5S_SCALAR), H5Sclose, path_, dataset, "create a dataspace");
+  const Id attr =
+      Make(H5Acreate2(dset.get(), "units", type.get(), scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose, path_, dataset, "create an attribute");
+  const std::string text(units);
+  const char* pointer = text.c_str();
+  Check(H5Awrite(attr.get(), type.get(), &pointer), dataset, "write an attribute");
+}
+
+void Hdf5Extras::SetStringsAttribute(const std::string& object, const std::string& name,
+                                     const std::vector<std::string>& values) const {
+  const Id obj =
+      Make(H5Oopen(file_, object.c_str(), H5P_DEFAULT), H5Oclose, path_, object, "open the object");
+  const Id type = StringType(path_, object);
+  const hsize_t count = values.size();
+  const Id space =
+      Make(H5Screate_simple(1, &count, nullptr), H5Sclose, path_, object, "create a dataspace");
+  const Id attr =
+      Make(H5Acreate2(obj.get(), name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose, path_, object, "create an attribute");
+  std::vector<const char*> text;
+  for (const std::string& v : values) text.push_back(v.c_str());
+  if (!text.empty())
+    Check(H5Awrite(attr.get(), type.get(), text.data()), object, "write an attribute");
+}
+
+std::vector<std::string> ReadStringsAttribute(const std::filesystem::path& file,
+                                              const std::string& object, const std::string& name) {
+  const Id f = Make(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, file, object,
+                    "open the file");
+  const Id attr =
+      Make(H5Aopen_by_name(f.get(), object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose, file, object, fmt::format("open attribute '{}'", name).c_str());
+  const Id space =
+      Make(H5Aget_space(attr.get()), H5Sclose, file, object, "get an attribute's dataspace");
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  if (count < 0) Fail(file, object, "HDF5 could not count an attribute's elements");
+  std::vector<char*> text(static_cast<std::size_t>(count), nullptr);
+  std::vector<std::string> values;
+  if (text.empty()) return values;
+  const Id type = StringType(file, object);
+  if (H5Aread(attr.get(), type.get(), text.data()) < 0) {
+    Fail(file, object, fmt::format("HDF5 could not read attribute '{}'", name));
+  }
+  for (const char* t : text) values.emplace_back(t != nullptr ? t : "");
+  H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, text.data());
+  return values;
+}
+
+}  // namespace impactlab

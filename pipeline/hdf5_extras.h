@@ -1,0 +1,44 @@
+// What results layout 2 needs of HDF5 that io/'s Hdf5File does not wrap:
+// 2-D datasets and string-array attributes.
+//
+// They belong in Hdf5File. io/ was being reworked by others when layout 2 was
+// written, so they live here and reach the file an Hdf5File is writing by its
+// name among HDF5's open files (its identifier is private to io/).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/hdf5_file.h"
+
+namespace impactlab {
+
+class Hdf5Extras {
+ public:
+  // The in-memory file `file` is writing (WriteHdf5Atomically). Throws
+  // InputError naming it if HDF5 does not have exactly one such file open.
+  explicit Hdf5Extras(const Hdf5File& file);
+
+  // A rows x cols float64 dataset from row-major `values`, with its `units`.
+  void WriteMatrix(const std::string& dataset, std::size_t rows, std::size_t cols,
+                   const std::vector<double>& values, std::string_view units) const;
+  // A 1-D attribute of UTF-8 strings (variable length, like Hdf5File's strings).
+  void SetStringsAttribute(const std::string& object, const std::string& name,
+                           const std::vector<std::string>& values) const;
+
+ private:
+  void Check(int status, const std::string& object, const char* what) const;
+
+  std::filesystem::path path_;
+  std::int64_t file_ = -1;  // hid_t; the Hdf5File's, not closed here
+};
+
+// A 1-D string attribute as SetStringsAttribute writes it. Opens `file`
+// read-only for the call; throws InputError naming the file and the object.
+std::vector<std::string> ReadStringsAttribute(const std::filesystem::path& file,
+                                              const std::string& object, const std::string& name);
+
+}  // namespace impactlab

@@ -1,0 +1,173 @@
+// What layout 2 changed in the results file, checked on the files themselves
+// (with HDF5 where io/'s Hdf5File has no word for it): correlation matrices,
+// and nothing written that does not apply.
+#include <set>
+#include <string>
+#include <vector>
+
+#include <hdf5.h>
+#include <catch2/catch.hpp>
+
+#include "io/hdf5_file.h"
+#include "io/manifest.h"
+#include "pipeline/hdf5_extras.h"
+#include "pipeline/reduce.h"
+#include "pipeline/results_file.h"
+#include "tests/support/temp_dir.h"
+
+namespace impactlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSamples = fs::path(IMPACTLAB_SOURCE_DIR) / "sample_data";
+
+SessionResult Reduced(const std::string& sample) {
+  return ReduceSession(ReadManifest(kSamples / sample).session, {});
+}
+
+// A dataset's dimensions.
+std::vector<hsize_t> Dimensions(const fs::path& file, const std::string& dataset) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  std::vector<hsize_t> dims(
+      static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  return dims;
+}
+
+// The attribute names of `object`.
+std::set<std::string> AttributeNames(const fs::path& file, const std::string& object) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t o = H5Oopen(f, object.c_str(), H5P_DEFAULT);
+  std::set<std::string> names;
+  hsize_t index = 0;
+  H5Aiterate2(
+      o, H5_INDEX_NAME, H5_ITER_INC, &index,
+      [](hid_t, const char* name, const H5A_info_t*, void* data) {
+        static_cast<std::set<std::string>*>(data)->insert(name);
+        return herr_t{0};
+      },
+      &names);
+  H5Oclose(o);
+  H5Fclose(f);
+  return names;
+}
+
+// Every correlation of `fit` at `g`: n x n, its values as the fit's, each row
+// named as an estimate of the fit (or, Poynting-Thomson, a run's speed).
+void CheckCorrelation(const fs::path& file, const std::string& g, const LeastSquaresSummary& fit,
+                      const std::vector<std::string>& run_ids) {
+  INFO(g);
+  const std::size_t n = fit.covariance_names.size();
+  REQUIRE(n > 0);
+  CHECK(Dimensions(file, g + "/correlation") == std::vector<hsize_t>{n, n});
+  const Hdf5File f = Hdf5File::OpenReadOnly(file);
+  CHECK(f.ReadVector(g + "/correlation") == fit.correlation);
+  const std::vector<std::string> rows =
+      ReadStringsAttribute(file, g + "/correlation", "parameter_names");
+  REQUIRE(rows.size() == n);
+  std::set<std::string> estimates;
+  for (const NamedEstimate& p : fit.parameters) estimates.insert(p.name);
+  for (const std::string& id : run_ids) estimates.insert("rebound0_speed_" + id);
+  for (const std::string& row : rows) {
+    INFO(row);
+    CHECK(estimates.contains(row));
+  }
+}
+
+TEST_CASE(
+    "results_layout2: a correlation is an n x n matrix, its rows named as the fit's estimates") {
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "thesis.h5";
+  const SessionResult r = Reduced("thesis-1969");
+  WriteResults(r, path);
+  std::vector<std::string> run_ids;
+  for (const RunResult& run : r.runs) run_ids.push_back(run.id);
+  for (const RunResult& run : r.runs) {
+    for (const LeastSquaresSummary& fit : run.least_squares) {
+      CheckCorrelation(path, "/runs/" + run.id + "/fit/" + fit.model, fit, run_ids);
+    }
+  }
+  REQUIRE(r.joint_fits.size() == 1);
+  CheckCorrelation(path, "/session/joint_fits/poynting_thomson", r.joint_fits[0], run_ids);
+  CHECK(ReadStringsAttribute(path, "/runs/0.405/fit/poynting_thomson/correlation",
+                             "parameter_names") ==
+        std::vector<std::string>{"stiffness_1", "stiffness_2", "damping", "rebound0_speed_0.405"});
+  CHECK(ReadStringsAttribute(path, "/runs/0.405/fit/kelvin_voigt_least_squares/correlation",
+                             "parameter_names") ==
+        std::vector<std::string>{"zeta", "rebound0_speed"});
+}
+
+TEST_CASE("results_layout2: a session of logs only has no pendulum and no runs") {
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "logs.h5";
+  const SessionResult written = Reduced("logs-two-link");
+  WriteResults(written, path);
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  CHECK_FALSE(f.Exists("/apparatus"));
+  CHECK_FALSE(f.Exists("/runs"));
+  CHECK_FALSE(f.HasAttribute("/", "convention"));
+  CHECK_FALSE(f.HasAttribute("/", "separation"));
+  const SessionResult read = ReadResults(path);
+  CHECK(read.runs.empty());
+  CHECK(read.apparatus.mass == 0.0);
+  REQUIRE(read.logs.size() == written.logs.size());
+  CHECK(read.logs[0].status == written.logs[0].status);
+}
+
+// A run the manifest rejected, and a Poynting-Thomson fit that could not run,
+// as reduce leaves them.
+SessionResult WithNothingToSay() {
+  SessionResult r;
+  r.title = "nothing to say";
+  r.producer = "impactlab";
+  r.created = "2026-01-01T00:00:00Z";
+  RunResult rejected;
+  rejected.id = "rejected";
+  rejected.failure = "session.toml:3: run \"rejected\".initial_displacement: must be positive";
+  RunResult run;
+  run.id = "run";
+  run.initial_displacement = 0.3;
+  run.xmax = {0.1};
+  run.xmax_sigma = {0.0};
+  run.failure = "one maximum";
+  LeastSquaresSummary fit;
+  fit.model = "poynting_thomson";
+  fit.message = "needs two maxima";
+  run.least_squares = {fit};
+  r.runs = {rejected, run};
+  return r;
+}
+
+TEST_CASE("results_layout2: what does not apply is not written") {
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "r.h5";
+  WriteResults(WithNothingToSay(), path);
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  CHECK(AttributeNames(path, "/runs/rejected") == std::set<std::string>{"status"});
+  CHECK(f.Children("/runs/rejected").empty());
+  CHECK_FALSE(f.Exists("/runs/run/rebounds/t_peak"));
+  const std::string fit = "/runs/run/fit/poynting_thomson";
+  CHECK(AttributeNames(path, fit) == std::set<std::string>{"method", "status"});
+  CHECK(f.Children(fit).empty());
+
+  const SessionResult read = ReadResults(path);
+  REQUIRE(read.runs.size() == 2);
+  CHECK(read.runs[0].failure == WithNothingToSay().runs[0].failure);
+  CHECK(read.runs[0].initial_displacement == 0.0);
+  REQUIRE(read.runs[1].least_squares.size() == 1);
+  const LeastSquaresSummary& pt = read.runs[1].least_squares[0];
+  CHECK_FALSE(pt.ok);
+  CHECK(pt.message == "needs two maxima");
+  CHECK(pt.parameters.empty());
+}
+
+}  // namespace
+}  // namespace impactlab
