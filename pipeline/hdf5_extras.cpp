@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include "io/errors.h"
 
@@ -80,6 +81,8 @@ hid_t WritableFileNamed(const std::filesystem::path& path) {
   return matches == 1 ? found : -1;
 }
 
+std::string LastComponent(const std::string& path) { return path.substr(path.rfind('/') + 1); }
+
 }  // namespace
 
 Hdf5Extras::Hdf5Extras(const Hdf5File& file) : path_(file.path()) {
@@ -132,6 +135,20 @@ void Hdf5Extras::SetStringsAttribute(const std::string& object, const std::strin
   for (const std::string& v : values) text.push_back(v.c_str());
   if (!text.empty())
     Check(H5Awrite(attr.get(), type.get(), text.data()), object, "write an attribute");
+}
+
+void Hdf5Extras::AttachScale(const std::string& dataset, const std::string& scale) const {
+  const Id data = Make(H5Dopen2(file_, dataset.c_str(), H5P_DEFAULT), H5Dclose, path_, dataset,
+                       "open the dataset");
+  const Id axis =
+      Make(H5Dopen2(file_, scale.c_str(), H5P_DEFAULT), H5Dclose, path_, scale, "open the dataset");
+  const htri_t is_scale = H5DSis_scale(axis.get());
+  Check(is_scale, scale, "tell whether it is a dimension scale");
+  if (is_scale == 0) {
+    Check(H5DSset_scale(axis.get(), LastComponent(scale).c_str()), scale,
+          "make it a dimension scale");
+  }
+  Check(H5DSattach_scale(data.get(), axis.get(), 0), dataset, "attach its dimension scale");
 }
 
 std::vector<std::string> ReadStringsAttribute(const std::filesystem::path& file,

@@ -1,5 +1,6 @@
 // What results layout 2 needs of HDF5 that io/'s Hdf5File does not wrap:
-// 2-D datasets and string-array attributes.
+// 2-D datasets, string-array attributes and dimension scales (HDF5 Dimension
+// Scales, H5DS, from HDF5's high-level library hdf5_hl).
 //
 // They belong in Hdf5File. io/ was being reworked by others when layout 2 was
 // written, so they live here and reach the file an Hdf5File is writing by its
@@ -28,6 +29,9 @@ class Hdf5Extras {
   // A 1-D attribute of UTF-8 strings (variable length, like Hdf5File's strings).
   void SetStringsAttribute(const std::string& object, const std::string& name,
                            const std::vector<std::string>& values) const;
+  // Makes the 1-D `scale` a dimension scale, named as its last path component
+  // ("rebound", "time"), and attaches it to the first dimension of `dataset`.
+  void AttachScale(const std::string& dataset, const std::string& scale) const;
 
  private:
   void Check(int status, const std::string& object, const char* what) const;

@@ -57,12 +57,55 @@ std::string ReasonOf(const std::string& status) {
   return status.rfind("failed: ", 0) == 0 ? status.substr(8) : status;
 }
 
+// The arrays of group `g` that hold `count` values (a dimension scale must be
+// as long as the dimension it labels); none when `count` is 0.
+std::vector<std::string> SameLength(
+    const std::string& g, std::size_t count,
+    const std::vector<std::pair<std::string, std::size_t>>& arrays) {
+  std::vector<std::string> out;
+  for (const auto& [name, size] : arrays) {
+    if (count > 0 && size == count) out.push_back(g + "/" + name);
+  }
+  return out;
+}
+
+// The rebounds' numbers (session numbering) from `first`, as `group`/rebound,
+// the dimension scale of each of `arrays` (one value per rebound).
+void WriteReboundScale(Out& out, const std::string& group, int first, std::size_t count,
+                       const std::vector<std::string>& arrays) {
+  if (count == 0) return;
+  std::vector<long long> rebound(count);
+  for (std::size_t i = 0; i < count; ++i) rebound[i] = first + static_cast<long long>(i);
+  const std::string scale = group + "/rebound";
+  out.f.WriteIntegers(scale, rebound);
+  out.f.SetAttribute(scale, "units", "1");
+  for (const std::string& a : arrays) out.x.AttachScale(a, scale);
+}
+
+// A 1-D array and the axis it is sampled on (time, frequency), the axis
+// attached as its dimension scale.
+void WriteCurve(Out& out, const std::string& axis, const std::vector<double>& axis_values,
+                std::string_view axis_units, const std::string& values_name,
+                const std::vector<double>& values, std::string_view units) {
+  out.f.WriteVector(axis, axis_values, axis_units);
+  out.f.WriteVector(values_name, values, units);
+  out.x.AttachScale(values_name, axis);
+}
+
 void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
   out.f.WriteVector(g + "/xmax", bar.xmax, out.u.length);
   out.f.WriteVector(g + "/xmax_std_error", bar.xmax_sigma, out.u.length);
   out.f.WriteVector(g + "/t_peak", bar.t_peak, "s");
   out.f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
   out.f.WriteVector(g + "/duration", bar.duration, "s");
+  const std::size_t n = bar.xmax.size();
+  WriteReboundScale(out, g, 0, n,
+                    SameLength(g, n,
+                               {{"xmax", n},
+                                {"xmax_std_error", bar.xmax_sigma.size()},
+                                {"t_peak", bar.t_peak.size()},
+                                {"t_peak_std_error", bar.t_peak_sigma.size()},
+                                {"duration", bar.duration.size()}}));
 }
 
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
@@ -84,6 +127,13 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
   f.WriteVector(h + "/trace_spread", o.trace_spread_px2, "px^2");
   f.WriteVector(h + "/trace_spread_std_error", o.trace_spread_sigma_px2, "px^2");
+  for (const std::string& a :
+       SameLength(h, o.trace_names.size(),
+                  {{"trace_coverage", o.trace_coverage.size()},
+                   {"trace_spread", o.trace_spread_px2.size()},
+                   {"trace_spread_std_error", o.trace_spread_sigma_px2.size()}})) {
+    out.x.AttachScale(a, h + "/trace_names");
+  }
   f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
 }
 
@@ -196,7 +246,10 @@ std::vector<std::string> EstimateNamesOf(const std::vector<std::string>& paramet
 
 // Everything but the status applies only to a fit that ran (one that threw
 // has no estimates); the correlation only where it could be computed.
-void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary& fit) {
+// `rebound_scale`: the run's rebound numbers, when the fit predicts one
+// maximum per rebound (empty: none).
+void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary& fit,
+                       const std::string& rebound_scale) {
   Hdf5File& f = out.f;
   f.CreateGroup(g);
   f.SetAttribute(g, "method", "least-squares");
@@ -214,6 +267,7 @@ void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary
   f.WriteScalar(g + "/seconds", fit.seconds, "s");
   if (!fit.predicted_xmax.empty()) {
     f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, out.u.length);
+    if (!rebound_scale.empty()) out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
   }
   f.WriteVector(g + "/normalized_residuals", fit.normalized_residuals, "1");
   const std::size_t n = fit.covariance_names.size();
@@ -328,13 +382,13 @@ void WriteLogChannel(Out& out, const std::string& k, const LogChannelResult& c) 
   WriteOptionalEstimate(f, k + "/dominant_frequency", c.dominant_frequency_hz, "Hz");
   WriteOptionalEstimate(f, k + "/damping_ratio", c.damping_ratio, "1");
   if (!c.spectrum_frequency_hz.empty()) {
-    f.WriteVector(k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz");
-    f.WriteVector(k + "/spectrum/psd", c.spectrum_psd, "(" + c.units + ")^2/Hz");
+    WriteCurve(out, k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz", k + "/spectrum/psd",
+               c.spectrum_psd, "(" + c.units + ")^2/Hz");
   }
   f.WriteStrings(k + "/notes", c.notes);
   if (!c.series_time_s.empty()) {
-    f.WriteVector(k + "/series/time", c.series_time_s, "s");
-    f.WriteVector(k + "/series/value", c.series_value, c.units);
+    WriteCurve(out, k + "/series/time", c.series_time_s, "s", k + "/series/value", c.series_value,
+               c.units);
   }
 }
 
@@ -450,8 +504,17 @@ void WriteKelvinVoigt(Out& out, const RunResult& run) {
   f.WriteVector(g + "/deviation_pct_peak", run.deviation_pct_peak, "%");
   f.WriteVector(g + "/deviation_pct_x0", run.deviation_pct_x0, "%");
   if (!run.model_response.time_s.empty()) {
-    f.WriteVector(g + "/response/time", run.model_response.time_s, "s");
-    f.WriteVector(g + "/response/displacement", run.model_response.value, out.u.length);
+    WriteCurve(out, g + "/response/time", run.model_response.time_s, "s",
+               g + "/response/displacement", run.model_response.value, out.u.length);
+  }
+  const std::size_t n = fit.predicted_xmax.size();
+  for (const std::string& a : SameLength(g, run.xmax.size(),
+                                         {{"predicted_xmax", n},
+                                          {"predicted_xmax_std_error", n},
+                                          {"deviation", run.deviation.size()},
+                                          {"deviation_pct_peak", run.deviation_pct_peak.size()},
+                                          {"deviation_pct_x0", run.deviation_pct_x0.size()}})) {
+    out.x.AttachScale(a, RunPath(run.id) + "/rebounds/rebound");
   }
 }
 
@@ -466,6 +529,13 @@ void WriteRebounds(Out& out, const RunResult& run) {
   }
   if (!run.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", run.t_peak_sigma, "s");
   if (!run.rebound_duration.empty()) f.WriteVector(g + "/duration", run.rebound_duration, "s");
+  WriteReboundScale(out, g, 0, run.xmax.size(),
+                    SameLength(g, run.xmax.size(),
+                               {{"xmax", run.xmax.size()},
+                                {"xmax_std_error", run.xmax_sigma.size()},
+                                {"t_peak", run.t_peak.size()},
+                                {"t_peak_std_error", run.t_peak_sigma.size()},
+                                {"duration", run.rebound_duration.size()}}));
   if (run.right) WriteBar(out, g + "/right", *run.right);
   if (run.left) WriteBar(out, g + "/left", *run.left);
 }
@@ -493,8 +563,8 @@ void WriteRun(Out& out, const RunResult& run) {
   if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
   if (!run.xmax.empty()) WriteRebounds(out, run);
   if (!run.measured_displacement.time_s.empty()) {
-    f.WriteVector(g + "/displacement/time", run.measured_displacement.time_s, "s");
-    f.WriteVector(g + "/displacement/average", run.measured_displacement.value, out.u.length);
+    WriteCurve(out, g + "/displacement/time", run.measured_displacement.time_s, "s",
+               g + "/displacement/average", run.measured_displacement.value, out.u.length);
   }
   for (std::size_t i = 0; i < run.overlays.size(); ++i) {
     WriteOverlay(out, fmt::format("{}/digitized/{}", g, i), run.overlays[i]);
@@ -508,8 +578,10 @@ void WriteRun(Out& out, const RunResult& run) {
     f.SetAttribute(g + "/contact_time", "source", run.contact_time_source);
   }
   if (run.kelvin_voigt) WriteKelvinVoigt(out, run);
+  const std::string scale = run.xmax.empty() ? "" : g + "/rebounds/rebound";
   for (const LeastSquaresSummary& fit : run.least_squares) {
-    WriteLeastSquares(out, g + "/fit/" + fit.model, fit);
+    const bool per_rebound = fit.predicted_xmax.size() == run.xmax.size();
+    WriteLeastSquares(out, g + "/fit/" + fit.model, fit, per_rebound ? scale : "");
   }
 }
 
@@ -525,6 +597,16 @@ void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
   f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, out.u.stiffness);
   f.WriteVector(g + "/stiffness_pct_variation", s.spread.pct_variation, "%");
   f.WriteVector(g + "/damping", s.damping, out.u.damping);
+  const std::size_t n = s.run_ids.size();
+  for (const std::string& a :
+       SameLength(g, n,
+                  {{"sqrt_restitution", s.sqrt_restitution.size()},
+                   {"stiffness", s.stiffness.size()},
+                   {"stiffness_deviation", s.spread.deviation.size()},
+                   {"stiffness_pct_variation", s.spread.pct_variation.size()},
+                   {"damping", s.damping.size()}})) {
+    out.x.AttachScale(a, g + "/run_ids");
+  }
   if (s.damping_line) {
     const DampingLine& line = *s.damping_line;
     const std::string l = g + "/damping_line";
@@ -551,6 +633,14 @@ void WritePrediction(Out& out, const RunPrediction& p) {
   f.WriteVector(g + "/deviation", p.deviation, out.u.length);
   f.WriteVector(g + "/deviation_pct_peak", p.pct_peak, "%");
   f.WriteVector(g + "/deviation_pct_start", p.pct_start, "%");
+  const std::size_t n = p.predicted.size();
+  WriteReboundScale(out, g, p.start_rebound, n,
+                    SameLength(g, n,
+                               {{"predicted_xmax", n},
+                                {"calculated_xmax", p.calculated.size()},
+                                {"deviation", p.deviation.size()},
+                                {"deviation_pct_peak", p.pct_peak.size()},
+                                {"deviation_pct_start", p.pct_start.size()}}));
 }
 
 // The pendulum's settings apply to runs and calibrations (a session of logs
@@ -582,7 +672,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   }
   if (r.kelvin_voigt) WriteSessionKelvinVoigt(out, *r.kelvin_voigt);
   for (const LeastSquaresSummary& fit : r.joint_fits) {
-    WriteLeastSquares(out, "/session/joint_fits/" + fit.model, fit);
+    WriteLeastSquares(out, "/session/joint_fits/" + fit.model, fit, "");
   }
   if (r.model_comparison) WriteModelComparison(out, *r.model_comparison);
   for (const LogResult& log : r.logs) WriteLog(out, log);

@@ -1,11 +1,12 @@
 // What layout 2 changed in the results file, checked on the files themselves
 // (with HDF5 where io/'s Hdf5File has no word for it): correlation matrices,
-// and nothing written that does not apply.
+// dimension scales, and nothing written that does not apply.
 #include <set>
 #include <string>
 #include <vector>
 
 #include <hdf5.h>
+#include <hdf5_hl.h>
 #include <catch2/catch.hpp>
 
 #include "io/hdf5_file.h"
@@ -39,6 +40,19 @@ std::vector<hsize_t> Dimensions(const fs::path& file, const std::string& dataset
   H5Dclose(d);
   H5Fclose(f);
   return dims;
+}
+
+// Whether `scale` is attached to `dataset`'s first dimension.
+bool Attached(const fs::path& file, const std::string& dataset, const std::string& scale) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  const hid_t s = H5Dopen2(f, scale.c_str(), H5P_DEFAULT);
+  const bool attached = d >= 0 && s >= 0 && H5DSis_attached(d, s, 0) > 0;
+  H5Dclose(s);
+  H5Dclose(d);
+  H5Fclose(f);
+  return attached;
 }
 
 // The attribute names of `object`.
@@ -105,6 +119,30 @@ TEST_CASE(
         std::vector<std::string>{"zeta", "rebound0_speed"});
 }
 
+TEST_CASE("results_layout2: per-rebound arrays carry the rebounds' numbers as a dimension scale") {
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "thesis.h5";
+  WriteResults(Reduced("thesis-1969"), path);
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  const std::string run = "/runs/0.405";
+  CHECK(f.ReadIntegers(run + "/rebounds/rebound") == std::vector<long long>{0, 1, 2, 3, 4});
+  for (const char* array :
+       {"rebounds/xmax", "rebounds/xmax_std_error", "rebounds/t_peak",
+        "fit/kelvin_voigt/predicted_xmax", "fit/kelvin_voigt/predicted_xmax_std_error",
+        "fit/kelvin_voigt/deviation", "fit/kelvin_voigt/deviation_pct_peak",
+        "fit/kelvin_voigt/deviation_pct_x0", "fit/kelvin_voigt_least_squares/predicted_xmax"}) {
+    INFO(array);
+    CHECK(Attached(path, run + "/" + array, run + "/rebounds/rebound"));
+  }
+  CHECK(Attached(path, run + "/fit/kelvin_voigt/response/displacement",
+                 run + "/fit/kelvin_voigt/response/time"));
+  // A prediction counts from the target's rebound it starts at.
+  const std::string p = "/predictions/0.405_from_0.323";
+  CHECK(f.ReadIntegers(p + "/rebound").front() == f.ReadIntegerAttribute(p, "start_rebound"));
+  CHECK(Attached(path, p + "/predicted_xmax", p + "/rebound"));
+  CHECK(Attached(path, "/session/kelvin_voigt/stiffness", "/session/kelvin_voigt/run_ids"));
+}
+
 TEST_CASE("results_layout2: a session of logs only has no pendulum and no runs") {
   testing::TempDir dir;
   const fs::path path = dir.path() / "logs.h5";
@@ -115,6 +153,9 @@ TEST_CASE("results_layout2: a session of logs only has no pendulum and no runs")
   CHECK_FALSE(f.Exists("/runs"));
   CHECK_FALSE(f.HasAttribute("/", "convention"));
   CHECK_FALSE(f.HasAttribute("/", "separation"));
+  const std::string channel = "/logs/case1/experiment/a1";
+  CHECK(Attached(path, channel + "/spectrum/psd", channel + "/spectrum/frequency"));
+  CHECK(Attached(path, channel + "/series/value", channel + "/series/time"));
   const SessionResult read = ReadResults(path);
   CHECK(read.runs.empty());
   CHECK(read.apparatus.mass == 0.0);

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <hdf5_hl.h>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -151,13 +152,18 @@ struct Walk {
   bool is_dataset = false;
 };
 
-// H5Aiterate2's callback (C: it returns a status, never throws).
-herr_t CollectAttribute(hid_t, const char* attribute, const H5A_info_t*, void* data) {
+// H5Aiterate2's callback (C: it returns a status, never throws). The
+// attributes every dataset may have, and HDF5's own of a dimension scale, the
+// page lists once, for all.
+herr_t CollectAttribute(hid_t object, const char* attribute, const H5A_info_t*, void* data) {
   Walk& walk = *static_cast<Walk*>(data);
   const std::string name = attribute;
   const std::string where = fmt::format("{}: {}@{}", walk.file, walk.object, name);
-  if (walk.is_dataset && name == "units") {
-    walk.names->emplace("<dataset>@units", where);  // the page says it once, for all
+  const bool scale = walk.is_dataset && H5DSis_scale(object) > 0;
+  if (walk.is_dataset && (name == "units" || name == "DIMENSION_LIST")) {
+    walk.names->emplace("<dataset>@" + name, where);
+  } else if (scale && (name == "CLASS" || name == "NAME" || name == "REFERENCE_LIST")) {
+    walk.names->emplace("<scale>@" + name, where);
   } else {
     walk.names->emplace(InTemplates(Generalise(walk.object, *walk.vocabulary) + "@" + name), where);
   }
