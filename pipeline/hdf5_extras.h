@@ -1,6 +1,7 @@
 // What results layout 2 needs of HDF5 that io/'s Hdf5File does not wrap:
-// 2-D datasets, string-array attributes and dimension scales (HDF5 Dimension
-// Scales, H5DS, from HDF5's high-level library hdf5_hl).
+// 2-D datasets, string-array attributes, dimension scales (HDF5 Dimension
+// Scales, H5DS) and images (HDF5 Image and Palette Specification 1.2), the
+// last two from HDF5's high-level library (hdf5_hl).
 //
 // They belong in Hdf5File. io/ was being reworked by others when layout 2 was
 // written, so they live here and reach the file an Hdf5File is writing by its
@@ -17,6 +18,12 @@
 
 namespace impactlab {
 
+// An 8-bit colour image: rows of pixels, each red, green, blue.
+struct RgbImage {
+  int height = 0, width = 0;
+  std::vector<unsigned char> pixels;  // height * width * 3, row-major
+};
+
 class Hdf5Extras {
  public:
   // The in-memory file `file` is writing (WriteHdf5Atomically). Throws
@@ -32,6 +39,10 @@ class Hdf5Extras {
   // Makes the 1-D `scale` a dimension scale, named as its last path component
   // ("rebound", "time"), and attaches it to the first dimension of `dataset`.
   void AttachScale(const std::string& dataset, const std::string& scale) const;
+  // A height x width x 3 uint8 dataset with the Image spec's attributes for a
+  // true-colour image (CLASS, IMAGE_VERSION, IMAGE_SUBCLASS, INTERLACE_MODE,
+  // DISPLAY_ORIGIN), so that HDFView shows it; deflated in chunks of rows.
+  void WriteImage(const std::string& dataset, const RgbImage& image) const;
 
  private:
   void Check(int status, const std::string& object, const char* what) const;

@@ -1,6 +1,8 @@
 #include "pipeline/results_file.h"
 
 #include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "io/errors.h"
 #include "io/hdf5_file.h"
@@ -114,6 +116,18 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
           f.ReadVector(g + "/duration")};
 }
 
+// The overlay's pixels, red-green-blue, as its JPEG decodes (none if it does not).
+RgbImage DecodeOverlay(const std::vector<unsigned char>& jpeg) {
+  if (jpeg.empty()) return {};
+  const cv::Mat bgr = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+  if (bgr.empty()) return {};
+  RgbImage image{bgr.rows, bgr.cols, {}};
+  image.pixels.resize(static_cast<std::size_t>(bgr.rows) * bgr.cols * 3);
+  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, image.pixels.data());
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return image;
+}
+
 // A digitized photo: the overlay image and the digitizer's figures of merit.
 void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   Hdf5File& f = out.f;
@@ -121,6 +135,10 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   f.SetAttribute(h, "photo", o.photo);
   // Said where a reader of the results looks: the numbers rest on the user's hints.
   if (!o.hints.empty()) f.SetAttribute(h, "hints", o.hints);
+  // The pixels as an HDF5 image, which HDFView shows (it cannot decode a
+  // JPEG); the JPEG itself for the report's HTML, a tenth of the size.
+  const RgbImage image = DecodeOverlay(o.jpeg);
+  if (!image.pixels.empty()) out.x.WriteImage(h + "/overlay", image);
   f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
   f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
   f.WriteStrings(h + "/trace_names", o.trace_names);

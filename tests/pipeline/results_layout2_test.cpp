@@ -1,6 +1,7 @@
 // What layout 2 changed in the results file, checked on the files themselves
 // (with HDF5 where io/'s Hdf5File has no word for it): correlation matrices,
-// dimension scales, and nothing written that does not apply.
+// dimension scales, overlays as HDF5 images, and nothing written that does not
+// apply.
 #include <set>
 #include <string>
 #include <vector>
@@ -8,6 +9,8 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 #include <catch2/catch.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
@@ -161,6 +164,68 @@ TEST_CASE("results_layout2: a session of logs only has no pendulum and no runs")
   CHECK(read.apparatus.mass == 0.0);
   REQUIRE(read.logs.size() == written.logs.size());
   CHECK(read.logs[0].status == written.logs[0].status);
+}
+
+// A string attribute as the HDF5 Image spec has them (fixed length).
+std::string ImageAttribute(const fs::path& file, const std::string& dataset, const char* name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  char text[64] = {};
+  const herr_t status = H5LTget_attribute_string(f, dataset.c_str(), name, text);
+  H5Fclose(f);
+  return status < 0 ? "(none)" : text;
+}
+
+// A photo run whose overlay is a JPEG of colour stripes on grey.
+SessionResult WithOverlay(const std::vector<unsigned char>& jpeg) {
+  SessionResult r;
+  r.title = "an overlay";
+  r.producer = "impactlab";
+  r.created = "2026-01-01T00:00:00Z";
+  RunResult run;
+  run.id = "photo";
+  run.initial_displacement = 0.3;
+  run.failure = "not measured";
+  PhotoOverlay overlay;
+  overlay.photo = "runs/photo.jpg";
+  overlay.jpeg = jpeg;
+  overlay.trace_names = {"right", "left"};
+  overlay.trace_coverage = {0.9, 0.8};
+  overlay.trace_spread_px2 = {1.0, 2.0};
+  overlay.trace_spread_sigma_px2 = {0.1, 0.2};
+  run.overlays = {overlay};
+  r.runs = {run};
+  return r;
+}
+
+TEST_CASE("results_layout2: a digitized photo's overlay is an HDF5 true-colour image") {
+  cv::Mat picture(90, 160, CV_8UC3, cv::Scalar(128, 128, 128));
+  picture(cv::Rect(10, 0, 20, 90)).setTo(cv::Scalar(255, 0, 0));  // blue, as OpenCV orders
+  picture(cv::Rect(50, 0, 20, 90)).setTo(cv::Scalar(0, 0, 255));  // red
+  std::vector<unsigned char> jpeg;
+  REQUIRE(cv::imencode(".jpg", picture, jpeg));
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "r.h5";
+  WriteResults(WithOverlay(jpeg), path);
+  const std::string image = "/runs/photo/digitized/0/overlay";
+  CHECK(Dimensions(path, image) == std::vector<hsize_t>{90, 160, 3});
+  CHECK(ImageAttribute(path, image, "CLASS") == "IMAGE");
+  CHECK(ImageAttribute(path, image, "IMAGE_VERSION") == "1.2");
+  CHECK(ImageAttribute(path, image, "IMAGE_SUBCLASS") == "IMAGE_TRUECOLOR");
+  CHECK(ImageAttribute(path, image, "INTERLACE_MODE") == "INTERLACE_PIXEL");
+  CHECK(ImageAttribute(path, image, "DISPLAY_ORIGIN") == "UL");
+  // The pixels are the JPEG's, red first.
+  cv::Mat rgb;
+  cv::cvtColor(cv::imdecode(jpeg, cv::IMREAD_COLOR), rgb, cv::COLOR_BGR2RGB);
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  CHECK(f.ReadBytes(image) == std::vector<unsigned char>(rgb.data, rgb.data + rgb.total() * 3));
+  CHECK(rgb.at<cv::Vec3b>(45, 60)[0] > 200);  // the red stripe is red
+  // The JPEG stays for the report, and reads back as it was.
+  CHECK(f.ReadBytes("/runs/photo/digitized/0/overlay_jpeg") == jpeg);
+  REQUIRE(ReadResults(path).runs.at(0).overlays.size() == 1);
+  CHECK(ReadResults(path).runs[0].overlays[0].jpeg == jpeg);
+  CHECK(Attached(path, "/runs/photo/digitized/0/trace_coverage",
+                 "/runs/photo/digitized/0/trace_names"));
 }
 
 // A run the manifest rejected, and a Poynting-Thomson fit that could not run,
