@@ -6,8 +6,12 @@
 // left displacement traces chopped on one beam over a slow sweep, the contact
 // circuit's step on the second beam's fast delayed sweep at a chosen impact.
 // Each cell is calibrated per run by a photo of one bar swinging alone from
-// X0 (thesis Chapter III). The folder follows session-format.md; the truth
-// file is written outside it.
+// X0 (thesis Chapter III). The folder follows docs/session-format.md; the
+// truth file is written outside it.
+//
+// The generator plans the session (synth/session_plan.h), simulates each run
+// (synth/session_simulation.h, synth/session_photos.h) and writes it
+// (synth/session_writer.h, synth/manifest_writer.h).
 #pragma once
 
 #include <cstdint>
@@ -17,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/oscillograph.h"
+#include "synth/manifest_writer.h"
 
 namespace impactlab {
 
@@ -47,6 +52,7 @@ struct SynthSummary {
   double simulate_seconds = 0.0;
   double render_seconds = 0.0;  // all photos, encoding included
   nlohmann::json truth;         // what --truth writes (schema in docs/synth.md)
+  SessionManifest manifest;     // what session.toml says
 };
 
 // Writes the session into `folder` (created; it must not exist or be empty).

@@ -14,6 +14,7 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "tests/support/temp_dir.h"
+#include "tests/synth/manifest_match.h"
 
 namespace impactlab {
 namespace {
@@ -39,9 +40,12 @@ SynthOptions Quick(PhotoStyle style, std::uint64_t seed) {
   return o;
 }
 
-TEST_CASE("synth: every style gives a session the manifest reader accepts without warnings") {
+TEST_CASE(
+    "synth: every style gives a session the manifest reader accepts without warnings, holding "
+    "the values the generator planned") {
   for (PhotoStyle style : {PhotoStyle::kClean, PhotoStyle::kPolaroid, PhotoStyle::kPhone,
                            PhotoStyle::kNegative, PhotoStyle::kLowres, PhotoStyle::kRandomised}) {
+    INFO(PhotoStyleName(style));
     testing::TempDir dir;
     const SynthSummary summary = GenerateSession(dir.path() / "s", Quick(style, 2));
     CHECK(summary.runs == 4);
@@ -51,6 +55,10 @@ TEST_CASE("synth: every style gives a session the manifest reader accepts withou
     CHECK(read.session.runs.size() == 4);
     CHECK(read.session.calibrations.size() == 6);
     CHECK(summary.truth["runs"].size() == 4);
+    testing::CheckReadsBack(summary.manifest, read.session);
+    // The manifest gives X0 as written down, to 6 digits, the truth exactly.
+    CHECK(summary.manifest.runs[0].initial_displacement ==
+          Approx(summary.truth["runs"][0]["initial_displacement"].get<double>()).epsilon(1e-5));
   }
 }
 
