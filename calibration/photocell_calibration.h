@@ -28,6 +28,13 @@ struct CalibrationOptions {
   // converting (reading noise at the ends), 1.
   double range_margin = 0.01;
 
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("max_order", self.max_order, "highest polynomial order tried");
+    visit("skip_after_release_s", self.skip_after_release_s, "samples left out after release, s");
+    visit("range_margin", self.range_margin, "calibrated volts extended by this of the span, 1");
+  }
+
   bool Check(std::string* error) const;
 };
 

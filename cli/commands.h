@@ -27,5 +27,6 @@ void AddPendulCommand(CLI::App& app, Action& action);
 void AddDigitizeCommand(CLI::App& app, Action& action);
 void AddSynthCommand(CLI::App& app, Action& action);
 void AddSynthLogsCommand(CLI::App& app, Action& action);
+void AddSettingsCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/stage_flags.h"
 #include "digitize/digitize.h"
 #include "io/errors.h"
 #include "io/manifest.h"
@@ -22,6 +23,7 @@ struct Target {
   std::vector<TraceRequest> requests;
   std::optional<std::filesystem::path> photo;
   std::optional<GraticuleCorners> corners_px;  // the manifest's hint for that photo
+  StageSettings settings;                      // the entry's own, e.g. [run.digitize]
 };
 
 Target FindTarget(const Session& session, const std::string& run_id,
@@ -34,7 +36,7 @@ Target FindTarget(const Session& session, const std::string& run_id,
   if (!run_id.empty()) {
     for (const Run& run : session.runs) {
       if (run.id == run_id) {
-        return {run.id, TraceRequestsOf(run), run.photo, run.graticule_corners_px};
+        return {run.id, TraceRequestsOf(run), run.photo, run.graticule_corners_px, run.settings};
       }
     }
     throw InputError({session.manifest, "run", std::nullopt},
@@ -43,7 +45,7 @@ Target FindTarget(const Session& session, const std::string& run_id,
   for (const Calibration& calibration : session.calibrations) {
     if (calibration.id == calibration_id) {
       return {calibration.id, TraceRequestsOf(calibration), calibration.photo,
-              calibration.graticule_corners_px};
+              calibration.graticule_corners_px, calibration.settings};
     }
   }
   throw InputError({session.manifest, "calibration", std::nullopt},
@@ -62,12 +64,6 @@ void WriteDigitizedCsv(const std::filesystem::path& path, const DigitizedTrace& 
   if (!out) throw InputError({path, "", std::nullopt}, "cannot write the trace file");
 }
 
-SubpixelMethod ParseMethod(const std::string& name) {
-  if (name == "gaussian") return SubpixelMethod::kGaussian;
-  if (name == "parabola") return SubpixelMethod::kParabola;
-  return SubpixelMethod::kCentroid;
-}
-
 }  // namespace
 
 void AddDigitizeCommand(CLI::App& app, Action& action) {
@@ -77,8 +73,6 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
     std::string run, calibration;
     std::filesystem::path out_dir = ".";
     std::filesystem::path overlay;
-    std::string method = "centroid";
-    int detect_width_px = GraticuleOptions{}.detect_width_px;
     bool quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -95,16 +89,12 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
   cmd->add_option("-o,--out-dir", args->out_dir, "Folder for the CSV files (ID-TRACE.csv)")
       ->capture_default_str();
   cmd->add_option("--overlay", args->overlay, "Write the photo with what was found drawn on it");
-  cmd->add_option("--method", args->method, "Sub-pixel centre: centroid, gaussian or parabola")
-      ->check(CLI::IsMember({"centroid", "gaussian", "parabola"}))
-      ->capture_default_str();
-  cmd->add_option("--detect-width", args->detect_width_px,
-                  "Width of the working copy the grid is searched in, pixels")
-      ->check(CLI::Range(160, 4000))
-      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "Print only errors");
-  cmd->callback([&action, args] {
-    action = [args] {
+  // The settings `reduce` would digitize this photo with: the manifest's, the
+  // entry's own, and these flags over both.
+  const auto stage_flags = std::make_shared<StageFlags>(*cmd, std::vector<std::string>{"digitize"});
+  cmd->callback([&action, args, stage_flags] {
+    action = [args, stage_flags] {
       if (args->run.empty() == args->calibration.empty()) {
         throw std::invalid_argument("digitize: give exactly one of --run ID or --calibration ID");
       }
@@ -131,9 +121,10 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
       const Photo photo = args->photo.empty()
                               ? DecodePhoto(ReadSessionFile(session.folder, photo_path), photo_path)
                               : LoadPhoto(photo_path);
-      DigitizeOptions options;
-      options.graticule.detect_width_px = args->detect_width_px;
-      options.traces.method = ParseMethod(args->method);
+      const StageSettings flags = stage_flags->Given();
+      DigitizeOptions options =
+          EntryStageOptions(SessionStageOptions({}, session, flags), target.settings, flags)
+              .digitize;
       // The manifest's corners are pixels of the manifest's photo, not of
       // another one named on the command line.
       if (args->photo.empty()) options.graticule.corners_px = target.corners_px;

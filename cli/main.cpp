@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   AddDigitizeCommand(app, action);
   AddSynthCommand(app, action);
   AddSynthLogsCommand(app, action);
+  AddSettingsCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

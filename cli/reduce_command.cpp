@@ -10,6 +10,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/stage_flags.h"
 #include "cli/version.h"
 #include "io/atomic_file.h"
 #include "io/manifest.h"
@@ -81,8 +82,9 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--fresh", args->fresh,
                 "Measure every run again instead of reusing unchanged runs from the output file");
   cmd->add_flag("-q,--quiet", args->quiet, "Print only errors");
-  cmd->callback([&action, args] {
-    action = [args] {
+  const auto stage_flags = std::make_shared<StageFlags>(*cmd);
+  cmd->callback([&action, args, stage_flags] {
+    action = [args, stage_flags] {
       const auto start = std::chrono::steady_clock::now();
       CheckOutputPath(args->output, args->session);  // before any work
       const ManifestReadResult manifest = ReadManifest(args->session);
@@ -94,6 +96,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
                          : args->only == "rebounds"  ? Products::kRebounds
                                                      : Products::kFit;
       options.jobs = args->jobs;
+      options.overrides = stage_flags->Given();
       const std::optional<SessionResult> previous =
           args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet, manifest.session);
       if (previous) options.previous = &*previous;

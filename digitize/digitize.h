@@ -30,6 +30,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "digitize/options.h"
 #include "io/session.h"
 #include "io/trace.h"
 #include "model/contact_pulse.h"
@@ -58,12 +59,6 @@ Photo LoadPhoto(const std::filesystem::path& path);
 // Throws InputError naming `source` and the reason.
 Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem::path& source);
 
-enum class Polarity {
-  kAuto,          // decided from the photo: are thin features brighter or darker than the screen?
-  kBrightTraces,  // light traces on a dark screen (a print, a phone photo)
-  kDarkTraces,    // dark traces on a light ground (a negative)
-};
-
 // ---------------------------------------------------------------------------
 // The graticule
 
@@ -82,42 +77,6 @@ struct GraticuleMapping {
   // The image length of one division at a screen point (square root of the
   // local area stretch), pixels per division.
   double PixelsPerDivisionAt(cv::Point2d screen_div) const;
-};
-
-enum class RadialModel {
-  kAuto,    // fit k1, keep it only when it lowers the residual by `radial_min_gain`
-  kNone,    // homography only
-  kAlways,  // always fit k1
-};
-
-struct GraticuleOptions {
-  // Width of the grey working copy the lattice is searched in, pixels. The
-  // photo is shrunk by the whole factor that comes nearest; smaller is faster
-  // and blinder to faint grid lines.
-  int detect_width_px = 500;
-  Polarity polarity = Polarity::kAuto;
-  RadialModel radial = RadialModel::kAuto;
-  // Relative drop of the RMS residual a radial term must bring to be kept, 1.
-  double radial_min_gain = 0.15;
-  // Measurements across each grid line per division of its length (taken
-  // clear of the crossings and of the centre axes' minor ticks).
-  int samples_per_div = 3;
-  // Length of grid line each measurement averages over (parallel profiles
-  // 1.5 px apart), divisions: longer is steadier in noise and slower.
-  double line_average_div = 0.04;
-  // The fit is refused above this RMS residual, pixels of the photo.
-  double max_residual_px = 1.0;
-  // Largest rotation of the screen in the photo searched for, degrees.
-  double max_rotation_deg = 20.0;
-  // Manual hint (the manifest's `graticule_corners`, docs/manifest.md): the
-  // grid's outer corners in photo pixels, top-left, top-right, bottom-right,
-  // bottom-left as seen on the screen. When given, the homography through
-  // them replaces the lattice search; the grid lines are then measured and
-  // fitted, and the fit checked, as after a search. Unset: searched.
-  std::optional<GraticuleCorners> corners_px;
-
-  // True when every field is in range; otherwise `error` says which is not.
-  bool Check(std::string* error) const;
 };
 
 // The photo reduced for the search: what every later stage shares.
@@ -168,67 +127,6 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
 
 // ---------------------------------------------------------------------------
 // The traces
-
-enum class SubpixelMethod {
-  kCentroid,  // intensity-weighted centroid of the part above `centroid_level`
-  kGaussian,  // least-squares Gaussian (a parabola in log intensity) across the line
-  kParabola,  // three-point parabola through the brightest sample: fastest, coarsest
-};
-
-struct TraceOptions {
-  SubpixelMethod method = SubpixelMethod::kCentroid;
-  // Output samples per photo pixel along the sweep (1: one per pixel column of
-  // the screen), 1/pixel.
-  double samples_per_px = 1.0;
-  // Centroid: only the profile above this fraction of the peak (over the
-  // background) is weighed, 1. Higher ignores more of the glow and grid lines.
-  double centroid_level = 0.5;
-  // Half-length of the profile taken across the trace, in trace widths (FWHM)
-  // beyond the tracking's uncertainty; the region of interest around the line.
-  double profile_half_widths = 2.5;
-  // Resolution of the strip each band is tracked in, pixels per division;
-  // 0: the working copy's own.
-  double track_px_per_div = 0.0;
-  // Longest gap in a trace (a chopper's blanking, dust) the tracking bridges
-  // on the trace's course; after longer ones the trace may reappear anywhere
-  // at a fixed cost, divisions.
-  double max_gap_div = 0.8;
-  // A sample is kept when its height above the background is at least this
-  // fraction of the trace's typical height, 1.
-  double min_relative_height = 0.3;
-  // A sample dimmer than this fraction of the brightest within 0.06 division
-  // along the same unbroken stretch is dropped: it sees a dash's end (or a
-  // speck's shadow) from the side, and its centre slides off the line, 1.
-  double min_local_height = 0.75;
-  // A sample whose line is wider than this many times the trace's usual width
-  // (FWHM) is dropped: two stretches merge there (a cusp, a crossing), 1.
-  double max_relative_width = 1.4;
-  // A sample further than this many robust sigmas (at least 0.1 px) from a
-  // parabola through its neighbours is an outlier (dust, glare), 1.
-  double outlier_sigmas = 4.0;
-  // Samples less confident than this (dim, pulled by a grid line, straying
-  // from their neighbours: see docs/digitizing.md) are not reported, 0..1.
-  double min_confidence = 0.25;
-  // A trace lying on the grid's horizontal lines for half its samples and no
-  // brighter than this many times the graticule's lines (its
-  // typical height above the screen where its line is seen whole, dash ends
-  // left out) is taken for a grid line: missing, 1.
-  double min_height_over_grid = 1.3;
-  // A trace covering less than this fraction of the sweep is reported missing, 1.
-  double min_coverage = 0.05;
-  // A grid line's light is taken to reach this many of its widths (FWHM)
-  // either side of it: the peak search discounts it there, and a profile
-  // running along a short line (a minor tick) within it is skipped; 0
-  // ignores the grid, 1.
-  double grid_reach_widths = 1.5;
-  // Where a grid line reaches a trace's core, find the centre by symmetry
-  // with the grid line's light modelled (docs/digitizing.md) instead of by
-  // `method`. Measured: no better on this project's photos (a saturated core
-  // hides a grid line under it), so off; the contact edges always use it.
-  bool grid_model = false;
-
-  bool Check(std::string* error) const;
-};
 
 // One trace the manifest names on this photo.
 struct TraceRequest {
@@ -293,13 +191,6 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
 
 // ---------------------------------------------------------------------------
 // All stages
-
-struct DigitizeOptions {
-  GraticuleOptions graticule;
-  TraceOptions traces;
-
-  bool Check(std::string* error) const;
-};
 
 struct DigitizeResult {
   GraticuleFit graticule;

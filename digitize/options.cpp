@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "digitize/digitize.h"
+#include "digitize/options.h"
 
 namespace impactlab {
 

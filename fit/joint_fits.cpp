@@ -310,9 +310,15 @@ double JointModelFit::LogRestitutionFor(const Pendulum& pendulum,
   return log_restitution_mean;  // per-run: an unseen run gets the runs' weighted mean
 }
 
+bool JointFitOptions::Check(std::string* why) const {
+  return solver.Check(why) &&
+         fit_internal::CheckRelativeSingularValue(min_relative_singular_value, why);
+}
+
 SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& runs,
                                                 const JointFitOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   for (const std::string& name : options.runs) {
     if (std::none_of(runs.begin(), runs.end(), [&](const JointRun& r) { return r.name == name; })) {
       throw std::invalid_argument(fmt::format("no run named '{}'", name));

@@ -49,6 +49,15 @@ struct JointFitOptions {
   std::vector<std::string> runs;  // names of the runs to use; empty = all
   SolverControl solver;
   double min_relative_singular_value = 1e-10;  // below: the model is not identifiable
+
+  // The settings: which runs is the session's.
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("solver", self.solver, "");
+    visit("min_relative_singular_value", self.min_relative_singular_value,
+          "below this the model is not identifiable");
+  }
+  bool Check(std::string* why) const;
 };
 
 // Leave-one-run-out prediction error of a model.

@@ -67,30 +67,16 @@ void DampingRatioAndSlope(double log_e, Separation separation, double* zeta, dou
 
 }  // namespace
 
-void KelvinVoigtLeastSquaresOptions::Check() const {
-  if (!(loss.scale_sigmas > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("loss.scale_sigmas must be > 0, got {}", loss.scale_sigmas));
-  }
-  if (solver.max_iterations <= 0) {
-    throw std::invalid_argument(
-        fmt::format("solver.max_iterations must be > 0, got {}", solver.max_iterations));
-  }
-  if (!(solver.function_tolerance > 0.0) || !(solver.parameter_tolerance > 0.0) ||
-      !(solver.gradient_tolerance > 0.0)) {
-    throw std::invalid_argument("solver tolerances must be > 0");
-  }
-  if (!(min_relative_singular_value > 0.0) || !(min_relative_singular_value < 1.0)) {
-    throw std::invalid_argument(fmt::format("min_relative_singular_value must be in (0, 1), got {}",
-                                            min_relative_singular_value));
-  }
+bool KelvinVoigtLeastSquaresOptions::Check(std::string* why) const {
+  return loss.Check(why) && solver.Check(why) &&
+         fit_internal::CheckRelativeSingularValue(min_relative_singular_value, why);
 }
 
 KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     const Pendulum& pendulum, double mass, const ReboundMeasurements& measured,
     const KelvinVoigtLeastSquaresOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  options.Check();
+  if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   if (!(mass > 0.0)) throw std::invalid_argument(fmt::format("mass must be > 0, got {}", mass));
   bool weighted = false;
   const std::vector<double> sigmas =

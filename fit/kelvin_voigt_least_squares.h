@@ -36,8 +36,17 @@ struct KelvinVoigtLeastSquaresOptions {
   // reported as not determined (two parameters from two or more distinct
   // rebounds are always determined; the check guards degenerate input).
   double min_relative_singular_value = 1e-8;
-  // Throws std::invalid_argument naming the bad field.
-  void Check() const;
+
+  // The settings: the separation is the session's ([reduction] separation).
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("loss", self.loss, "");
+    visit("solver", self.solver, "");
+    visit("min_relative_singular_value", self.min_relative_singular_value,
+          "directions below this are not determined");
+  }
+  // False with `why` naming the bad field.
+  bool Check(std::string* why) const;
 };
 
 // One maximum's fit residual.

@@ -8,6 +8,15 @@
 #include "fit/least_squares_internal.h"
 
 namespace impactlab {
+namespace fit_internal {
+
+bool CheckRelativeSingularValue(double value, std::string* why) {
+  if (value > 0.0 && value < 1.0) return true;
+  *why = fmt::format("min_relative_singular_value must be in (0, 1), got {}", value);
+  return false;
+}
+
+}  // namespace fit_internal
 
 const char* RobustLossName(RobustLoss loss) {
   switch (loss) {
@@ -27,6 +36,24 @@ RobustLoss ParseRobustLoss(const std::string& name) {
   if (name == "cauchy") return RobustLoss::kCauchy;
   throw std::invalid_argument("robust loss must be \"none\", \"huber\" or \"cauchy\", got \"" +
                               name + "\"");
+}
+
+bool LossOptions::Check(std::string* why) const {
+  if (scale_sigmas > 0.0 && std::isfinite(scale_sigmas)) return true;
+  *why = fmt::format("loss.scale_sigmas must be > 0, got {}", scale_sigmas);
+  return false;
+}
+
+bool SolverControl::Check(std::string* why) const {
+  if (max_iterations <= 0) {
+    *why = fmt::format("solver.max_iterations must be > 0, got {}", max_iterations);
+    return false;
+  }
+  if (!(function_tolerance > 0.0) || !(gradient_tolerance > 0.0) || !(parameter_tolerance > 0.0)) {
+    *why = "solver tolerances must be > 0";
+    return false;
+  }
+  return true;
 }
 
 std::string FormatCombination(const std::vector<double>& direction,

@@ -15,8 +15,11 @@
 //    result names it instead of printing confident numbers.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
+
+#include "options/settings.h"
 
 namespace impactlab {
 
@@ -24,10 +27,22 @@ namespace impactlab {
 enum class RobustLoss { kNone, kHuber, kCauchy };
 const char* RobustLossName(RobustLoss loss);          // "none", "huber", "cauchy"
 RobustLoss ParseRobustLoss(const std::string& name);  // throws std::invalid_argument
+constexpr std::array<SettingName<RobustLoss>, 3> SettingNames(RobustLoss) {
+  return {{{RobustLoss::kNone, "none"},
+           {RobustLoss::kHuber, "huber"},
+           {RobustLoss::kCauchy, "cauchy"}}};
+}
 
 struct LossOptions {
   RobustLoss kind = RobustLoss::kNone;
   double scale_sigmas = 2.0;  // where the loss turns from quadratic, in sigmas (> 0)
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("kind", self.kind, "robust loss on whitened residuals");
+    visit("scale_sigmas", self.scale_sigmas, "where the loss turns from quadratic, sigmas");
+  }
+  bool Check(std::string* why) const;
 };
 
 struct SolverControl {
@@ -35,6 +50,15 @@ struct SolverControl {
   double function_tolerance = 1e-12;  // stop when |d cost|/cost below (Ceres default 1e-6 is loose)
   double gradient_tolerance = 1e-14;  // stop when the max-norm of the projected gradient is below
   double parameter_tolerance = 1e-12;  // stop when |dx| < tol (|x| + tol)
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("max_iterations", self.max_iterations, "Levenberg-Marquardt iterations");
+    visit("function_tolerance", self.function_tolerance, "stop below this relative cost change");
+    visit("gradient_tolerance", self.gradient_tolerance, "stop below this projected gradient");
+    visit("parameter_tolerance", self.parameter_tolerance, "stop below this relative step");
+  }
+  bool Check(std::string* why) const;
 };
 
 // How the solve went. A fit that does not converge is a result with

@@ -14,6 +14,9 @@
 
 namespace impactlab::fit_internal {
 
+// The options' min_relative_singular_value lies in (0, 1); else false with `why`.
+bool CheckRelativeSingularValue(double value, std::string* why);
+
 // Levenberg-Marquardt with dense QR, silent (no logging, no progress output),
 // single-threaded (the Poynting-Thomson residuals share a response cache).
 ceres::Solver::Options SolverOptions(const SolverControl& control);

@@ -253,43 +253,38 @@ std::string Advice(bool has_tau, bool has_peak, int rank) {
 
 }  // namespace
 
-void PoyntingThomsonLeastSquaresOptions::Check() const {
-  if (!(mass > 0.0) || !std::isfinite(mass)) {
-    throw std::invalid_argument(fmt::format("mass must be > 0, got {}", mass));
-  }
+bool PoyntingThomsonLeastSquaresOptions::Check(std::string* why) const {
   if (!(bound_factor > 1.0)) {
-    throw std::invalid_argument(fmt::format("bound_factor must be > 1, got {}", bound_factor));
+    *why = fmt::format("bound_factor must be > 1, got {}", bound_factor);
+    return false;
   }
   if (!(difference_step > 0.0) || !(difference_step < 0.1)) {
-    throw std::invalid_argument(
-        fmt::format("difference_step must be in (0, 0.1), got {}", difference_step));
+    *why = fmt::format("difference_step must be in (0, 0.1), got {}", difference_step);
+    return false;
   }
-  if (!(min_relative_singular_value > 0.0) || !(min_relative_singular_value < 1.0)) {
-    throw std::invalid_argument(fmt::format("min_relative_singular_value must be in (0, 1), got {}",
-                                            min_relative_singular_value));
-  }
-  if (!(loss.scale_sigmas > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("loss.scale_sigmas must be > 0, got {}", loss.scale_sigmas));
-  }
-  if (solver.max_iterations <= 0 || !(solver.function_tolerance > 0.0) ||
-      !(solver.gradient_tolerance > 0.0) || !(solver.parameter_tolerance > 0.0)) {
-    throw std::invalid_argument("solver: max_iterations and tolerances must be > 0");
+  if (!fit_internal::CheckRelativeSingularValue(min_relative_singular_value, why) ||
+      !loss.Check(why) || !solver.Check(why)) {
+    return false;
   }
   if (initial) {
     const PoyntingThomson& m = *initial;
     if (!(m.stiffness1 > 0.0) || !(m.stiffness2 > 0.0) || !(m.damping > 0.0)) {
-      throw std::invalid_argument(fmt::format("initial K1, K2, C must be > 0, got {}, {}, {}",
-                                              m.stiffness1, m.stiffness2, m.damping));
+      *why = fmt::format("initial K1, K2, C must be > 0, got {}, {}, {}", m.stiffness1,
+                         m.stiffness2, m.damping);
+      return false;
     }
   }
+  return true;
 }
 
 PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     const std::vector<PoyntingThomsonRun>& runs,
     const PoyntingThomsonLeastSquaresOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  options.Check();
+  if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
+  if (!(options.mass > 0.0) || !std::isfinite(options.mass)) {
+    throw std::invalid_argument(fmt::format("mass must be > 0, got {}", options.mass));
+  }
   if (runs.empty()) throw std::invalid_argument("no runs to fit");
 
   // Uncertainties: all given (weighted) or none (maxima only, unit weights).

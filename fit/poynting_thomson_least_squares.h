@@ -64,8 +64,20 @@ struct PoyntingThomsonLeastSquaresOptions {
   double min_relative_singular_value = 1e-6;  // below: that direction is not determined
   LossOptions loss;                           // robust loss on whitened residuals
   SolverControl solver;
-  // Throws std::invalid_argument naming the bad field.
-  void Check() const;
+
+  // The settings: the mass, separation and start are the session's and the runs'.
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("bound_factor", self.bound_factor, "K1, K2, C stay within this factor of the start");
+    visit("difference_step", self.difference_step, "central-difference step in log K1, K2, C");
+    visit("min_relative_singular_value", self.min_relative_singular_value,
+          "directions below this are not determined");
+    visit("loss", self.loss, "");
+    visit("solver", self.solver, "");
+  }
+  // False with `why` naming the bad field (the settings and the start; the
+  // mass is checked by the fit).
+  bool Check(std::string* why) const;
 };
 
 struct PoyntingThomsonRunFit {

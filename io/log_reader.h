@@ -64,6 +64,17 @@ struct LogReadOptions {
   // (io/session_file.h); a log named by a manifest is read so.
   std::filesystem::path session_folder = {};
 
+  // The settings (options/settings.h); the folder is the session's.
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("block_rows", self.block_rows, "samples per block read");
+    visit("rate_estimate_rows", self.rate_estimate_rows, "leading rows the interval is taken from");
+    visit("jitter_tolerance", self.jitter_tolerance, "intervals a step may stray, 1");
+    visit("max_fill_samples", self.max_fill_samples, "longest run of missing samples filled");
+    visit("max_bad_fraction", self.max_bad_fraction, "largest fraction of rows dropped, 1");
+    visit("max_listed_issues", self.max_listed_issues, "issues kept with their line");
+  }
+
   bool Check(std::string* error) const;
 };
 

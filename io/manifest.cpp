@@ -862,12 +862,54 @@ std::optional<GraticuleCorners> ReadGraticuleCorners(const TableReader& table, b
   return corners;
 }
 
+// The settings of one stage table, nested tables as dotted keys below `key`.
+void FlattenSettings(const TableReader& table, const std::string& key, StageSettings& settings) {
+  for (const auto& [name, node] : table.table()) {
+    const std::string below = key + "." + std::string(name.str());
+    if (node.is_table()) {
+      FlattenSettings(*table.Table(name.str()), below, settings);
+      continue;
+    }
+    SettingValue value;
+    if (const auto* flag = node.as_boolean()) {
+      value = flag->get();
+    } else if (const auto* integer = node.as_integer()) {
+      value = static_cast<long long>(integer->get());
+    } else if (const auto* number = node.as_floating_point()) {
+      value = number->get();
+    } else if (const auto* text = node.as_string()) {
+      value = text->get();
+    } else {
+      table.Fail(name.str(), fmt::format("expected a setting (a number, true or false, or a "
+                                         "word), found {}",
+                                         Describe(node)));
+    }
+    const std::optional<long long> line = LineOf(node);
+    settings[below] = StageSetting{
+        std::move(value), InputLocation{table.context().manifest, table.KeyPath(name.str()),
+                                        line ? line : table.line()}};
+  }
+}
+
+// The stage tables `stages` of `table`, by key below the stage tables.
+StageSettings ReadSettings(const TableReader& table,
+                           std::initializer_list<std::string_view> stages) {
+  StageSettings settings;
+  for (const std::string_view stage : stages) {
+    if (const auto stage_table = table.Table(stage)) {
+      FlattenSettings(*stage_table, std::string(stage), settings);
+    }
+  }
+  return settings;
+}
+
 Calibration ReadCalibration(const TableReader& table, std::string id, UnitSystem units,
                             const std::optional<Apparatus>& apparatus, const Scope& scope) {
-  table.WarnUnknownKeys(
-      {"id", "cell", "initial_displacement", "photo", "graticule_corners", "trace"});
+  table.WarnUnknownKeys({"id", "cell", "initial_displacement", "photo", "graticule_corners",
+                         "trace", "digitize", "photocell"});
   Calibration calibration;
   calibration.id = std::move(id);
+  calibration.settings = ReadSettings(table, {"digitize", "photocell"});
   if (!table.Has("cell")) table.Missing("cell", ChoiceList({"right", "left"}));
   calibration.cell = *table.Choice("cell", {"right", "left"});
   calibration.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
@@ -967,9 +1009,11 @@ Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
             const std::map<std::string, std::string>& rejected_calibrations) {
   table.WarnUnknownKeys({"id", "initial_displacement", "photo", "graticule_corners", "calibration",
                          "first_rebound", "traces", "rebounds", "contact_time", "fit_rebounds",
-                         "rebound_uncertainty", "contact_time_uncertainty"});
+                         "rebound_uncertainty", "contact_time_uncertainty", "digitize",
+                         "rebound_extraction"});
   Run run;
   run.id = std::move(id);
+  run.settings = ReadSettings(table, {"digitize", "rebound_extraction"});
   run.initial_displacement = ReadReleaseDisplacement(table, units, apparatus);
   run.photo = table.Path("photo");
   run.graticule_corners_px = ReadGraticuleCorners(table, run.photo.has_value());
@@ -1020,9 +1064,11 @@ LogChannel ReadChannel(const TableReader& table, std::string name) {
 }
 
 Log ReadLog(const TableReader& table, std::string id) {
-  table.WarnUnknownKeys({"id", "experiment", "simulation", "time_column", "channels"});
+  table.WarnUnknownKeys(
+      {"id", "experiment", "simulation", "time_column", "channels", "log_analysis"});
   Log log;
   log.id = std::move(id);
+  log.settings = ReadSettings(table, {"log_analysis"});
   log.folder = table.context().folder;
   log.experiment = table.RequiredPath("experiment");
   log.simulation = table.Path("simulation");
@@ -1152,7 +1198,10 @@ Session ReadSession(const TableReader& root) {
   session.format = static_cast<int>(*root.Integer("format", {1, 1, kFormatWhat}));
 
   root.WarnUnknownKeys({"format", "title", "units", "apparatus", "scope", "calibration", "run",
-                        "log", "reduction", "prediction"});
+                        "log", "reduction", "prediction", kStageTables[0], kStageTables[1],
+                        kStageTables[2], kStageTables[3], kStageTables[4]});
+  session.settings = ReadSettings(
+      root, {kStageTables[0], kStageTables[1], kStageTables[2], kStageTables[3], kStageTables[4]});
   session.title = root.String("title", "a title (a string)").value_or("");
   if (auto units = root.Choice("units", {"in-lbf-s", "SI"})) {
     session.units = *ParseUnitSystem(*units);
@@ -1219,6 +1268,20 @@ ManifestReadResult ParseManifest(const std::string& toml_text,
   const toml::table document = ParseToml(toml_text, manifest_path);
   result.session = ReadSession(TableReader(context, document, "", std::nullopt));
   return result;
+}
+
+SettingValue ParseSettingText(const std::string& text) {
+  try {
+    const toml::table parsed = toml::parse("value = " + text);
+    const toml::node& node = *parsed.get("value");
+    if (const auto* flag = node.as_boolean()) return flag->get();
+    if (const auto* integer = node.as_integer()) return static_cast<long long>(integer->get());
+    if (const auto* number = node.as_floating_point()) return number->get();
+    if (const auto* quoted = node.as_string()) return quoted->get();
+  } catch (const toml::parse_error&) {
+    // Not a TOML value: a bare word such as gaussian.
+  }
+  return text;
 }
 
 ManifestReadResult ReadManifest(const std::filesystem::path& session_folder) {

@@ -31,4 +31,9 @@ ManifestReadResult ReadManifest(const std::filesystem::path& session_folder);
 ManifestReadResult ParseManifest(const std::string& toml_text,
                                  const std::filesystem::path& manifest_path);
 
+// A setting's value written as on the command line (`method=gaussian`,
+// `max_order=7`, `grid_model=true`): a TOML value, or else the text itself
+// as a string.
+SettingValue ParseSettingText(const std::string& text);
+
 }  // namespace impactlab

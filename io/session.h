@@ -15,6 +15,7 @@
 
 #include "io/errors.h"
 #include "io/units.h"
+#include "options/settings.h"
 
 namespace impactlab {
 
@@ -22,6 +23,21 @@ enum class Arrangement {
   kPair,  // two identical penduli touching at rest (the thesis's apparatus)
   kWall,  // one pendulum against a rigid stop
 };
+
+// impactlab extension: a stage setting as the manifest writes it, in one of
+// the stage tables ([digitize], [photocell], [rebound_extraction], [fit],
+// [log_analysis]) or an entry's own ([run.digitize], ...); not yet checked
+// against the stages' options, which pipeline/stage_options.h applies it to.
+struct StageSetting {
+  SettingValue value;
+  InputLocation where;  // the manifest, the full key ("run \"r1\".digitize.traces.method"), line
+};
+// By key below the stage tables, e.g. "digitize.traces.method".
+using StageSettings = std::map<std::string, StageSetting>;
+
+// The stage tables, in the order reduce runs the stages.
+inline constexpr std::array<std::string_view, 5> kStageTables = {
+    "digitize", "photocell", "rebound_extraction", "fit", "log_analysis"};
 
 struct Apparatus {
   double pendulum_length = 0.0;  // L, length units
@@ -60,6 +76,7 @@ struct Calibration {
   std::optional<std::filesystem::path> photo;
   std::optional<GraticuleCorners> graticule_corners_px;  // manual hint for the photo
   TraceSettings trace;
+  StageSettings settings;  // its own [calibration.digitize] and [calibration.photocell]
 };
 
 struct Run {
@@ -78,6 +95,7 @@ struct Run {
   // impactlab extensions (docs/manifest.md): reading uncertainties of typed-in values.
   std::optional<double> rebound_uncertainty;       // length units, one standard deviation
   std::optional<double> contact_time_uncertainty;  // s, one standard deviation
+  StageSettings settings;  // its own [run.digitize] and [run.rebound_extraction]
 
   bool HasTypedRebounds() const { return !rebounds.empty(); }
 };
@@ -97,6 +115,7 @@ struct Log {
   std::optional<std::filesystem::path> simulation;
   std::string time_column = "t";
   std::vector<LogChannel> channels;
+  StageSettings settings;  // its own [log.log_analysis]
 };
 
 // impactlab extension: session-wide reduction settings ([reduction] table).
@@ -143,6 +162,7 @@ struct Session {
   std::vector<Run> runs;
   std::vector<Log> logs;
   ReductionSettings reduction;
+  StageSettings settings;  // the stage tables: every run's, calibration's and log's
   std::vector<Prediction> predictions;
   std::vector<RejectedEntry> rejected;  // in manifest order within each kind
 

@@ -96,12 +96,12 @@ std::optional<PoyntingThomson> StartFromKelvinVoigt(const RunResult& run, double
 }  // namespace
 
 void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
-                        RunResult& run) {
+                        const FitOptions& fit, RunResult& run) {
   ReboundMeasurements measured{run.xmax, run.xmax_sigma, run.contact_time, run.contact_time_sigma};
   if (!measured.xmax_sigma.empty() && measured.xmax_sigma.front() <= 0.0)
     measured.xmax_sigma.clear();
   try {
-    KelvinVoigtLeastSquaresOptions options;
+    KelvinVoigtLeastSquaresOptions options = fit.kelvin_voigt;
     options.separation = separation;
     run.least_squares.push_back(
         Summarise(FitKelvinVoigtLeastSquares(pendulum, mass, measured, options)));
@@ -109,7 +109,7 @@ void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separa
     run.least_squares.push_back(Failed("kelvin_voigt_least_squares", e.what()));
   }
   try {
-    PoyntingThomsonLeastSquaresOptions options;
+    PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
     options.mass = mass;
     options.separation = separation;
     options.initial = StartFromKelvinVoigt(run, mass);
@@ -121,7 +121,7 @@ void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separa
 }
 
 std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
-                                                   Separation separation,
+                                                   Separation separation, const FitOptions& fit,
                                                    const std::vector<RunResult>& runs) {
   std::vector<PoyntingThomsonRun> joint;
   for (const RunResult& run : runs) {
@@ -129,7 +129,7 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
   }
   if (joint.size() < 2) return {};
   try {
-    PoyntingThomsonLeastSquaresOptions options;
+    PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
     options.mass = mass;
     options.separation = separation;
     for (const RunResult& run : runs) {
@@ -145,7 +145,7 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
 
 namespace impactlab {
 
-std::optional<ModelComparison> CompareModels(const Pendulum& pendulum,
+std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const FitOptions& fit,
                                              const std::vector<RunResult>& runs, std::string* why) {
   std::vector<JointRun> joint;
   for (const RunResult& run : runs) {
@@ -166,7 +166,7 @@ std::optional<ModelComparison> CompareModels(const Pendulum& pendulum,
     return std::nullopt;
   }
   try {
-    const SessionModelComparison c = CompareRestitutionModels(joint, JointFitOptions{});
+    const SessionModelComparison c = CompareRestitutionModels(joint, fit.restitution_models);
     ModelComparison out;
     out.run_ids = c.run_names;
     out.best_by_leave_one_out = c.best_by_leave_one_out;

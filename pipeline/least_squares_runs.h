@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "fit/fit_options.h"
 #include "pipeline/session_result.h"
 
 namespace impactlab {
@@ -13,16 +14,16 @@ namespace impactlab {
 // (and contact time when it has an uncertainty); appends to run.least_squares.
 // A fit that cannot run is summarised with its reason, never thrown.
 void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
-                        RunResult& run);
+                        const FitOptions& fit, RunResult& run);
 
 // Poynting-Thomson with one parameter set for every successful run.
 std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
-                                                   Separation separation,
+                                                   Separation separation, const FitOptions& fit,
                                                    const std::vector<RunResult>& runs);
 
 // The restitution models compared over the runs whose maxima all carry an
 // uncertainty (at least three runs); nullopt otherwise, with `why`.
-std::optional<ModelComparison> CompareModels(const Pendulum& pendulum,
+std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const FitOptions& fit,
                                              const std::vector<RunResult>& runs, std::string* why);
 
 }  // namespace impactlab

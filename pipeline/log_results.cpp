@@ -43,8 +43,8 @@ LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
 
 }  // namespace
 
-LogResult ReduceLog(const Log& log) {
-  const LogAnalysis a = AnalyseLog(log, LogAnalysisOptions{});
+LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
+  const LogAnalysis a = AnalyseLog(log, options);
   LogResult out;
   out.id = a.log_id;
   out.ok = a.ok;

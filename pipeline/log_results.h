@@ -4,11 +4,12 @@
 
 #include "io/session.h"
 #include "pipeline/session_result.h"
+#include "signal/log_analysis.h"
 
 namespace impactlab {
 
 // Never throws for bad data: a log that cannot be analysed is a result with
 // its status (file, line and reason).
-LogResult ReduceLog(const Log& log);
+LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options);
 
 }  // namespace impactlab

@@ -40,12 +40,12 @@ std::optional<GraticuleCorners> CornersHintOf(const std::filesystem::path& path,
 }  // namespace
 
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
-                                    const std::map<std::string, TraceSettings>& traces) {
+                                    const std::map<std::string, TraceSettings>& traces,
+                                    DigitizeOptions options) {
   // Read from inside the session folder only, and only a regular file.
   const Photo photo = DecodePhoto(ReadSessionFile(session.folder, path), path);
   std::vector<TraceRequest> requests;
   for (const auto& [name, settings] : traces) requests.push_back({name, settings});
-  DigitizeOptions options;
   options.graticule.corners_px = CornersHintOf(path, session);
   const DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
 

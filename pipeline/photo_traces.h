@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "digitize/digitize.h"
 #include "io/session.h"
 #include "io/trace.h"
 #include "pipeline/session_result.h"
@@ -25,7 +26,9 @@ struct DigitizedPhoto {
 
 // Throws InputError naming the photo and what was not found (no graticule, a
 // trace missing from its band, an unreadable file).
+// `options`: the photo's entry's; the manifest's corners hint, when it gives one, is added.
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& photo, const Session& session,
-                                    const std::map<std::string, TraceSettings>& traces);
+                                    const std::map<std::string, TraceSettings>& traces,
+                                    DigitizeOptions options);
 
 }  // namespace impactlab

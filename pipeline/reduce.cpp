@@ -78,7 +78,7 @@ void MeasureTypedRun(const Run& run, RunResult& out) {
 
 // The closed-form Kelvin-Voigt fit of a measured run, and Table 2's deviations.
 void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Separation separation,
-            RunResult& out) {
+            const FitOptions& fit_options, RunResult& out) {
   // The session's one contact time, when given, is the thesis's procedure
   // (Table 3): it replaces each run's own.
   if (session.reduction.contact_time) {
@@ -118,7 +118,7 @@ void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Se
   out.stiffness_source = "run";
   out.kelvin_voigt = std::move(fit);
   out.ok = true;
-  FitRunLeastSquares(pendulum, session.apparatus->mass, separation, out);
+  FitRunLeastSquares(pendulum, session.apparatus->mass, separation, fit_options, out);
 }
 
 // A previous result's measurement, when the run's inputs are unchanged and
@@ -154,7 +154,10 @@ void CopyMeasurement(const RunResult& from, RunResult& to) {
 // `fingerprint`: the run's, when already worked out.
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                     Separation separation, CalibrationCache& calibrations,
-                    const ReduceOptions& options, const std::optional<std::string>& fingerprint) {
+                    const ReduceOptions& options, const StageOptions& session_options,
+                    const std::optional<std::string>& fingerprint) {
+  const StageOptions run_options =
+      EntryStageOptions(session_options, run.settings, options.overrides);
   RunResult out;
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
@@ -166,7 +169,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     CopyMeasurement(*old, out);
     out.reused = true;
   } else {
-    MeasureTraceRun(run, session, pendulum, calibrations, out);
+    MeasureTraceRun(run, session, pendulum, run_options, calibrations, out);
   }
   if (options.products == Products::kFit) {
     // The fit's model figures simulate every rebound from the release: a
@@ -183,7 +186,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
                       kMaxModelRebounds));
     }
     const auto start = std::chrono::steady_clock::now();
-    FitRun(run, session, pendulum, separation, out);
+    FitRun(run, session, pendulum, separation, run_options.fit, out);
     out.seconds.fit =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } else {
@@ -195,10 +198,11 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
 // One run, never throwing: a failure becomes the run's status.
 RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum& pendulum,
                           Separation separation, CalibrationCache& calibrations,
-                          const ReduceOptions& options,
+                          const ReduceOptions& options, const StageOptions& session_options,
                           const std::optional<std::string>& fingerprint) {
   try {
-    return ReduceRun(run, session, pendulum, separation, calibrations, options, fingerprint);
+    return ReduceRun(run, session, pendulum, separation, calibrations, options, session_options,
+                     fingerprint);
   } catch (const std::exception& error) {
     RunResult failed;
     failed.id = run.id;
@@ -367,10 +371,25 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.separation = options.separation.value_or(ParseSeparation(session.reduction.separation));
   result.session_contact_time = session.reduction.contact_time;
   if (options.jobs < 1) throw std::invalid_argument("jobs must be at least 1");
+  // The settings are checked before any work; an entry's own with the entry.
+  const StageOptions session_options =
+      SessionStageOptions(options.stages, session, options.overrides);
+  const auto entry_options = [&](const StageSettings& entry) {
+    return EntryStageOptions(session_options, entry, options.overrides);
+  };
   std::mutex warnings_mutex;
   // Logs are independent of the runs: each is analysed whatever else the session has.
   if (options.products == Products::kFit) {
-    for (const Log& log : session.logs) result.logs.push_back(ReduceLog(log));
+    for (const Log& log : session.logs) {
+      try {
+        result.logs.push_back(ReduceLog(log, entry_options(log.settings).log_analysis));
+      } catch (const InputError& error) {
+        LogResult failed;
+        failed.id = log.id;
+        failed.status = std::string("failed: ") + error.what();
+        result.logs.push_back(std::move(failed));
+      }
+    }
   }
   if (session.runs.empty() && options.products != Products::kCalibration) return result;
   if (!session.apparatus) {
@@ -381,7 +400,9 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,
                           result.convention};
 
-  CalibrationCache calibrations(session, pendulum);
+  CalibrationCache calibrations(session, pendulum, [&](const Calibration& calibration) {
+    return entry_options(calibration.settings);
+  });
   if (options.products == Products::kCalibration) {
     std::vector<std::optional<CellCalibration>> done(session.calibrations.size());
     ForEachInParallel(done.size(), options.jobs, [&](std::size_t i) {
@@ -420,7 +441,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     }
     const std::size_t i = task - ahead;
     runs[i] = ReduceRunOrFail(session.runs[i], session, pendulum, result.separation, calibrations,
-                              options, plan.fingerprints[i]);
+                              options, session_options, plan.fingerprints[i]);
     if (options.on_run_done) {
       std::lock_guard lock(progress_mutex);
       options.on_run_done(runs[i], ++finished, runs.size());
@@ -442,10 +463,10 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
         run.ok && run.kelvin_voigt->stiffness ? run.kelvin_voigt->stiffness->value : 0.0);
   }
   if (session.reduction.average_stiffness) ApplyAverageStiffness(result, session.apparatus->mass);
-  result.joint_fits =
-      FitSessionJointly(pendulum, session.apparatus->mass, result.separation, result.runs);
+  result.joint_fits = FitSessionJointly(pendulum, session.apparatus->mass, result.separation,
+                                        session_options.fit, result.runs);
   std::string why;
-  result.model_comparison = CompareModels(pendulum, result.runs, &why);
+  result.model_comparison = CompareModels(pendulum, session_options.fit, result.runs, &why);
   if (!result.model_comparison) result.warnings.push_back(why);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result, session.reduction.average_stiffness, own_stiffness);

@@ -12,6 +12,7 @@
 
 #include "io/session.h"
 #include "pipeline/session_result.h"
+#include "pipeline/stage_options.h"
 
 namespace impactlab {
 
@@ -26,6 +27,11 @@ struct ReduceOptions {
   // Overrides of the manifest's [reduction] settings (nullopt: the manifest's).
   std::optional<PendulumConvention> convention;
   std::optional<Separation> separation;
+  // Every stage's options before the manifest's settings apply to them.
+  StageOptions stages;
+  // Settings over the manifest's, its entries' own included (the command
+  // line's; pipeline/stage_options.h).
+  StageSettings overrides;
   std::string producer = "impactlab";  // recorded in the results and in every fingerprint
   Products products = Products::kFit;
   int jobs = 1;  // runs reduced in parallel (threads), >= 1
@@ -36,6 +42,9 @@ struct ReduceOptions {
   std::function<void(const RunResult& run, std::size_t done, std::size_t total)> on_run_done;
 };
 
+// Throws InputError for a setting of the manifest's stage tables or of
+// `options.overrides` that does not apply, before any work; a run's, a
+// calibration's or a log's own bad setting fails that entry alone.
 SessionResult ReduceSession(const Session& session, const ReduceOptions& options);
 
 }  // namespace impactlab

@@ -9,16 +9,15 @@
 #include <cmath>
 #include <memory>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "calibration/photocell_calibration.h"
-#include "digitize/digitize.h"
 #include "io/errors.h"
 #include "io/session_file.h"
 #include "model/contact.h"
-#include "rebounds/rebound_extraction.h"
+#include "pipeline/stage_options.h"
 
 namespace impactlab {
 namespace {
@@ -36,6 +35,7 @@ class Hasher {
   Hasher& Add(double value) { return Add(fmt::format("{:a}", value)); }  // exact bits
   Hasher& Add(int value) { return Add(std::to_string(value)); }
   Hasher& Add(std::size_t value) { return Add(std::to_string(value)); }
+  Hasher& Add(long long value) { return Add(std::to_string(value)); }
   Hasher& Add(bool value) { return Add(std::string(value ? "true" : "false")); }
 
   // A file of the session, read as every session file is (io/session_file.h):
@@ -78,34 +78,15 @@ void AddCorners(Hasher& h, const std::optional<GraticuleCorners>& corners) {
   }
 }
 
-// The options structs reduce measures with (built with their defaults in
-// pipeline/photo_traces.cpp and pipeline/trace_run.cpp), field by field, so
-// that a changed default changes every fingerprint; each struct's size too,
-// so that a field added but not listed here still does.
-void AddOptions(Hasher& h, const DigitizeOptions& o) {
-  const GraticuleOptions& g = o.graticule;
-  h.Add(std::string("digitize")).Add(sizeof(DigitizeOptions)).Add(sizeof(GraticuleOptions));
-  h.Add(g.detect_width_px).Add(static_cast<int>(g.polarity)).Add(static_cast<int>(g.radial));
-  h.Add(g.radial_min_gain).Add(g.samples_per_div).Add(g.line_average_div);
-  h.Add(g.max_residual_px).Add(g.max_rotation_deg);
-  const TraceOptions& t = o.traces;
-  h.Add(sizeof(TraceOptions)).Add(static_cast<int>(t.method)).Add(t.samples_per_px);
-  h.Add(t.centroid_level).Add(t.profile_half_widths).Add(t.track_px_per_div).Add(t.max_gap_div);
-  h.Add(t.min_relative_height).Add(t.min_local_height).Add(t.max_relative_width);
-  h.Add(t.outlier_sigmas).Add(t.min_confidence).Add(t.min_height_over_grid).Add(t.min_coverage);
-  h.Add(t.grid_reach_widths).Add(t.grid_model);
-}
-
-void AddOptions(Hasher& h, const CalibrationOptions& o) {
-  h.Add(std::string("calibration")).Add(sizeof(CalibrationOptions));
-  h.Add(o.max_order).Add(o.skip_after_release_s).Add(o.range_margin);
-}
-
-void AddOptions(Hasher& h, const ReboundExtractionOptions& o) {
-  h.Add(std::string("rebounds")).Add(sizeof(ReboundExtractionOptions));
-  h.Add(o.threshold_fraction).Add(o.peak_window_fraction).Add(o.min_samples_per_peak);
-  h.Add(sizeof(TraceSpanLimits)).Add(o.limits.max_half_swings).Add(o.limits.max_samples);
-  h.Add(o.limits.min_samples_per_half_swing);
+// An options struct's settings (options/settings.h), key and value, and its
+// size, so that a field added but not listed as a setting still changes it.
+template <typename Options>
+void AddSettings(Hasher& h, const std::string& stage, const Options& options) {
+  h.Add(stage).Add(sizeof(Options));
+  ForEachSetting(options, [&](const std::string& key, const auto& field, const char*) {
+    h.Add(key);
+    std::visit([&](const auto& value) { h.Add(value); }, ToSettingValue(field));
+  });
 }
 
 const char* ProductsName(Products products) {
@@ -132,9 +113,6 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
       options.separation.value_or(ParseSeparation(session.reduction.separation));
   h.Add(std::string(ConventionName(convention))).Add(std::string(SeparationName(separation)));
   h.Add(std::string(ProductsName(options.products)));
-  AddOptions(h, DigitizeOptions{});
-  AddOptions(h, CalibrationOptions{});
-  AddOptions(h, ReboundExtractionOptions{});
   if (session.apparatus) {
     h.Add(session.apparatus->pendulum_length).Add(session.apparatus->mass);
     h.Add(session.apparatus->gravity);
@@ -150,6 +128,18 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
     h.Add(name);
     AddTrace(h, session.folder, trace);
   }
+  // The settings the measurement uses, as the run resolves them: a setting
+  // changed for one run, or for photos only, re-measures just those runs.
+  const StageOptions session_options =
+      SessionStageOptions(options.stages, session, options.overrides);
+  if (!run.HasTypedRebounds()) {
+    const StageOptions run_options =
+        EntryStageOptions(session_options, run.settings, options.overrides);
+    const bool from_photo = std::any_of(run.traces.begin(), run.traces.end(),
+                                        [](const auto& t) { return !t.second.csv; });
+    if (run.photo && from_photo) AddSettings(h, "digitize", run_options.digitize);
+    AddSettings(h, "rebound_extraction", run_options.rebound_extraction);
+  }
   for (const auto& [cell, id] : run.calibration) {
     h.Add(cell).Add(id);
     const auto c = std::find_if(session.calibrations.begin(), session.calibrations.end(),
@@ -159,6 +149,11 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
     if (c->photo) h.AddFile(session.folder, *c->photo);
     AddCorners(h, c->graticule_corners_px);
     AddTrace(h, session.folder, c->trace);
+    const StageOptions calibration_options =
+        EntryStageOptions(session_options, c->settings, options.overrides);
+    if (c->photo && !c->trace.csv) AddSettings(h, "digitize", calibration_options.digitize);
+    AddSettings(h, "photocell", calibration_options.photocell);
+    AddSettings(h, "limits", calibration_options.rebound_extraction.limits);
   }
   return h.Hex();
 }

@@ -28,15 +28,14 @@ Trace ReadSessionTraceCsv(const Session& session, const std::filesystem::path& f
   return ParseTraceCsv(in, file);
 }
 
-// The limits every trace's time axis is held to (ReboundExtractionOptions's).
-const TraceSpanLimits kSpanLimits = ReboundExtractionOptions{}.limits;
-
 // A photo's trace, before the photo is read: its sweep (time_per_div times
 // the horizontal divisions) against the pendulum's swings.
+// `limits`: the run's rebound extraction's, which every trace's time axis is held to.
 void CheckPhotoSweep(const TraceSettings& settings, const Session& session,
-                     const Pendulum& pendulum, const InputLocation& where) {
+                     const Pendulum& pendulum, const TraceSpanLimits& limits,
+                     const InputLocation& where) {
   const double sweep_s = settings.time_per_div * session.divisions[0];
-  if (const std::string problem = TraceSpanProblem(sweep_s, 0.0, 0, pendulum, kSpanLimits);
+  if (const std::string problem = TraceSpanProblem(sweep_s, 0.0, 0, pendulum, limits);
       !problem.empty()) {
     throw InputError(where, fmt::format("time_per_div = {:g} s over {} divisions: {}",
                                         settings.time_per_div, session.divisions[0], problem));
@@ -47,7 +46,7 @@ void CheckPhotoSweep(const TraceSettings& settings, const Session& session,
 // pendulum's swings and its sample interval; `rebounds`: a trace the
 // rebounds are read from, which must also resolve each swing.
 void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
-                    const InputLocation& where) {
+                    const TraceSpanLimits& limits, const InputLocation& where) {
   if (trace.time_s.size() < 2) return;  // the stages say why
   const double span_s = trace.time_s.back() - trace.time_s.front();
   std::vector<double> steps;
@@ -58,7 +57,7 @@ void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double interval_s = steps[steps.size() / 2];
   if (const std::string problem = TraceSpanProblem(
-          span_s, interval_s, rebounds ? trace.time_s.size() : 0, pendulum, kSpanLimits);
+          span_s, interval_s, rebounds ? trace.time_s.size() : 0, pendulum, limits);
       !problem.empty()) {
     throw InputError(where, problem);
   }
@@ -248,6 +247,8 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   if (calibration == session_.calibrations.end()) {
     throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
   }
+  const StageOptions options = options_of_(*calibration);
+  const TraceSpanLimits& limits = options.rebound_extraction.limits;
   auto cell = std::make_shared<CalibratedCell>();
   StageSeconds& seconds = cell->cost;
   // Its CSV when given, otherwise its photo digitized (the overlay kept).
@@ -255,13 +256,14 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   if (calibration->trace.csv) {
     trace =
         Timed(seconds.load, [&] { return ReadSessionTraceCsv(session_, *calibration->trace.csv); });
-    CheckTraceSpan(trace, pendulum_, false,
+    CheckTraceSpan(trace, pendulum_, false, limits,
                    {*calibration->trace.csv, key + ".trace", std::nullopt});
   } else if (calibration->photo) {
-    CheckPhotoSweep(calibration->trace, session_, pendulum_,
+    CheckPhotoSweep(calibration->trace, session_, pendulum_, limits,
                     {session_.manifest, key + ".trace.time_per_div", std::nullopt});
     DigitizedPhoto digitized = Timed(seconds.load, [&] {
-      return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}});
+      return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}},
+                                  options.digitize);
     });
     trace = std::move(digitized.traces.at("trace"));
     cell->overlay = std::move(digitized.overlay);
@@ -272,7 +274,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   try {
     cell->calibration = Timed(seconds.calibrate, [&] {
       return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
-                                CalibrationOptions{});
+                                options.photocell);
     });
   } catch (const std::exception& e) {
     throw InputError(
@@ -284,14 +286,15 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
 }
 
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                     CalibrationCache& calibrations, RunResult& out) {
+                     const StageOptions& options, CalibrationCache& calibrations, RunResult& out) {
+  const TraceSpanLimits& limits = options.rebound_extraction.limits;
   out.source = run.photo ? "photo" : "csv";
   // Every trace the run reads from its photo, in one pass over the photo.
   std::map<std::string, TraceSettings> from_photo;
   for (const auto& [name, settings] : run.traces) {
     if (settings.csv) continue;
     // Before the photo is read: nothing may grow with a sweep of 1e300 s.
-    CheckPhotoSweep(settings, session, pendulum,
+    CheckPhotoSweep(settings, session, pendulum, limits,
                     {session.manifest, fmt::format("{}.traces.{}.time_per_div", RunKey(run), name),
                      std::nullopt});
     from_photo[name] = settings;
@@ -302,8 +305,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       throw InputError({session.manifest, RunKey(run) + ".photo", std::nullopt},
                        "traces without `csv` are read from the run's photo, and it has none");
     }
-    photo = Timed(out.seconds.load,
-                  [&] { return DigitizeSessionPhoto(*run.photo, session, from_photo); });
+    photo = Timed(out.seconds.load, [&] {
+      return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize);
+    });
     out.overlays.push_back(photo->overlay);
   }
   // Every trace checked as read: its span against the pendulum's swings, and
@@ -313,7 +317,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                                        [&] { return ReadSessionTraceCsv(session, *settings.csv); })
                                : photo->traces.at(name);
     const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
-    CheckTraceSpan(trace, pendulum, name != "contact",
+    CheckTraceSpan(trace, pendulum, name != "contact", limits,
                    {settings.csv.value_or(run.photo.value_or(session.manifest)),
                     settings.csv ? key : key + ".time_per_div", std::nullopt});
     return trace;
@@ -347,10 +351,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
                      "the run has no right or left displacement trace");
   }
 
-  const ReboundExtractionOptions options;
   const auto extract = [&](const DisplacementHistory& h) {
     return Timed(out.seconds.extract, [&] {
-      return Renumber(ExtractRebounds(h, pendulum, options), run.first_rebound);
+      return Renumber(ExtractRebounds(h, pendulum, options.rebound_extraction), run.first_rebound);
     });
   };
   const auto curve_sigma = [&](const char* cell) {

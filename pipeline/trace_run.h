@@ -3,6 +3,7 @@
 // the rebounds, and measure the contact pulse.
 #pragma once
 
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "io/session.h"
 #include "io/trace.h"
 #include "pipeline/session_result.h"
+#include "pipeline/stage_options.h"
 
 namespace impactlab {
 
@@ -27,11 +29,14 @@ struct CalibratedCell {
 
 // Calibrations are shared by runs; each is computed once per reduce, by
 // whichever thread asks first (reduce asks ahead of the runs), while others
-// wait for it.
+// wait for it, with the calibration's own options.
 class CalibrationCache {
  public:
-  CalibrationCache(const Session& session, const Pendulum& pendulum)
-      : session_(session), pendulum_(pendulum) {}
+  // `options_of` gives a calibration's options (it may throw InputError: the
+  // calibration then fails with it).
+  using OptionsOf = std::function<StageOptions(const Calibration&)>;
+  CalibrationCache(const Session& session, const Pendulum& pendulum, OptionsOf options_of)
+      : session_(session), pendulum_(pendulum), options_of_(std::move(options_of)) {}
   // Throws InputError (file, key, reason) when the calibration cannot be made.
   // The first caller that passes `charge` is charged the calibration's cost;
   // later ones are not, so a session's stage times add up.
@@ -43,6 +48,7 @@ class CalibrationCache {
 
   const Session& session_;
   const Pendulum& pendulum_;
+  OptionsOf options_of_;
   std::mutex mutex_;
   std::map<std::string, Entry> entries_;
   std::set<std::string> charged_;
@@ -75,8 +81,9 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged);
 
 // Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
-// calibrations). Throws InputError or std::exception with the reason.
+// calibrations), measured with the run's `options`. Throws InputError or
+// std::exception with the reason.
 void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                     CalibrationCache& calibrations, RunResult& out);
+                     const StageOptions& options, CalibrationCache& calibrations, RunResult& out);
 
 }  // namespace impactlab

@@ -49,6 +49,14 @@ struct TraceSpanLimits {
   // takes at least 7 within 0.9 of a half swing).
   double min_samples_per_half_swing = 8.0;
 
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("max_half_swings", self.max_half_swings, "most half swings a trace may span");
+    visit("max_samples", self.max_samples, "most samples a trace may need");
+    visit("min_samples_per_half_swing", self.min_samples_per_half_swing,
+          "fewest samples per half swing");
+  }
+
   bool Check(std::string* error) const;
 };
 
@@ -70,6 +78,15 @@ struct ReboundExtractionOptions {
   int min_samples_per_peak = 7;
   // The history's span, checked before the rebounds are walked.
   TraceSpanLimits limits;
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("threshold_fraction", self.threshold_fraction,
+          "rebounds end below this of the largest X");
+    visit("peak_window_fraction", self.peak_window_fraction, "peak fit half-window, of duration");
+    visit("min_samples_per_peak", self.min_samples_per_peak, "fewest samples in a peak fit");
+    visit("limits", self.limits, "");
+  }
 
   bool Check(std::string* error) const;
 };

@@ -49,6 +49,20 @@ struct DampedModeOptions {
   int max_iterations = 100;            // Ceres iterations
   double function_tolerance = 1e-12;   // Ceres' relative cost change to stop (default 1e-6)
 
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("modes", self.modes, "leading modes fitted jointly, at most");
+    visit("decays", self.decays, "real decays fitted with them, at most");
+    visit("extra_modes", self.extra_modes, "extra pencil order");
+    visit("fit_offset", self.fit_offset, "fit a constant offset");
+    visit("min_term_snr", self.min_term_snr, "a term's energy in noise variances to keep it");
+    visit("pencil_max_samples", self.pencil_max_samples, "the pencil's samples, at most");
+    visit("pencil_fraction", self.pencil_fraction, "pencil parameter as a fraction of samples");
+    visit("max_frequency_hz", self.max_frequency_hz, "modes above are ignored, Hz (0: auto)");
+    visit("max_iterations", self.max_iterations, "Ceres iterations");
+    visit("function_tolerance", self.function_tolerance, "relative cost change to stop");
+  }
+
   bool Check(std::string* error) const;
 };
 

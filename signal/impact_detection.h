@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "io/log_reader.h"  // LogChannelKind
 #include "model/estimate.h"
-#include "io/log_reader.h"               // LogChannelKind
 
 namespace impactlab {
 
@@ -32,6 +32,14 @@ struct ImpactDetectionOptions {
   double onset_search_s = 0.05;  // the onset lies at most this long before the strongest jump, s
   double encoder_fit_s = 0.05;   // line fits span this long on each side of the impact, s
   double encoder_gap_s = 0.002;  // samples this close to the impact stay out of the fits, s
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("threshold_sigma", self.threshold_sigma, "onset above this many noise sigmas");
+    visit("onset_search_s", self.onset_search_s, "onset at most this long before the jump, s");
+    visit("encoder_fit_s", self.encoder_fit_s, "encoder line fits' span each side, s");
+    visit("encoder_gap_s", self.encoder_gap_s, "samples this close stay out of the fits, s");
+  }
 
   bool Check(std::string* error) const;
 };

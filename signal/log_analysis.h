@@ -31,9 +31,9 @@
 #include <string>
 #include <vector>
 
-#include "model/estimate.h"
 #include "io/log_reader.h"
 #include "io/session.h"
+#include "model/estimate.h"
 #include "signal/damped_modes.h"
 #include "signal/decimate.h"
 #include "signal/impact_detection.h"
@@ -59,6 +59,24 @@ struct LogAnalysisOptions {
                                    // peak of a ring-down is 1.5-2x the bound; docs/logs.md)
   std::size_t plot_points = 2000;  // points of the decimated series and spectra kept for plots
   double plot_max_frequency_hz = 0.0;  // spectra kept up to here, Hz; 0: 5 x the highest peak
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("read", self.read, "");
+    visit("spectrum", self.spectrum, "");
+    visit("modes", self.modes, "");
+    visit("impact", self.impact, "");
+    visit("max_analysis_samples", self.max_analysis_samples, "per channel; longer are decimated");
+    visit("free_flight_guard_s", self.free_flight_guard_s, "free flight ends this long before, s");
+    visit("fit_delay_s", self.fit_delay_s, "ring-down fit starts this long after the impact, s");
+    visit("fit_max_duration_s", self.fit_max_duration_s, "ring-down window, s (0: to the end)");
+    visit("max_fit_samples", self.max_fit_samples, "a longer window is decimated for the fit");
+    visit("mismatch_sigmas", self.mismatch_sigmas, "FFT and fit disagree beyond these sigmas");
+    visit("mismatch_min_bins", self.mismatch_min_bins, "... and this fraction of a bin");
+    visit("fft_sigma_factor", self.fft_sigma_factor, "the FFT peak's sigma over the fit's");
+    visit("plot_points", self.plot_points, "points kept for plots");
+    visit("plot_max_frequency_hz", self.plot_max_frequency_hz, "spectra kept up to, Hz (0: auto)");
+  }
 
   bool Check(std::string* error) const;
 };
@@ -90,7 +108,7 @@ struct ChannelAnalysis {
   std::vector<std::string> notes;   // what went wrong or is worth knowing
 
   std::vector<SegmentSpectrum> spectra;  // whole, free_flight, post_impact (those that exist)
-  DecimatedSeries series;                     // the channel over time, decimated for plots
+  DecimatedSeries series;                // the channel over time, decimated for plots
 };
 
 struct SourceAnalysis {

@@ -56,6 +56,21 @@ struct SpectrumOptions {
   double min_peak_snr_db = 13.0;  // peaks at least this far above the band's median level, dB
   int refine_iterations = 3;      // Newton steps on the DTFT for each peak (0: none)
 
+  // The settings; the detrend is chosen per channel by the log analysis.
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("zero_padding", self.zero_padding, "FFT length at least this times the record");
+    visit("max_fft_points", self.max_fft_points, "padding shrinks to stay below");
+    visit("welch_segment_samples", self.welch_segment_samples, "Welch segment length, samples");
+    visit("welch_min_segments", self.welch_min_segments, "Welch is added from this many segments");
+    visit("min_frequency_hz", self.min_frequency_hz, "peaks below are ignored, Hz (0: 3 bins)");
+    visit("max_frequency_hz", self.max_frequency_hz, "peaks above are ignored, Hz (0: Nyquist)");
+    visit("max_peaks", self.max_peaks, "the dominant peak and up to this many - 1 more");
+    visit("peak_range_db", self.peak_range_db, "next peaks at most this far below, dB");
+    visit("min_peak_snr_db", self.min_peak_snr_db, "peaks at least this far above the median, dB");
+    visit("refine_iterations", self.refine_iterations, "Newton steps on the DTFT per peak");
+  }
+
   bool Check(std::string* error) const;
 };
 

@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "fit/joint_fits.h"
 #include "fit/kelvin_voigt_least_squares.h"
 #include "fit/kelvin_voigt_two_point.h"
 #include "fit/poynting_thomson_least_squares.h"
@@ -40,18 +41,26 @@ ReboundMeasurements Measure(const ReboundSequence& seq, int count) {
 // Kelvin-Voigt.
 
 TEST_CASE("kv_least_squares: default options pass their check, bad ones name the field") {
+  std::string why;
   KelvinVoigtLeastSquaresOptions options;
-  CHECK_NOTHROW(options.Check());
+  CHECK(options.Check(&why));
   options.loss.scale_sigmas = 0.0;
-  CHECK_THROWS_WITH(options.Check(), Catch::Contains("scale_sigmas"));
+  CHECK_FALSE(options.Check(&why));
+  CHECK_THAT(why, Catch::Contains("scale_sigmas"));
   options = {};
   options.solver.max_iterations = 0;
-  CHECK_THROWS_WITH(options.Check(), Catch::Contains("max_iterations"));
+  CHECK_FALSE(options.Check(&why));
+  CHECK_THAT(why, Catch::Contains("max_iterations"));
   PoyntingThomsonLeastSquaresOptions pt;
-  pt.mass = kMass;
-  CHECK_NOTHROW(pt.Check());
+  CHECK(pt.Check(&why));
   pt.bound_factor = 1.0;
-  CHECK_THROWS_WITH(pt.Check(), Catch::Contains("bound_factor"));
+  CHECK_FALSE(pt.Check(&why));
+  CHECK_THAT(why, Catch::Contains("bound_factor"));
+  JointFitOptions joint;
+  CHECK(joint.Check(&why));
+  joint.min_relative_singular_value = 0.0;
+  CHECK_FALSE(joint.Check(&why));
+  CHECK_THAT(why, Catch::Contains("min_relative_singular_value"));
 }
 
 TEST_CASE("kv_least_squares: recovers zeta, v0, K and C from noiseless maxima to 1e-10") {

@@ -208,6 +208,55 @@ csv = "traces/run-left.csv"
   return ReadManifest(dir).session;
 }
 
+// Which runs of `result` were measured again rather than reused.
+std::vector<std::string> Remeasured(const SessionResult& result) {
+  std::vector<std::string> ids;
+  for (const RunResult& run : result.runs) {
+    if (!run.reused) ids.push_back(run.id);
+  }
+  return ids;
+}
+
+TEST_CASE("reuse: a changed setting re-measures exactly the runs it touches") {
+  testing::TempDir dir;
+  const Session session = ThreeRunSession(dir.path());
+  const SessionResult first = ReduceSession(session, {});
+  REQUIRE(first.FailedRuns() == 0);
+  ReduceOptions again;
+  again.previous = &first;
+  using Ids = std::vector<std::string>;
+  // Typed-in runs are always read afresh from the manifest.
+  CHECK(Remeasured(ReduceSession(session, again)) == Ids{"typed"});
+
+  // A run's own setting: that run alone.
+  Session edited = session;
+  edited.runs[2].settings["rebound_extraction.peak_window_fraction"] = {
+      0.4, {session.manifest, "run \"again\".rebound_extraction.peak_window_fraction", 30}};
+  const SessionResult own = ReduceSession(edited, again);
+  CHECK(Remeasured(own) == Ids{"typed", "again"});
+  CHECK(own.runs[2].xmax != first.runs[2].xmax);  // measured with a narrower peak window
+  CHECK(own.runs[0].xmax == first.runs[0].xmax);
+
+  // The photocell's: every run whose traces are converted with a calibration.
+  ReduceOptions photocell = again;
+  photocell.overrides = CommandLineSettings({{"photocell.max_order", "7"}});
+  CHECK(Remeasured(ReduceSession(session, photocell)) == Ids{"run", "typed", "again"});
+
+  // The digitizer's: no run of CSV traces.
+  ReduceOptions digitize = again;
+  digitize.overrides = CommandLineSettings({{"digitize.traces.method", "gaussian"}});
+  CHECK(Remeasured(ReduceSession(session, digitize)) == Ids{"typed"});
+
+  // A fit's: nothing is measured again, the fits are redone with it.
+  ReduceOptions fit = again;
+  fit.overrides = CommandLineSettings({{"fit.kelvin_voigt.solver.max_iterations", "1"}});
+  const SessionResult refit = ReduceSession(session, fit);
+  CHECK(Remeasured(refit) == Ids{"typed"});
+  REQUIRE(refit.runs[0].least_squares.size() == first.runs[0].least_squares.size());
+  CHECK(first.runs[0].least_squares[0].converged);
+  CHECK_FALSE(refit.runs[0].least_squares[0].converged);  // one iteration is not enough
+}
+
 TEST_CASE("reuse: a changed convention measures again and matches a fresh run") {
   testing::TempDir dir;
   const Session session = TwoRunSession(dir.path());
@@ -343,7 +392,7 @@ TEST_CASE("calibration cache: a calibration's cost is charged once, to the first
   const Session session = ReadManifest(dir.path()).session;
   const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,
                           PendulumConvention::kExact};
-  CalibrationCache cache(session, pendulum);
+  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
   // Computed ahead of the runs, as reduce does: nobody charged yet.
   const CalibratedCell& ahead = cache.Get("R");
   CHECK(ahead.cost.calibrate > 0.0);

@@ -1,0 +1,35 @@
+// The settings of reduce's least-squares fits ([fit] in session.toml).
+#pragma once
+
+#include <string>
+
+#include "fit/joint_fits.h"
+#include "fit/kelvin_voigt_least_squares.h"
+#include "fit/poynting_thomson_least_squares.h"
+
+namespace impactlab {
+
+struct FitOptions {
+  KelvinVoigtLeastSquaresOptions kelvin_voigt;          // per run, over all its maxima
+  PoyntingThomsonLeastSquaresOptions poynting_thomson;  // per run and jointly over the runs
+  JointFitOptions restitution_models;                   // the models compared across runs
+
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("kelvin_voigt", self.kelvin_voigt, "");
+    visit("poynting_thomson", self.poynting_thomson, "");
+    visit("restitution_models", self.restitution_models, "");
+  }
+
+  bool Check(std::string* why) const {
+    const auto in = [&](const char* part, bool ok) {
+      if (!ok) *why = std::string(part) + "." + *why;
+      return ok;
+    };
+    return in("kelvin_voigt", kelvin_voigt.Check(why)) &&
+           in("poynting_thomson", poynting_thomson.Check(why)) &&
+           in("restitution_models", restitution_models.Check(why));
+  }
+};
+
+}  // namespace impactlab

@@ -1,0 +1,94 @@
+#include "pipeline/stage_options.h"
+
+#include <fmt/format.h>
+
+#include "io/errors.h"
+#include "io/manifest.h"
+
+namespace impactlab {
+namespace {
+
+// The stage a key belongs to: "digitize" for "digitize.traces.method".
+std::string StageOf(const std::string& key) { return key.substr(0, key.find('.')); }
+
+}  // namespace
+
+bool StageOptions::Check(std::string* why) const {
+  std::string inner;
+  const auto in = [&](const char* stage, bool ok) {
+    if (!ok) *why = fmt::format("{}: {}", stage, inner);
+    return ok;
+  };
+  return in("digitize", digitize.Check(&inner)) && in("photocell", photocell.Check(&inner)) &&
+         in("rebound_extraction", rebound_extraction.Check(&inner)) &&
+         in("fit", fit.Check(&inner)) && in("log_analysis", log_analysis.Check(&inner));
+}
+
+StageOptions WithSettings(StageOptions options, const StageSettings& settings) {
+  for (const auto& [key, setting] : settings) {
+    if (const auto problem = ApplySetting(options, key, setting.value)) {
+      const std::string known = SettingKeys(options, StageOf(key));
+      throw InputError(setting.where,
+                       problem->problem == "no such setting"
+                           ? fmt::format("no such setting; the {} settings are: {}", StageOf(key),
+                                         known.empty() ? "(none: no such stage)" : known)
+                           : problem->problem);
+    }
+  }
+  if (std::string why; !options.Check(&why)) {
+    // Name the first setting given for the stage that fails, where the user wrote it.
+    const std::string stage = why.substr(0, why.find(':'));
+    const StageSetting* culprit = nullptr;
+    for (const auto& [key, setting] : settings) {
+      if (StageOf(key) != stage) continue;
+      const std::string field = key.substr(key.rfind('.') + 1);
+      if (culprit == nullptr || why.find(field) != std::string::npos) culprit = &setting;
+      if (why.find(field) != std::string::npos) break;
+    }
+    if (culprit != nullptr) throw InputError(culprit->where, why);
+    throw std::invalid_argument(why);  // the defaults themselves: a programming error
+  }
+  return options;
+}
+
+StageOptions SessionStageOptions(const StageOptions& defaults, const Session& session,
+                                 const StageSettings& overrides) {
+  return WithSettings(WithSettings(defaults, session.settings), overrides);
+}
+
+StageOptions EntryStageOptions(const StageOptions& session_options, const StageSettings& entry,
+                               const StageSettings& overrides) {
+  if (entry.empty()) return session_options;  // the command line's are in already
+  return WithSettings(WithSettings(session_options, entry), overrides);
+}
+
+std::string SettingsTable(const StageOptions& defaults) {
+  std::string table =
+      "| key | value | default | meaning |\n"
+      "|---|---|---|---|\n";
+  ForEachSetting(defaults, [&](const std::string& key, const auto& field, const char* help) {
+    using Field = std::decay_t<decltype(field)>;
+    const std::string value = std::visit(
+        [](const auto& v) -> std::string {
+          using V = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<V, bool>) return v ? "true" : "false";
+          if constexpr (std::is_same_v<V, std::string>) return "\"" + v + "\"";
+          return fmt::format("{}", v);
+        },
+        ToSettingValue(field));
+    table += fmt::format("| `{}` | {} | `{}` | {} |\n", key, SettingKind<Field>(), value, help);
+  });
+  return table;
+}
+
+StageSettings CommandLineSettings(
+    const std::vector<std::pair<std::string, std::string>>& assignments) {
+  StageSettings settings;
+  for (const auto& [key, text] : assignments) {
+    settings[key] =
+        StageSetting{ParseSettingText(text), InputLocation{"command line", "--" + key, {}}};
+  }
+  return settings;
+}
+
+}  // namespace impactlab
