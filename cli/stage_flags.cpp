@@ -9,21 +9,6 @@
 #include "cli/commands.h"
 
 namespace impactlab::cli {
-namespace {
-
-std::string Text(const SettingValue& value) {
-  return std::visit(
-      [](const auto& v) -> std::string {
-        using V = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<V, bool>) return v ? "true" : "false";
-        if constexpr (std::is_same_v<V, std::string>) return v;
-        return fmt::format("{}", v);
-      },
-      value);
-}
-
-}  // namespace
-
 StageFlags::StageFlags(CLI::App& command, const std::vector<std::string>& stages)
     : texts_(std::make_shared<std::map<std::string, std::string>>()) {
   const StageOptions defaults;
@@ -31,8 +16,8 @@ StageFlags::StageFlags(CLI::App& command, const std::vector<std::string>& stages
     using Field = std::decay_t<decltype(field)>;
     const std::string stage = key.substr(0, key.find('.'));
     if (!stages.empty() && std::find(stages.begin(), stages.end(), stage) == stages.end()) return;
-    const std::string description =
-        fmt::format("{} ({}; default {})", help, SettingKind<Field>(), Text(ToSettingValue(field)));
+    const std::string description = fmt::format("{} ({}; default {})", help, SettingKind<Field>(),
+                                                SettingText(ToSettingValue(field)));
     flags_[key] = command.add_option("--" + key, (*texts_)[key], description)
                       ->group("Stage settings (also session.toml's [" + stage + "] table)")
                       ->type_name("");

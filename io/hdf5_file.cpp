@@ -467,6 +467,18 @@ bool Hdf5File::HasAttribute(const std::string& object, const std::string& name) 
   return impl_->Answer(H5Aexists(obj.get(), name.c_str()), object, "look up an attribute");
 }
 
+std::vector<std::string> Hdf5File::AttributeNames(const std::string& object) const {
+  const Handle obj = impl_->OpenObject(object);
+  std::vector<std::string> names;
+  const auto add = [](hid_t, const char* name, const H5A_info_t*, void* out) -> herr_t {
+    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+    return 0;
+  };
+  impl_->Check(H5Aiterate2(obj.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, add, &names), object,
+               "list the attributes");
+  return names;
+}
+
 bool Hdf5File::IsGroup(const std::string& object) const {
   if (!Exists(object)) return false;
   H5O_info_t info;

@@ -53,6 +53,9 @@ class Hdf5File {
   std::vector<long long> ReadIntegerArrayAttribute(const std::string& object,
                                                    const std::string& name) const;
   bool HasAttribute(const std::string& object, const std::string& name) const;
+  // The names of `object`'s attributes, in creation order (by name when the
+  // file does not track it).
+  std::vector<std::string> AttributeNames(const std::string& object) const;
   bool IsGroup(const std::string& object) const;
   bool IsNumericDataset(const std::string& object) const;  // float or integer elements
 

@@ -171,6 +171,22 @@ bool AssignSetting(Field& field, const SettingValue& value, std::string* why) {
   return true;
 }
 
+// A value as session.toml's bare form or the command line writes it:
+// `gaussian`, `0.15` (the shortest text that reads back to the same double),
+// `true`.
+inline std::string SettingText(const SettingValue& value) {
+  if (const auto* flag = std::get_if<bool>(&value)) return *flag ? "true" : "false";
+  if (const auto* text = std::get_if<std::string>(&value)) return *text;
+  if (const auto* integer = std::get_if<long long>(&value)) return std::to_string(*integer);
+  const double number = std::get<double>(value);
+  std::array<char, 32> buffer{};
+  const auto end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), number).ptr;
+  std::string text(buffer.data(), end);
+  // A whole double keeps a point, so that it reads back as a number of its kind.
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
+
 // Every setting of `options` by dotted key.
 template <typename Options>
 requires HasSettings<Options> SettingValues SettingsOf(const Options& options) {

@@ -1,5 +1,6 @@
 #include "pipeline/reduce.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -162,6 +163,12 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
+  const bool from_photo = run.photo && std::any_of(run.traces.begin(), run.traces.end(),
+                                                   [](const auto& t) { return !t.second.csv; });
+  out.settings = run.HasTypedRebounds() ? SettingsOfStages(run_options, {"fit"})
+                 : from_photo
+                     ? SettingsOfStages(run_options, {"digitize", "rebound_extraction", "fit"})
+                     : SettingsOfStages(run_options, {"rebound_extraction", "fit"});
   out.fingerprint = fingerprint ? *fingerprint : RunFingerprint(run, session, options);
   if (run.HasTypedRebounds()) {
     MeasureTypedRun(run, out);
@@ -374,6 +381,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   // The settings are checked before any work; an entry's own with the entry.
   const StageOptions session_options =
       SessionStageOptions(options.stages, session, options.overrides);
+  result.settings = SettingsOf(session_options);
   const auto entry_options = [&](const StageSettings& entry) {
     return EntryStageOptions(session_options, entry, options.overrides);
   };
@@ -382,7 +390,9 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   if (options.products == Products::kFit) {
     for (const Log& log : session.logs) {
       try {
-        result.logs.push_back(ReduceLog(log, entry_options(log.settings).log_analysis));
+        const StageOptions log_options = entry_options(log.settings);
+        result.logs.push_back(ReduceLog(log, log_options.log_analysis));
+        result.logs.back().settings = SettingsOfStages(log_options, {"log_analysis"});
       } catch (const InputError& error) {
         LogResult failed;
         failed.id = log.id;

@@ -6,6 +6,7 @@
 
 #include "io/errors.h"
 #include "io/hdf5_file.h"
+#include "io/manifest.h"
 #include "pipeline/hdf5_extras.h"
 
 namespace impactlab {
@@ -24,6 +25,24 @@ struct In {
   const Hdf5File& f;
   long long layout;
 };
+
+// A result's stage settings (pipeline/stage_options.h): the attributes of its
+// `settings` group, one per key, each the value as session.toml or the
+// command line writes it ("gaussian", "0.15", "true").
+void WriteSettings(Hdf5File& f, const std::string& group, const SettingValues& settings) {
+  if (settings.empty()) return;
+  f.CreateGroup(group);
+  for (const auto& [key, value] : settings) f.SetAttribute(group, key, SettingText(value));
+}
+
+SettingValues ReadSettings(const Hdf5File& f, const std::string& group) {
+  SettingValues settings;
+  if (!f.Exists(group)) return settings;  // layout 1, or a result made with none
+  for (const std::string& key : f.AttributeNames(group)) {
+    settings[key] = ParseSettingText(f.ReadStringAttribute(group, key));
+  }
+  return settings;
+}
 
 // Paths in one place, so writer and reader cannot drift apart.
 std::string RunPath(const std::string& id) { return JoinPath({"runs", id}); }
@@ -177,6 +196,7 @@ void WriteCalibration(Out& out, const std::string& g, const CellCalibration& c) 
   f.SetAttribute(g, "calibration_id", c.calibration_id);
   f.SetAttribute(g, "cell", c.cell);
   f.SetAttribute(g, "model", "V(X) = sum c_k T_k(2X/X0 - 1), Chebyshev, order by BIC");
+  WriteSettings(f, g + "/settings", c.settings);
   f.WriteScalar(g + "/release_x", c.release_x, out.u.length);
   f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
   f.WriteScalar(g + "/residual_rms_volts", c.residual_rms_volts, "V");
@@ -193,6 +213,7 @@ CellCalibration ReadCalibration(const Hdf5File& f, const std::string& g, const s
   CellCalibration c;
   c.cell = cell.empty() ? f.ReadStringAttribute(g, "cell") : cell;
   c.calibration_id = f.ReadStringAttribute(g, "calibration_id");
+  c.settings = ReadSettings(f, g + "/settings");
   c.release_x = f.ReadScalar(g + "/release_x");
   c.chebyshev = f.ReadVector(g + "/chebyshev");
   c.order = static_cast<int>(c.chebyshev.size()) - 1;
@@ -432,6 +453,7 @@ void WriteLog(Out& out, const LogResult& log) {
   const std::string g = JoinPath({"logs", log.id});
   f.CreateGroup(g);
   f.SetAttribute(g, "status", log.status);
+  WriteSettings(f, g + "/settings", log.settings);
   for (const LogSourceResult& s : log.sources) {
     const std::string h = g + "/" + s.source;
     f.CreateGroup(h);
@@ -461,9 +483,10 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
   log.id = id;
   log.status = f.ReadStringAttribute(g, "status");
   log.ok = log.status == "ok";
+  log.settings = ReadSettings(f, g + "/settings");
   for (const std::string& source : f.Children(g)) {
     const std::string h = g + "/" + source;
-    if (source == "comparison" || !f.IsGroup(h)) continue;
+    if (source == "comparison" || source == "settings" || !f.IsGroup(h)) continue;
     LogSourceResult s;
     s.source = source;
     s.impact_method = f.ReadStringAttribute(h, "impact_method");
@@ -578,6 +601,7 @@ void WriteRun(Out& out, const RunResult& run) {
     f.WriteScalar(g + "/initial_displacement", run.initial_displacement, out.u.length);
   }
   if (!run.fingerprint.empty()) f.SetAttribute(g, "input_fingerprint", run.fingerprint);
+  WriteSettings(f, g + "/settings", run.settings);
   if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
   if (!run.xmax.empty()) WriteRebounds(out, run);
   if (!run.measured_displacement.time_s.empty()) {
@@ -672,6 +696,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   f.SetAttribute("/", "producer", r.producer);
   f.SetAttribute("/", "session_title", r.title);
   f.SetAttribute("/", "units", std::string(UnitSystemName(r.units)));
+  WriteSettings(f, "/settings", r.settings);
   f.SetAttribute("/", "created", r.created);
   f.SetAttribute("/", "session_folder", r.session_folder);
   if (HasPendulum(r)) {
@@ -762,6 +787,7 @@ RunResult ReadRun(const In& in, const std::string& id) {
   const std::string g = RunPath(id);
   RunResult run;
   run.id = id;
+  run.settings = ReadSettings(f, g + "/settings");
   const std::string status = f.ReadStringAttribute(g, "status");
   run.ok = status == "ok";
   if (!run.ok) run.failure = ReasonOf(status);
@@ -849,6 +875,7 @@ void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
   if (!units) throw InputError({f.path(), "/units", std::nullopt}, "unknown unit system");
   r.units = *units;
   r.created = f.ReadStringAttribute("/", "created");
+  r.settings = ReadSettings(f, "/settings");
   r.session_folder = f.ReadStringAttribute("/", "session_folder");
   if (f.HasAttribute("/", "convention")) {
     r.convention = ParseConvention(f.ReadStringAttribute("/", "convention"));

@@ -12,6 +12,7 @@
 #include "io/session.h"
 #include "io/units.h"
 #include "model/pendulum.h"
+#include "options/settings.h"
 
 namespace impactlab {
 
@@ -80,6 +81,7 @@ struct CellCalibration {
   double volts_min = 0.0, volts_max = 0.0;
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
   std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
+  SettingValues settings;  // the stage settings it was made with (photocell, digitize for a photo)
 };
 
 // Wall time spent per stage of one run, s (for benchmarks; not in the results file).
@@ -128,6 +130,9 @@ struct RunResult {
   // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.
   std::vector<double> deviation, deviation_pct_peak, deviation_pct_x0;
   std::string stiffness_source;  // "run" or "session average"
+  // The stage settings its measurement and fits used, of the stages that
+  // apply to it (pipeline/stage_options.h), by key.
+  SettingValues settings;
 
   std::string Status() const { return ok ? "ok" : "failed: " + failure; }
 };
@@ -172,6 +177,7 @@ struct LogComparisonRow {
 };
 
 struct LogResult {
+  SettingValues settings;  // the log_analysis settings it was analysed with
   std::string id;
   bool ok = false;
   std::string status;  // "ok" or "failed: <file, line and reason>"
@@ -219,6 +225,7 @@ struct SessionResult {
   std::vector<RunPrediction> predictions;
   std::vector<LogResult> logs;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings
+  SettingValues settings;             // every stage setting as the session resolves them
 
   int FailedRuns() const;
   const RunResult* FindRun(const std::string& id) const;

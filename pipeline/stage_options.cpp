@@ -1,5 +1,7 @@
 #include "pipeline/stage_options.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "io/errors.h"
@@ -62,21 +64,26 @@ StageOptions EntryStageOptions(const StageOptions& session_options, const StageS
   return WithSettings(WithSettings(session_options, entry), overrides);
 }
 
+SettingValues SettingsOfStages(const StageOptions& options,
+                               std::initializer_list<std::string_view> stages) {
+  SettingValues all = SettingsOf(options);
+  std::erase_if(all, [&](const auto& entry) {
+    return std::find(stages.begin(), stages.end(), StageOf(entry.first)) == stages.end();
+  });
+  return all;
+}
+
 std::string SettingsTable(const StageOptions& defaults) {
   std::string table =
       "| key | value | default | meaning |\n"
       "|---|---|---|---|\n";
   ForEachSetting(defaults, [&](const std::string& key, const auto& field, const char* help) {
     using Field = std::decay_t<decltype(field)>;
-    const std::string value = std::visit(
-        [](const auto& v) -> std::string {
-          using V = std::decay_t<decltype(v)>;
-          if constexpr (std::is_same_v<V, bool>) return v ? "true" : "false";
-          if constexpr (std::is_same_v<V, std::string>) return "\"" + v + "\"";
-          return fmt::format("{}", v);
-        },
-        ToSettingValue(field));
-    table += fmt::format("| `{}` | {} | `{}` | {} |\n", key, SettingKind<Field>(), value, help);
+    const SettingValue value = ToSettingValue(field);
+    const std::string text = std::holds_alternative<std::string>(value)
+                                 ? "\"" + SettingText(value) + "\""
+                                 : SettingText(value);
+    table += fmt::format("| `{}` | {} | `{}` | {} |\n", key, SettingKind<Field>(), text, help);
   });
   return table;
 }

@@ -50,6 +50,10 @@ StageOptions SessionStageOptions(const StageOptions& defaults, const Session& se
 StageOptions EntryStageOptions(const StageOptions& session_options, const StageSettings& entry,
                                const StageSettings& overrides);
 
+// The settings of the stages named (e.g. {"digitize", "fit"}), by key.
+SettingValues SettingsOfStages(const StageOptions& options,
+                               std::initializer_list<std::string_view> stages);
+
 // Every setting as a Markdown table (key, kind, default, meaning), for
 // `impactlab settings` and docs/settings.md.
 std::string SettingsTable(const StageOptions& defaults = {});

@@ -106,6 +106,7 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
   const CalibrationResult& c = calibrated.calibration;
   CellCalibration out;
   out.overlay = calibrated.overlay;
+  out.settings = calibrated.settings;
   out.calibration_id = id;
   out.cell = cell;
   out.release_x = release_x;
@@ -251,6 +252,8 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   const TraceSpanLimits& limits = options.rebound_extraction.limits;
   auto cell = std::make_shared<CalibratedCell>();
   StageSeconds& seconds = cell->cost;
+  cell->settings = calibration->trace.csv ? SettingsOfStages(options, {"photocell"})
+                                          : SettingsOfStages(options, {"digitize", "photocell"});
   // Its CSV when given, otherwise its photo digitized (the overlay kept).
   Trace trace;
   if (calibration->trace.csv) {

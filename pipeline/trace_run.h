@@ -25,6 +25,7 @@ struct CalibratedCell {
   CalibrationResult calibration;
   std::optional<PhotoOverlay> overlay;  // photo calibrations only
   StageSeconds cost;                    // its digitizing (load) and fitting (calibrate)
+  SettingValues settings;               // the stage settings it was made with
 };
 
 // Calibrations are shared by runs; each is computed once per reduce, by

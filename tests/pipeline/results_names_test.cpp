@@ -164,6 +164,9 @@ herr_t CollectAttribute(hid_t object, const char* attribute, const H5A_info_t*, 
     walk.names->emplace("<dataset>@" + name, where);
   } else if (scale && (name == "CLASS" || name == "NAME" || name == "REFERENCE_LIST")) {
     walk.names->emplace("<scale>@" + name, where);
+  } else if (walk.object == "/settings" || walk.object.ends_with("/settings")) {
+    // One attribute per stage setting, keyed as docs/settings.md lists them.
+    walk.names->emplace("<settings>@<key>", where);
   } else {
     walk.names->emplace(InTemplates(Generalise(walk.object, *walk.vocabulary) + "@" + name), where);
   }

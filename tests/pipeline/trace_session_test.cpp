@@ -257,6 +257,48 @@ TEST_CASE("reuse: a changed setting re-measures exactly the runs it touches") {
   CHECK_FALSE(refit.runs[0].least_squares[0].converged);  // one iteration is not enough
 }
 
+TEST_CASE("settings: manifest -> options -> results file -> options, for every result") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.001);
+  std::ofstream(dir.path() / "session.toml", std::ios::app) << R"(
+[run.rebound_extraction]
+peak_window_fraction = 0.4
+[photocell]
+max_order = 7
+[digitize.traces]
+method = "gaussian"
+)";
+  const Session session = ReadManifest(dir.path()).session;
+  ReduceOptions options;
+  options.overrides = CommandLineSettings({{"fit.kelvin_voigt.loss.kind", "huber"}});
+  const SessionResult written = ReduceSession(session, options);
+  REQUIRE(written.FailedRuns() == 0);
+  WriteResults(written, dir.path() / "r.h5");
+  const SessionResult read = ReadResults(dir.path() / "r.h5");
+
+  // What each result was reduced with, as the options resolve it.
+  const StageOptions session_options = SessionStageOptions({}, session, options.overrides);
+  const StageOptions run_options =
+      EntryStageOptions(session_options, session.runs[0].settings, options.overrides);
+  CHECK(run_options.rebound_extraction.peak_window_fraction == 0.4);
+  CHECK(run_options.photocell.max_order == 7);
+  CHECK(run_options.fit.kelvin_voigt.loss.kind == RobustLoss::kHuber);
+  CHECK(read.settings == SettingsOf(session_options));
+  // A run of CSV traces: no digitizer's settings, the rest as it resolved them.
+  const RunResult& run = read.runs[0];
+  CHECK(run.settings == SettingsOfStages(run_options, {"rebound_extraction", "fit"}));
+  REQUIRE(run.calibrations.size() == 2);
+  CHECK(run.calibrations[0].settings == SettingsOfStages(session_options, {"photocell"}));
+
+  // And back into options: the file's settings give the same options.
+  StageOptions from_file;
+  for (const auto& [key, value] : run.settings) {
+    INFO(key);
+    CHECK_FALSE(ApplySetting(from_file, key, value).has_value());
+  }
+  CHECK(SettingsOfStages(from_file, {"rebound_extraction", "fit"}) == run.settings);
+}
+
 TEST_CASE("reuse: a changed convention measures again and matches a fresh run") {
   testing::TempDir dir;
   const Session session = TwoRunSession(dir.path());
