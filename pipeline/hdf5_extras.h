@@ -41,7 +41,7 @@ class Hdf5Extras {
   void AttachScale(const std::string& dataset, const std::string& scale) const;
   // A height x width x 3 uint8 dataset with the Image spec's attributes for a
   // true-colour image (CLASS, IMAGE_VERSION, IMAGE_SUBCLASS, INTERLACE_MODE,
-  // DISPLAY_ORIGIN), so that HDFView shows it; deflated in chunks of rows.
+  // DISPLAY_ORIGIN), so that HDFView shows it; stored as it is (not deflated).
   void WriteImage(const std::string& dataset, const RgbImage& image) const;
 
  private:
