@@ -18,24 +18,12 @@ bool CheckRelativeSingularValue(double value, std::string* why) {
 
 }  // namespace fit_internal
 
+// The words are the settings' (SettingNames in least_squares.h), written once.
 const char* RobustLossName(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kHuber:
-      return "huber";
-    case RobustLoss::kCauchy:
-      return "cauchy";
-    case RobustLoss::kNone:
-      break;
+  for (const auto& [value, name] : SettingNames(loss)) {
+    if (value == loss) return name.data();
   }
   return "none";
-}
-
-RobustLoss ParseRobustLoss(const std::string& name) {
-  if (name == "none") return RobustLoss::kNone;
-  if (name == "huber") return RobustLoss::kHuber;
-  if (name == "cauchy") return RobustLoss::kCauchy;
-  throw std::invalid_argument("robust loss must be \"none\", \"huber\" or \"cauchy\", got \"" +
-                              name + "\"");
 }
 
 bool LossOptions::Check(std::string* why) const {

@@ -25,8 +25,7 @@ namespace impactlab {
 
 // A robust loss for outlier rebounds, applied to whitened residuals.
 enum class RobustLoss { kNone, kHuber, kCauchy };
-const char* RobustLossName(RobustLoss loss);          // "none", "huber", "cauchy"
-RobustLoss ParseRobustLoss(const std::string& name);  // throws std::invalid_argument
+const char* RobustLossName(RobustLoss loss);  // "none", "huber", "cauchy"
 constexpr std::array<SettingName<RobustLoss>, 3> SettingNames(RobustLoss) {
   return {{{RobustLoss::kNone, "none"},
            {RobustLoss::kHuber, "huber"},
