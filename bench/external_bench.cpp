@@ -57,8 +57,9 @@ Stages StagesOf(const SessionResult& result) {
     t.calibrate += run.seconds.calibrate;
     t.extract += run.seconds.extract;
     t.fit += run.seconds.fit;
-    for (const PhotoOverlay& overlay : run.overlays) t.digitize += 1e-3 * overlay.processing_ms;
-    for (const CellCalibration& c : run.calibrations) {
+    for (const PhotoOverlay& overlay : run.measured.overlays)
+      t.digitize += 1e-3 * overlay.processing_ms;
+    for (const CellCalibration& c : run.measured.calibrations) {
       if (c.overlay && calibrations.insert(c.calibration_id).second) {
         t.digitize += 1e-3 * c.overlay->processing_ms;
       }
@@ -94,11 +95,11 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
     double worst = 0.0;
     const std::vector<double> rebounds = run.at("rebounds");
     for (std::size_t i = 0; i < rebounds.size(); ++i) {
-      if (ok && i < got->xmax.size() && std::isfinite(got->xmax[i])) {
-        const double error = got->xmax[i] - rebounds[i];
+      if (ok && i < got->measured.xmax.size() && std::isfinite(got->measured.xmax[i])) {
+        const double error = got->measured.xmax[i] - rebounds[i];
         score.xmax_error.push_back(100.0 * std::abs(error) / x0);
-        if (i < got->xmax_sigma.size() && got->xmax_sigma[i] > 0.0) {
-          score.xmax_pull.push_back(error / got->xmax_sigma[i]);
+        if (i < got->measured.xmax_sigma.size() && got->measured.xmax_sigma[i] > 0.0) {
+          score.xmax_pull.push_back(error / got->measured.xmax_sigma[i]);
         }
       } else {
         score.xmax_error.push_back(100.0);
@@ -108,27 +109,28 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
       // The peak's time: the truth's mean of the bars' peaks (table index i
       // is session rebound i).
       for (const nlohmann::json& row : run.value("rebound_table", nlohmann::json::array())) {
-        if (!ok || row.value("index", -1) != static_cast<int>(i) || i >= got->t_peak.size()) {
+        if (!ok || row.value("index", -1) != static_cast<int>(i) ||
+            i >= got->measured.t_peak.size()) {
           continue;
         }
         const double truth_t =
             0.5 * (row.at("t_peak_right").get<double>() + row.at("t_peak_left").get<double>());
-        const double error = got->t_peak[i] - truth_t;
+        const double error = got->measured.t_peak[i] - truth_t;
         score.peak_error_ms.push_back(1e3 * std::abs(error));
-        if (i < got->t_peak_sigma.size() && got->t_peak_sigma[i] > 0.0) {
-          score.peak_pull.push_back(error / got->t_peak_sigma[i]);
+        if (i < got->measured.t_peak_sigma.size() && got->measured.t_peak_sigma[i] > 0.0) {
+          score.peak_pull.push_back(error / got->measured.t_peak_sigma[i]);
         }
       }
     }
     std::optional<double> contact_error;
     if (run.contains("contact_time") && run.at("contact_time").is_number()) {
       const double truth_tau = run.at("contact_time");
-      if (ok && got->contact_time) {
-        const double error = *got->contact_time - truth_tau;
+      if (ok && got->measured.contact_time) {
+        const double error = *got->measured.contact_time - truth_tau;
         contact_error = 100.0 * error / truth_tau;
         score.contact_error.push_back(std::abs(*contact_error));
-        if (got->contact_time_sigma > 0.0) {
-          score.contact_pull.push_back(error / got->contact_time_sigma);
+        if (got->measured.contact_time_sigma > 0.0) {
+          score.contact_pull.push_back(error / got->measured.contact_time_sigma);
         }
       } else {
         score.contact_error.push_back(100.0);
@@ -138,15 +140,17 @@ Score ScoreAgainstTruth(const SessionResult& result, const nlohmann::json& truth
       fmt::print("  {:>10} {:6} {:8} max|Xmax err| {:.3f} %  contact {}\n", id, kind,
                  ok ? "ok" : "failed", worst,
                  contact_error ? fmt::format("{:+.3f} %", *contact_error) : std::string("-"));
-      if (!ok && got != nullptr) fmt::print("             {}\n", got->failure.substr(0, 160));
+      if (!ok && got != nullptr) fmt::print("             {}\n", got->reason.substr(0, 160));
       if (ok) {
         // Each maximum's error and stated sigma (% of X0) and their ratio.
         std::string line;
-        for (std::size_t i = 0; i < rebounds.size() && i < got->xmax.size(); ++i) {
-          const double sigma = i < got->xmax_sigma.size() ? got->xmax_sigma[i] : 0.0;
-          line += fmt::format(" {:+.3f}/{:.3f}({:+.1f})", 100.0 * (got->xmax[i] - rebounds[i]) / x0,
-                              100.0 * sigma / x0,
-                              sigma > 0.0 ? (got->xmax[i] - rebounds[i]) / sigma : NAN);
+        for (std::size_t i = 0; i < rebounds.size() && i < got->measured.xmax.size(); ++i) {
+          const double sigma =
+              i < got->measured.xmax_sigma.size() ? got->measured.xmax_sigma[i] : 0.0;
+          line +=
+              fmt::format(" {:+.3f}/{:.3f}({:+.1f})",
+                          100.0 * (got->measured.xmax[i] - rebounds[i]) / x0, 100.0 * sigma / x0,
+                          sigma > 0.0 ? (got->measured.xmax[i] - rebounds[i]) / sigma : NAN);
         }
         fmt::print("             Xmax err/sigma % X0 (pull):{}\n", line);
       }

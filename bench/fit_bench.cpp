@@ -158,7 +158,7 @@ void PoyntingThomsonTable() {
                fit.identifiability.rank, Rel(fit.stiffness1.value, truth.stiffness1),
                Rel(fit.stiffness2.value, truth.stiffness2), Rel(fit.damping.value, truth.damping),
                us / 1000.0, fit.status.iterations, fit.ok ? "yes" : "no");
-    if (!fit.ok) fmt::print("    -> {}\n", fit.diagnostic);
+    if (!fit.ok) fmt::print("    -> {}\n", fit.reason);
   }
   // Far starts (factors of 100 on each parameter).
   fmt::print("\nstarted far away (1 run, maxima + tau_c + peak, force):\n");
@@ -180,7 +180,7 @@ void PoyntingThomsonTable() {
         f[0], f[1], f[2], fit.ok ? "ok" : "NOT", Rel(fit.stiffness1.value, truth.stiffness1),
         Rel(fit.stiffness2.value, truth.stiffness2), Rel(fit.damping.value, truth.damping),
         fit.chi2, fit.status.iterations, fit.status.seconds * 1e3,
-        fit.ok ? "" : " (" + fit.diagnostic + ")");
+        fit.ok ? "" : " (" + fit.reason + ")");
   }
   // Noise.
   const auto clean = PtRuns(truth, Separation::kForce, {0.3, 0.5}, true, true);

@@ -286,7 +286,7 @@ void ThroughputTable(long long rows) {
         a1.damping_ratio ? a1.damping_ratio->value : 0.0);
     for (const std::string& note : a1.notes) fmt::print("  a1: {}\n", note);
   } else {
-    fmt::print("\nlong log failed: {}\n", analysis.status);
+    fmt::print("\nlong log failed: {}\n", analysis.reason);
   }
   fmt::print("\n| stage | size | CPU s (median) | rate per core |\n|---|---|---:|---|\n");
   for (std::size_t n : {std::size_t{1} << 16, std::size_t{1} << 20, std::size_t{1} << 22}) {

@@ -129,31 +129,34 @@ int main(int argc, char** argv) {
         f.stages.extract += run->seconds.extract;
         f.stages.fit += run->seconds.fit;
         if (!run->ok) {
-          fmt::print(stderr, "{} seed {} run {}: {}\n", style, seed, run->id, run->failure);
+          fmt::print(stderr, "{} seed {} run {}: {}\n", style, seed, run->id, run->reason);
           continue;
         }
         ++f.ok;
         const double x0 = truth["initial_displacement"];
         const auto& xmax = truth["rebounds"]["xmax"];
-        for (std::size_t n = 0; n < run->xmax.size() && n < xmax.size(); ++n) {
-          const double pct = 100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0;
+        for (std::size_t n = 0; n < run->measured.xmax.size() && n < xmax.size(); ++n) {
+          const double pct = 100.0 * std::abs(run->measured.xmax[n] - xmax[n].get<double>()) / x0;
           f.xmax_error_pct.push_back(pct);
-          f.xmax_gain_error_pct.push_back(100.0 * (run->xmax[n] / xmax[n].get<double>() - 1.0));
+          f.xmax_gain_error_pct.push_back(100.0 *
+                                          (run->measured.xmax[n] / xmax[n].get<double>() - 1.0));
           f.worst.push_back({pct, seed, run->id, n});
-          if (n < run->xmax_sigma.size() && run->xmax_sigma[n] > 0.0) {
-            f.xmax_pull.push_back((run->xmax[n] - xmax[n].get<double>()) / run->xmax_sigma[n]);
+          if (n < run->measured.xmax_sigma.size() && run->measured.xmax_sigma[n] > 0.0) {
+            f.xmax_pull.push_back((run->measured.xmax[n] - xmax[n].get<double>()) /
+                                  run->measured.xmax_sigma[n]);
           }
         }
-        if (run->contact_time) {
+        if (run->measured.contact_time) {
           const double tau = truth["contact"]["duration_s"];
-          f.contact_error_pct.push_back(100.0 * std::abs(*run->contact_time - tau) / tau);
-          if (run->contact_time_sigma > 0.0) {
-            f.contact_pull.push_back((*run->contact_time - tau) / run->contact_time_sigma);
+          f.contact_error_pct.push_back(100.0 * std::abs(*run->measured.contact_time - tau) / tau);
+          if (run->measured.contact_time_sigma > 0.0) {
+            f.contact_pull.push_back((*run->measured.contact_time - tau) /
+                                     run->measured.contact_time_sigma);
           }
           if (worst > 0) {
             fmt::print(stderr, "  {} seed {} run {} contact: {:+.4f} % (sigma {:.4f} %)\n", style,
-                       synth.seed, run->id, 100.0 * (*run->contact_time - tau) / tau,
-                       100.0 * run->contact_time_sigma / tau);
+                       synth.seed, run->id, 100.0 * (*run->measured.contact_time - tau) / tau,
+                       100.0 * run->measured.contact_time_sigma / tau);
           }
         }
       }

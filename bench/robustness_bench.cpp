@@ -91,9 +91,9 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
       cal.look = calibration_looks[cell + id];
       cal.outcome = Outcome::kOk;
       if (run != nullptr && !run->ok &&
-          run->failure.find("calibration/" + cell + id + ".") != std::string::npos) {
+          run->reason.find("calibration/" + cell + id + ".") != std::string::npos) {
         cal.outcome = Outcome::kFailed;
-        cal.failure = run->failure;
+        cal.failure = run->reason;
         calibrations_ok = false;
       }
       records.push_back(std::move(cal));
@@ -103,7 +103,7 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
       photo.failure = "the run is missing from the results";
     } else if (!run->ok) {
       photo.outcome = calibrations_ok ? Outcome::kFailed : Outcome::kNotReached;
-      photo.failure = run->failure;
+      photo.failure = run->reason;
     } else {
       photo.outcome = Outcome::kOk;
       const double x0 = t["initial_displacement"];
@@ -111,19 +111,21 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
       const json& t_peak = t["rebounds"]["t_peak"];
       for (std::size_t n = 0; n < xmax.size(); ++n) {
         if (t_peak[n].get<double>() + kFlankS > kSweepEndS) break;
-        if (n >= run->xmax.size()) {
+        if (n >= run->measured.xmax.size()) {
           ++photo.rebounds_missed;
           continue;
         }
-        const double error = run->xmax[n] - xmax[n].get<double>();
+        const double error = run->measured.xmax[n] - xmax[n].get<double>();
         photo.xmax_error_pct.push_back(100.0 * std::abs(error) / x0);
-        if (run->xmax_sigma[n] > 0.0) photo.xmax_pull.push_back(error / run->xmax_sigma[n]);
+        if (run->measured.xmax_sigma[n] > 0.0)
+          photo.xmax_pull.push_back(error / run->measured.xmax_sigma[n]);
       }
-      if (run->contact_time) {
+      if (run->measured.contact_time) {
         const double tau = t["contact"]["duration_s"];
-        const double error = *run->contact_time - tau;
+        const double error = *run->measured.contact_time - tau;
         photo.contact_error_pct = 100.0 * std::abs(error) / tau;
-        if (run->contact_time_sigma > 0.0) photo.contact_pull = error / run->contact_time_sigma;
+        if (run->measured.contact_time_sigma > 0.0)
+          photo.contact_pull = error / run->measured.contact_time_sigma;
       }
     }
     records.push_back(std::move(photo));

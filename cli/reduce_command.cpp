@@ -39,8 +39,8 @@ std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, 
     const auto in_session = std::find_if(session.runs.begin(), session.runs.end(),
                                          [&](const Run& r) { return r.id == run.id; });
     if (in_session == session.runs.end() || in_session->HasTypedRebounds()) return false;
-    if (run.xmax.empty()) return false;  // nothing measured there: nothing to reuse
-    const std::string problem = ReuseProblem(run);
+    if (run.measured.xmax.empty()) return false;  // nothing measured there: nothing to reuse
+    const std::string problem = ReuseProblem(run.measured);
     if (problem.empty()) return false;
     if (!quiet) {
       fmt::print(stderr, "note: not reusing run {} from {}: {}\n", run.id, path.string(), problem);
@@ -117,10 +117,10 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       WriteResults(result, args->output);
       for (const std::string& w : result.warnings) fmt::print(stderr, "warning: {}\n", w);
       for (const RunResult& run : result.runs) {
-        if (!run.ok) fmt::print(stderr, "run {} failed: {}\n", run.id, run.failure);
+        if (!run.ok) fmt::print(stderr, "run {} failed: {}\n", run.id, run.reason);
       }
       for (const LogResult& log : result.logs) {
-        if (!log.ok) fmt::print(stderr, "log {} {}\n", log.id, log.status);
+        if (!log.ok) fmt::print(stderr, "log {} {}\n", log.id, log.Status());
       }
       const int failed = result.FailedRuns();
       const auto reused = std::count_if(result.runs.begin(), result.runs.end(),

@@ -181,7 +181,7 @@ JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
     return fit;
   };
   if (!fit.status.usable) {
-    fit.diagnostic = "the solver failed: " + fit.status.message;
+    fit.reason = "the solver failed: " + fit.status.message;
     return finish();
   }
 
@@ -199,7 +199,7 @@ JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
   if (s.size() < j.cols() || !(s[s.size() - 1] > options.min_relative_singular_value * s[0])) {
-    fit.diagnostic = fmt::format(
+    fit.reason = fmt::format(
         "not identifiable: the whitened Jacobian's smallest singular value is {:.3g} of the "
         "largest",
         s.size() > 0 && s[0] > 0 ? s[s.size() - 1] / s[0] : 0.0);

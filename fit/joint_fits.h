@@ -73,8 +73,8 @@ struct LeaveOneOut {
 struct JointModelFit {
   std::string name;  // "per-run", "common", "linear-in-speed"
   FitStatus status;
-  bool ok = false;  // usable solve and identifiable; otherwise `diagnostic` says why
-  std::string diagnostic;
+  bool ok = false;  // usable solve and identifiable; otherwise `reason` says why
+  std::string reason;
 
   // The model's parameters (nuisance ln v_r excluded), with standard errors
   // from (J^T J)^-1 of the whitened residuals (nuisance parameters included in J).

@@ -125,7 +125,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     return fit;
   };
   if (!fit.status.usable) {
-    fit.diagnostic = "the solver failed: " + fit.status.message;
+    fit.reason = "the solver failed: " + fit.status.message;
     return finish();
   }
 
@@ -149,14 +149,14 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     fit.identifiability.message = fmt::format(
         "not identifiable: only {} is determined",
         FormatCombination(fit.identifiability.directions[0], fit.identifiability.parameter_names));
-    fit.diagnostic = fit.identifiability.message;
+    fit.reason = fit.identifiability.message;
     return finish();
   }
   fit.identifiability.message = "ln e and ln v0 are both determined";
 
   Eigen::MatrixXd cov;
   if (!fit_internal::Covariance(problem, {theta}, 0, &cov)) {
-    fit.diagnostic = "the covariance could not be computed (ill-conditioned Jacobian)";
+    fit.reason = "the covariance could not be computed (ill-conditioned Jacobian)";
     return finish();
   }
   // Without uncertainties, scale by s^2 = chi^2/(N - p); with no degrees of
@@ -181,7 +181,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   }
 
   if (!(q < 0.0)) {
-    fit.diagnostic = fmt::format(
+    fit.reason = fmt::format(
         "the maxima show no dissipation (fitted ln e = {:.6g} >= 0): no damping ratio", q);
     return finish();
   }
@@ -209,7 +209,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   }
   fit.ok = true;
   if (!weighted && fit.dof == 0) {
-    fit.diagnostic =
+    fit.reason =
         "two maxima without uncertainties: the fit is exact and the scatter unknown "
         "(uncertainties reported as 0)";
   }

@@ -61,10 +61,10 @@ struct MaximumResidual {
 struct KelvinVoigtLeastSquaresFit {
   FitStatus status;
   // True when the solve is usable, the data show dissipation (ln e < 0) and
-  // the parameters are identifiable; otherwise `diagnostic` says why and the
+  // the parameters are identifiable; otherwise `reason` says why and the
   // physical parameters are not meaningful.
   bool ok = false;
-  std::string diagnostic;
+  std::string reason;
   Separation separation = Separation::kKinematic;
 
   Estimate log_restitution;            // ln e
@@ -88,7 +88,7 @@ struct KelvinVoigtLeastSquaresFit {
 
 // Throws std::invalid_argument for fewer than two usable maxima (NaN entries
 // are skipped as unread), non-positive maxima, a mixture of zero and non-zero
-// sigmas, bad options or mass. Returns a result with status and diagnostic in
+// sigmas, bad options or mass. Returns a result with status and reason in
 // every other case.
 KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     const Pendulum& pendulum, double mass, const ReboundMeasurements& measured,

@@ -1,5 +1,6 @@
 #include "fit/kelvin_voigt_session.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -22,6 +23,29 @@ StiffnessSpread SpreadOf(const std::vector<double>& stiffness) {
   for (double k : stiffness) {
     out.deviation.push_back(k - out.average);
     out.pct_variation.push_back(100.0 * std::abs(k - out.average) / out.average);
+  }
+  return out;
+}
+
+AverageStiffness AverageStiffnessOf(const std::vector<const KelvinVoigtTwoPointFit*>& fits,
+                                    double mass) {
+  std::vector<double> stiffness;
+  double variance_sum = 0.0;
+  for (const KelvinVoigtTwoPointFit* fit : fits) {
+    stiffness.push_back(fit->stiffness->value);
+    variance_sum += std::pow(fit->stiffness->sigma, 2);
+  }
+  AverageStiffness out;
+  const double average = SpreadOf(stiffness).average;
+  const double average_sigma = std::sqrt(variance_sum) / static_cast<double>(stiffness.size());
+  out.stiffness = {average, average_sigma};
+  for (const KelvinVoigtTwoPointFit* fit : fits) {
+    const double zeta = fit->damping_ratio.value;
+    const double damping = 2.0 * zeta * std::sqrt(average * mass);
+    const double damping_sigma =
+        damping * std::hypot(fit->damping_ratio.sigma / std::max(zeta, 1e-300),
+                             0.5 * average_sigma / average);
+    out.damping.push_back({damping, damping_sigma});
   }
   return out;
 }

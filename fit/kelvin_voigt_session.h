@@ -18,6 +18,18 @@ struct StiffnessSpread {
 };
 StiffnessSpread SpreadOf(const std::vector<double>& stiffness);
 
+// The thesis's design expedient ([reduction] average_stiffness): one K, the
+// runs' mean, for every run, and each run's C from it at the run's own
+// damping ratio, C = 2 zeta sqrt(K_avg M). The runs' own fits are unchanged.
+struct AverageStiffness {
+  Estimate stiffness;             // K_avg; sigma from the runs' own, as independent
+  std::vector<Estimate> damping;  // C per fit, in the order given
+};
+// `fits`: two-point fits that carry a stiffness. Throws std::invalid_argument
+// when there are none.
+AverageStiffness AverageStiffnessOf(const std::vector<const KelvinVoigtTwoPointFit*>& fits,
+                                    double mass);
+
 // Eq. 40: C = a (1 - b sqrt(xi)), fitted by ordinary least squares as
 // C = alpha + beta sqrt(xi), a = alpha, b = -beta / alpha. Standard errors
 // from the residual scatter (n - 2 degrees of freedom); zero with two runs,

@@ -80,7 +80,7 @@ KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double m
   fit.separation = options.separation;
   fit.contact_time = measured.contact_time;
   if (xb > xa) {
-    fit.diagnostic = fmt::format(
+    fit.reason = fmt::format(
         "rebound {} ({}) exceeds rebound {} ({}): the pair shows no dissipation, so no "
         "Kelvin-Voigt parameters follow from it; choose another pair (fit_rebounds)",
         b, xb, a, xa);
@@ -118,7 +118,7 @@ KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double m
   }
   for (; i < values.size(); ++i) fit.predicted_xmax.push_back({values[i], sigmas[i]});
   if (fit.log_restitution.value == 0.0) {
-    fit.diagnostic = fmt::format("rebounds {} and {} are equal: no measurable dissipation", a, b);
+    fit.note = fmt::format("rebounds {} and {} are equal: no measurable dissipation", a, b);
   }
   return fit;
 }

@@ -47,10 +47,11 @@ struct NamedEstimate {
 };
 
 struct KelvinVoigtTwoPointFit {
-  // False when the pair shows no dissipation (X_b > X_a): `diagnostic` says
+  // False when the pair shows no dissipation (X_b > X_a): `reason` says
   // why, and no parameter below is meaningful.
   bool ok = false;
-  std::string diagnostic;
+  std::string reason;
+  std::string note;  // an ok fit's caveat (equal maxima: the elastic limit)
   std::array<int, 2> rebounds_used = {0, 1};
   Separation separation = Separation::kKinematic;
 
@@ -66,7 +67,7 @@ struct KelvinVoigtTwoPointFit {
 };
 
 // Throws std::invalid_argument for a pair out of range, non-positive maxima or
-// contact time; returns ok = false with a diagnostic when X_b > X_a.
+// contact time; returns ok = false with the reason when X_b > X_a.
 KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double mass,
                                               const ReboundMeasurements& measured,
                                               const TwoPointOptions& options);

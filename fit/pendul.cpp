@@ -25,7 +25,7 @@ PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
   }
   PendulFit out;
   out.fit = FitKelvinVoigtTwoPoint(pendulum, mass, measured, options);
-  if (!out.fit.ok) throw std::domain_error(out.fit.diagnostic);
+  if (!out.fit.ok) throw std::domain_error(out.fit.reason);
   const KelvinVoigt parameters{mass, out.fit.stiffness->value, out.fit.damping->value};
   out.response = PendulResponseFor(pendulum, parameters, options.separation,
                                    out.fit.predicted_xmax.front().value, rebound_count);

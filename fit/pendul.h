@@ -33,7 +33,7 @@ struct PendulFit {
 };
 
 // Option 1. Needs the contact time; throws std::invalid_argument without it and
-// std::domain_error when the pair shows no dissipation (fit.diagnostic).
+// std::domain_error when the pair shows no dissipation (fit.reason).
 PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
                                  const ReboundMeasurements& measured,
                                  const TwoPointOptions& options, int rebound_count);

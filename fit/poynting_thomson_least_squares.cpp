@@ -341,7 +341,7 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
         "contact never ends at the start K1 = {:.6g}, K2 = {:.6g}, C = {:.6g} under {} separation",
         start_model.stiffness1, start_model.stiffness2, start_model.damping,
         SeparationName(options.separation));
-    fit.diagnostic = fit.status.message + ": give options.initial or use force separation";
+    fit.reason = fit.status.message + ": give options.initial or use force separation";
     return finish();
   }
 
@@ -389,7 +389,7 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   fit_internal::Solve(problem, options.solver, &fit.status);
   fit.model = {options.mass, std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
   if (!fit.status.usable) {
-    fit.diagnostic = "the solver failed: " + fit.status.message;
+    fit.reason = "the solver failed: " + fit.status.message;
     return finish();
   }
   for (std::size_t i = 0; i < 3; ++i) {
@@ -488,16 +488,16 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
         Advice(has_tau, has_peak, id.rank));
   }
   if (!fit.status.converged) {
-    fit.diagnostic = "the solver did not converge: " + fit.status.message;
+    fit.reason = "the solver did not converge: " + fit.status.message;
   } else if (!id.identifiable) {
-    fit.diagnostic = id.message;
+    fit.reason = id.message;
   } else if (fit.at_bound) {
-    fit.diagnostic = fmt::format(
+    fit.reason = fmt::format(
         "a parameter ended on its bound (a factor {} from the start): widen bound_factor or give a "
         "better options.initial",
         options.bound_factor);
   } else if (!have_cov) {
-    fit.diagnostic = "the covariance could not be computed";
+    fit.reason = "the covariance could not be computed";
   }
   fit.ok = fit.status.converged && id.identifiable && !fit.at_bound && have_cov;
   return finish();

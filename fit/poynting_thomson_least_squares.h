@@ -91,10 +91,10 @@ struct PoyntingThomsonRunFit {
 struct PoyntingThomsonLeastSquaresFit {
   FitStatus status;
   // True when the solve converged to a usable point and K1, K2, C are all
-  // determined; otherwise `diagnostic` says why (non-identifiable: which
+  // determined; otherwise `reason` says why (non-identifiable: which
   // combination is undetermined).
   bool ok = false;
-  std::string diagnostic;
+  std::string reason;
   Separation separation = Separation::kKinematic;
   PoyntingThomson model;  // the solution point (with the given mass)
 

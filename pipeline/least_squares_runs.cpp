@@ -16,7 +16,7 @@ namespace {
 void CopyQuality(const FitStatus& status, const Identifiability& identifiability, double chi2,
                  int dof, const ParameterCovariance& covariance, LeastSquaresSummary& out) {
   out.converged = status.converged;
-  out.message = status.message;
+  out.termination = status.message;
   out.seconds = status.seconds;
   out.identifiable = identifiability.identifiable;
   out.rank = identifiability.rank;
@@ -32,7 +32,7 @@ LeastSquaresSummary Summarise(const KelvinVoigtLeastSquaresFit& fit) {
   out.model = "kelvin_voigt_least_squares";
   CopyQuality(fit.status, fit.identifiability, fit.chi2, fit.dof, fit.covariance, out);
   out.ok = fit.ok;
-  if (!fit.ok) out.message = fit.diagnostic;
+  if (!fit.ok) out.reason = fit.reason;
   out.parameters = {{"zeta", "1", fit.damping_ratio},
                     {"restitution", "1", fit.restitution},
                     {"log_restitution", "1", fit.log_restitution},
@@ -50,7 +50,7 @@ LeastSquaresSummary Summarise(const PoyntingThomsonLeastSquaresFit& fit) {
   out.model = "poynting_thomson";
   CopyQuality(fit.status, fit.identifiability, fit.chi2, fit.dof, fit.covariance, out);
   out.ok = fit.ok;
-  if (!fit.ok) out.message = fit.diagnostic;
+  if (!fit.ok) out.reason = fit.reason;
   out.parameters = {
       {"stiffness_1", "stiffness", fit.stiffness1}, {"stiffness_2", "stiffness", fit.stiffness2},
       {"damping", "damping", fit.damping},          {"log_restitution", "1", fit.log_restitution},
@@ -65,21 +65,22 @@ LeastSquaresSummary Summarise(const PoyntingThomsonLeastSquaresFit& fit) {
 LeastSquaresSummary Failed(const std::string& model, const std::string& why) {
   LeastSquaresSummary out;
   out.model = model;
-  out.message = why;
+  out.reason = why;
   return out;
 }
 
 // The run's observations as the fits take them. Every observation of a fit
 // must carry an uncertainty, or none: a contact time without one is left out
 // when the maxima have theirs (it would weigh arbitrarily against them).
-PoyntingThomsonRun AsPoyntingThomsonRun(const Pendulum& pendulum, const RunResult& run) {
-  PoyntingThomsonRun out{run.id, pendulum, {}, std::nullopt};
-  out.measured.xmax = run.xmax;
-  out.measured.xmax_sigma = run.xmax_sigma;
-  const bool weighted = !run.xmax_sigma.empty() && run.xmax_sigma.front() > 0.0;
-  if (run.contact_time && (run.contact_time_sigma > 0.0) == weighted) {
-    out.measured.contact_time = run.contact_time;
-    out.measured.contact_time_sigma = run.contact_time_sigma;
+PoyntingThomsonRun AsPoyntingThomsonRun(const Pendulum& pendulum, const std::string& id,
+                                        const ReboundMeasurements& fitted) {
+  PoyntingThomsonRun out{id, pendulum, {}, std::nullopt};
+  out.measured.xmax = fitted.xmax;
+  out.measured.xmax_sigma = fitted.xmax_sigma;
+  const bool weighted = !fitted.xmax_sigma.empty() && fitted.xmax_sigma.front() > 0.0;
+  if (fitted.contact_time && (fitted.contact_time_sigma > 0.0) == weighted) {
+    out.measured.contact_time = fitted.contact_time;
+    out.measured.contact_time_sigma = fitted.contact_time_sigma;
   }
   if (!weighted) out.measured.xmax_sigma.clear();
   return out;
@@ -87,37 +88,40 @@ PoyntingThomsonRun AsPoyntingThomsonRun(const Pendulum& pendulum, const RunResul
 
 // Where Poynting-Thomson starts when no contact time enters its fit (the
 // maxima alone fix no time scale): the run's Kelvin-Voigt K and C, with K2 = 10 K.
-std::optional<PoyntingThomson> StartFromKelvinVoigt(const RunResult& run, double mass) {
-  if (!run.kelvin_voigt || !run.kelvin_voigt->stiffness) return std::nullopt;
-  const double k = run.kelvin_voigt->stiffness->value;
-  return PoyntingThomson{mass, k, 10.0 * k, std::max(run.kelvin_voigt->damping->value, 1e-9 * k)};
+std::optional<PoyntingThomson> StartFromKelvinVoigt(const RunFits& fits, double mass) {
+  if (!fits.kelvin_voigt || !fits.kelvin_voigt->stiffness) return std::nullopt;
+  const double k = fits.kelvin_voigt->stiffness->value;
+  return PoyntingThomson{mass, k, 10.0 * k, std::max(fits.kelvin_voigt->damping->value, 1e-9 * k)};
 }
 
 }  // namespace
 
-void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
-                        const FitOptions& fit, RunResult& run) {
-  ReboundMeasurements measured{run.xmax, run.xmax_sigma, run.contact_time, run.contact_time_sigma};
+std::vector<LeastSquaresSummary> FitRunLeastSquares(const Pendulum& pendulum, double mass,
+                                                    Separation separation, const FitOptions& fit,
+                                                    const std::string& run_id,
+                                                    const RunFits& fits) {
+  std::vector<LeastSquaresSummary> out;
+  ReboundMeasurements measured = fits.fitted;
   if (!measured.xmax_sigma.empty() && measured.xmax_sigma.front() <= 0.0)
     measured.xmax_sigma.clear();
   try {
     KelvinVoigtLeastSquaresOptions options = fit.kelvin_voigt;
     options.separation = separation;
-    run.least_squares.push_back(
-        Summarise(FitKelvinVoigtLeastSquares(pendulum, mass, measured, options)));
+    out.push_back(Summarise(FitKelvinVoigtLeastSquares(pendulum, mass, measured, options)));
   } catch (const std::exception& e) {
-    run.least_squares.push_back(Failed("kelvin_voigt_least_squares", e.what()));
+    out.push_back(Failed("kelvin_voigt_least_squares", e.what()));
   }
   try {
     PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
     options.mass = mass;
     options.separation = separation;
-    options.initial = StartFromKelvinVoigt(run, mass);
-    run.least_squares.push_back(
-        Summarise(FitPoyntingThomsonLeastSquares({AsPoyntingThomsonRun(pendulum, run)}, options)));
+    options.initial = StartFromKelvinVoigt(fits, mass);
+    out.push_back(Summarise(FitPoyntingThomsonLeastSquares(
+        {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, options)));
   } catch (const std::exception& e) {
-    run.least_squares.push_back(Failed("poynting_thomson", e.what()));
+    out.push_back(Failed("poynting_thomson", e.what()));
   }
+  return out;
 }
 
 std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
@@ -125,7 +129,9 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
                                                    const std::vector<RunResult>& runs) {
   std::vector<PoyntingThomsonRun> joint;
   for (const RunResult& run : runs) {
-    if (run.ok && run.xmax.size() >= 2) joint.push_back(AsPoyntingThomsonRun(pendulum, run));
+    if (run.ok && run.measured.xmax.size() >= 2) {
+      joint.push_back(AsPoyntingThomsonRun(pendulum, run.id, run.fits.fitted));
+    }
   }
   if (joint.size() < 2) return {};
   try {
@@ -133,7 +139,7 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
     options.mass = mass;
     options.separation = separation;
     for (const RunResult& run : runs) {
-      if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run, mass);
+      if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
     }
     return {Summarise(FitPoyntingThomsonLeastSquares(joint, options))};
   } catch (const std::exception& e) {
@@ -141,21 +147,16 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
   }
 }
 
-}  // namespace impactlab
-
-namespace impactlab {
-
 std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const FitOptions& fit,
                                              const std::vector<RunResult>& runs, std::string* why) {
   std::vector<JointRun> joint;
   for (const RunResult& run : runs) {
+    const RunMeasurement& m = run.measured;
     const bool weighted =
-        std::all_of(run.xmax_sigma.begin(), run.xmax_sigma.end(), [](double s) { return s > 0.0; });
-    if (run.ok && run.xmax.size() >= 2 && !run.xmax_sigma.empty() && weighted) {
-      joint.push_back({run.id,
-                       pendulum,
-                       {run.xmax, run.xmax_sigma, std::nullopt, 0.0},
-                       run.initial_displacement});
+        std::all_of(m.xmax_sigma.begin(), m.xmax_sigma.end(), [](double s) { return s > 0.0; });
+    if (run.ok && m.xmax.size() >= 2 && !m.xmax_sigma.empty() && weighted) {
+      joint.push_back(
+          {run.id, pendulum, {m.xmax, m.xmax_sigma, std::nullopt, 0.0}, run.initial_displacement});
     }
   }
   if (joint.size() < 3) {
@@ -175,7 +176,7 @@ std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const Fit
       ModelComparisonRow row;
       row.model = m.name;
       row.ok = m.ok;
-      row.diagnostic = m.diagnostic;
+      row.reason = m.reason;
       row.parameters = m.parameters;
       row.maxima = m.maxima;
       row.parameter_count = m.parameter_count;

@@ -10,11 +10,13 @@
 
 namespace impactlab {
 
-// Kelvin-Voigt over all maxima of the run and Poynting-Thomson from its maxima
-// (and contact time when it has an uncertainty); appends to run.least_squares.
-// A fit that cannot run is summarised with its reason, never thrown.
-void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
-                        const FitOptions& fit, RunResult& run);
+// Kelvin-Voigt over all maxima the run's fits are fitted to, and
+// Poynting-Thomson from them (with the contact time when it has an
+// uncertainty), started from the run's two-point Kelvin-Voigt fit. A fit that
+// cannot run is summarised with its reason, never thrown.
+std::vector<LeastSquaresSummary> FitRunLeastSquares(const Pendulum& pendulum, double mass,
+                                                    Separation separation, const FitOptions& fit,
+                                                    const std::string& run_id, const RunFits& fits);
 
 // Poynting-Thomson with one parameter set for every successful run.
 std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,

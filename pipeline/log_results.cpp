@@ -35,7 +35,7 @@ LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
     out.impact_time_s = s.impact.time_s;
     out.impact_method = s.impact.method;
   } else {
-    out.impact_method = s.impact.diagnostic;
+    out.impact_method = s.impact.reason;
   }
   for (const ChannelAnalysis& c : s.channels) out.channels.push_back(Summarise(c));
   return out;
@@ -48,7 +48,7 @@ LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
   LogResult out;
   out.id = a.log_id;
   out.ok = a.ok;
-  out.status = a.status;
+  out.reason = a.reason;
   if (!a.ok) return out;
   out.sources.push_back(Summarise(a.experiment, "experiment"));
   if (a.simulation) out.sources.push_back(Summarise(*a.simulation, "simulation"));

@@ -12,9 +12,8 @@
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
+#include "fit/kelvin_voigt_response.h"
 #include "io/errors.h"
-#include "model/kelvin_voigt.h"
-#include "model/rebound_history.h"
 #include "pipeline/least_squares_runs.h"
 #include "pipeline/log_results.h"
 #include "pipeline/run_fingerprint.h"
@@ -29,44 +28,8 @@ std::string NowIso8601() {
                      fmt::gmtime(std::chrono::system_clock::to_time_t(now)));
 }
 
-// Times of the model's maxima since release, for a run whose maxima were typed
-// in: a quarter swing from X0, then per impact tau_c and a swing of the model's
-// amplitude (exact pendulum: durations depend on amplitude).
-std::vector<double> ModelPeakTimes(const Pendulum& pendulum, const RunResult& run,
-                                   const KelvinVoigtTwoPointFit& fit) {
-  const int a = fit.rebounds_used[0];
-  const double xa = run.xmax[a];
-  const double tau_c = fit.contact_time.value_or(0.0);
-  const double log_e = fit.log_restitution.value;
-  double t = 0.5 * HalfPeriod(pendulum, run.initial_displacement);
-  std::vector<double> peaks;
-  const int last = static_cast<int>(run.xmax.size()) - 1;
-  // PENDUL rebound N (N >= 1) is session rebound N - first_rebound.
-  for (int n = 1 - run.first_rebound; n <= last; ++n) {
-    const double duration = HalfPeriod(pendulum, PredictMaximum(pendulum, xa, a, n, log_e));
-    t += tau_c;
-    if (n >= 0) peaks.push_back(t + 0.5 * duration);
-    t += duration;
-  }
-  return peaks;
-}
-
-// The fitted model's displacement history (PENDUL option 2 with the fitted K, C),
-// released from the amplitude the fit extrapolates back to, for the figures.
-Curve ModelResponse(const Pendulum& pendulum, double mass, const RunResult& run,
-                    const KelvinVoigtTwoPointFit& fit) {
-  const int a = fit.rebounds_used[0];
-  const double release =
-      PredictMaximum(pendulum, run.xmax[a], a, -run.first_rebound, fit.log_restitution.value);
-  const KelvinVoigtContactLaw law({mass, fit.stiffness->value, fit.damping->value}, fit.separation);
-  const int rebounds = static_cast<int>(run.xmax.size()) + run.first_rebound - 1;
-  const ReboundSequence sequence = SimulateRebounds(pendulum, law, release, rebounds);
-  const double end = sequence.start_time.back() + sequence.duration.back();
-  const SampledHistory h = SampleHistory(sequence, pendulum, law, end / 3000.0);
-  return Curve{h.time, h.displacement};
-}
-
-void MeasureTypedRun(const Run& run, RunResult& out) {
+RunMeasurement MeasureTypedRun(const Run& run) {
+  RunMeasurement out;
   out.source = "typed-in";
   out.xmax = run.rebounds;
   out.xmax_sigma.assign(run.rebounds.size(), run.rebound_uncertainty.value_or(0.0));
@@ -75,51 +38,60 @@ void MeasureTypedRun(const Run& run, RunResult& out) {
     out.contact_time_sigma = run.contact_time_uncertainty.value_or(0.0);
     out.contact_time_source = "typed-in";
   }
+  return out;
 }
 
-// The closed-form Kelvin-Voigt fit of a measured run, and Table 2's deviations.
-void FitRun(const Run& run, const Session& session, const Pendulum& pendulum, Separation separation,
-            const FitOptions& fit_options, RunResult& out) {
-  // The session's one contact time, when given, is the thesis's procedure
-  // (Table 3): it replaces each run's own.
+// What the fits are fitted to: the run's maxima, and its own contact time
+// unless the session gives one for every run (the thesis's procedure, Table 3).
+RunFits FitInputs(const RunMeasurement& measured, const Session& session) {
+  RunFits fits;
+  fits.fitted = {measured.xmax, measured.xmax_sigma, measured.contact_time,
+                 measured.contact_time_sigma};
+  fits.contact_time_source = measured.contact_time_source;
   if (session.reduction.contact_time) {
-    out.contact_time = session.reduction.contact_time;
-    out.contact_time_sigma = 0.0;
-    out.contact_time_source = "session";
+    fits.fitted.contact_time = session.reduction.contact_time;
+    fits.fitted.contact_time_sigma = 0.0;
+    fits.contact_time_source = "session";
   }
-  ReboundMeasurements measured{out.xmax, out.xmax_sigma, out.contact_time, out.contact_time_sigma};
+  return fits;
+}
+
+// The closed-form Kelvin-Voigt fit of a measured run with Table 2's
+// deviations and the model's figures, then its least-squares fits. Throws
+// for fit_rebounds the run has not measured; a pair without dissipation is a
+// fit that is not ok, with its reason.
+RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& session,
+               const Pendulum& pendulum, Separation separation, const FitOptions& fit_options) {
+  RunFits out = FitInputs(measured, session);
   TwoPointOptions options;
   options.rebounds = run.fit_rebounds;
   options.separation = separation;
-  if (options.rebounds[1] >= static_cast<int>(out.xmax.size())) {
+  if (options.rebounds[1] >= static_cast<int>(measured.xmax.size())) {
     throw std::invalid_argument(
         fmt::format("fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
-                    options.rebounds[0], options.rebounds[1], out.xmax.size() - 1));
+                    options.rebounds[0], options.rebounds[1], measured.xmax.size() - 1));
   }
-  KelvinVoigtTwoPointFit fit =
-      FitKelvinVoigtTwoPoint(pendulum, session.apparatus->mass, measured, options);
+  const double mass = session.apparatus->mass;
+  KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(pendulum, mass, out.fitted, options);
   if (!fit.ok) {
-    out.failure = fmt::format("{}: run \"{}\".fit_rebounds: {}", session.manifest.string(), run.id,
-                              fit.diagnostic);
     out.kelvin_voigt = std::move(fit);
-    return;
+    return out;
   }
-  for (std::size_t n = 0; n < out.xmax.size(); ++n) {
-    const double deviation = fit.predicted_xmax[n].value - out.xmax[n];
+  for (std::size_t n = 0; n < measured.xmax.size(); ++n) {
+    const double deviation = fit.predicted_xmax[n].value - measured.xmax[n];
     out.deviation.push_back(deviation);
-    out.deviation_pct_peak.push_back(100.0 * deviation / out.xmax[n]);
-    out.deviation_pct_x0.push_back(100.0 * deviation / out.initial_displacement);
+    out.deviation_pct_peak.push_back(100.0 * deviation / measured.xmax[n]);
+    out.deviation_pct_x0.push_back(100.0 * deviation / run.initial_displacement);
   }
-  if (out.t_peak.empty()) {
-    out.t_peak = ModelPeakTimes(pendulum, out, fit);
-    out.t_peak_source = "model";
+  const FittedRun fitted_run{measured.xmax, run.initial_displacement, run.first_rebound};
+  if (measured.t_peak.empty()) out.model_peak_times = ModelPeakTimes(pendulum, fitted_run, fit);
+  if (fit.stiffness) {
+    const SampledHistory response = ModelResponse(pendulum, mass, fitted_run, fit);
+    out.model_response = {response.time, response.displacement};
   }
-  if (fit.stiffness)
-    out.model_response = ModelResponse(pendulum, session.apparatus->mass, out, fit);
-  out.stiffness_source = "run";
   out.kelvin_voigt = std::move(fit);
-  out.ok = true;
-  FitRunLeastSquares(pendulum, session.apparatus->mass, separation, fit_options, out);
+  out.least_squares = FitRunLeastSquares(pendulum, mass, separation, fit_options, run.id, out);
+  return out;
 }
 
 // A previous result's measurement, when the run's inputs are unchanged and
@@ -131,25 +103,7 @@ const RunResult* Reusable(const ReduceOptions& options, const Run& run,
   if (options.previous == nullptr || run.HasTypedRebounds()) return nullptr;
   const RunResult* old = options.previous->FindRun(run.id);
   if (old == nullptr || old->fingerprint != fingerprint) return nullptr;
-  return ReuseProblem(*old).empty() ? old : nullptr;
-}
-
-void CopyMeasurement(const RunResult& from, RunResult& to) {
-  to.source = from.source;
-  to.xmax = from.xmax;
-  to.xmax_sigma = from.xmax_sigma;
-  to.t_peak = from.t_peak;
-  to.t_peak_sigma = from.t_peak_sigma;
-  to.t_peak_source = from.t_peak_source;
-  to.contact_time = from.contact_time;
-  to.contact_time_sigma = from.contact_time_sigma;
-  to.contact_time_source = from.contact_time_source;
-  to.right = from.right;
-  to.left = from.left;
-  to.rebound_duration = from.rebound_duration;
-  to.calibrations = from.calibrations;
-  to.measured_displacement = from.measured_displacement;
-  to.overlays = from.overlays;
+  return ReuseProblem(old->measured).empty() ? old : nullptr;
 }
 
 // `fingerprint`: the run's, when already worked out.
@@ -171,31 +125,40 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
                      : SettingsOfStages(run_options, {"rebound_extraction", "fit"});
   out.fingerprint = fingerprint ? *fingerprint : RunFingerprint(run, session, options);
   if (run.HasTypedRebounds()) {
-    MeasureTypedRun(run, out);
+    out.measured = MeasureTypedRun(run);
   } else if (const RunResult* old = Reusable(options, run, out.fingerprint)) {
-    CopyMeasurement(*old, out);
+    out.measured = old->measured;
     out.reused = true;
   } else {
-    MeasureTraceRun(run, session, pendulum, run_options, calibrations, out);
+    MeasuredTraceRun measured = MeasureTraceRun(run, session, pendulum, run_options, calibrations);
+    out.measured = std::move(measured.measured);
+    out.seconds = measured.seconds;
   }
   if (options.products == Products::kFit) {
     // The fit's model figures simulate every rebound from the release: a
     // first_rebound of 2e8 with a restitution near 1 once took 50 s and
     // bad_alloc. Rebounds die out within tens; refused before any work.
     constexpr int kMaxModelRebounds = 1000;
-    if (run.first_rebound > kMaxModelRebounds - static_cast<int>(out.xmax.size())) {
+    const std::size_t measured_rebounds = out.measured.xmax.size();
+    if (run.first_rebound > kMaxModelRebounds - static_cast<int>(measured_rebounds)) {
       throw InputError(
           {session.manifest, fmt::format("run \"{}\".first_rebound", run.id), std::nullopt},
           fmt::format("first_rebound = {}: the fit's model would simulate {} rebounds from the "
                       "release; at most {} are expected",
                       run.first_rebound,
-                      static_cast<long long>(run.first_rebound) + out.xmax.size(),
+                      static_cast<long long>(run.first_rebound) + measured_rebounds,
                       kMaxModelRebounds));
     }
     const auto start = std::chrono::steady_clock::now();
-    FitRun(run, session, pendulum, separation, run_options.fit, out);
+    out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
     out.seconds.fit =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const KelvinVoigtTwoPointFit& fit = *out.fits.kelvin_voigt;
+    out.ok = fit.ok;
+    if (!fit.ok) {
+      out.reason = fmt::format("{}: run \"{}\".fit_rebounds: {}", session.manifest.string(), run.id,
+                               fit.reason);
+    }
   } else {
     out.ok = true;
   }
@@ -216,7 +179,7 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
     failed.initial_displacement = run.initial_displacement;
     failed.first_rebound = run.first_rebound;
     // An InputError names its own file and key; anything else gets the run's.
-    failed.failure =
+    failed.reason =
         dynamic_cast<const InputError*>(&error) != nullptr
             ? error.what()
             : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
@@ -264,47 +227,31 @@ void ForEachInParallel(std::size_t count, int jobs, const std::function<void(std
   worker();
 }
 
-// The thesis's design expedient: one K (the runs' mean) for every run, C from it.
-void ApplyAverageStiffness(SessionResult& result, double mass) {
-  std::vector<double> stiffness;
-  double variance_sum = 0.0;
-  for (const RunResult& run : result.runs) {
-    if (run.ok && run.kelvin_voigt->stiffness) {
-      stiffness.push_back(run.kelvin_voigt->stiffness->value);
-      variance_sum += std::pow(run.kelvin_voigt->stiffness->sigma, 2);
-    }
-  }
-  if (stiffness.empty()) return;
-  const double average = SpreadOf(stiffness).average;
-  const double average_sigma = std::sqrt(variance_sum) / static_cast<double>(stiffness.size());
-  for (RunResult& run : result.runs) {
-    if (!run.ok || !run.kelvin_voigt->stiffness) continue;
-    KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
-    const double zeta = fit.damping_ratio.value;
-    const double damping = 2.0 * zeta * std::sqrt(average * mass);
-    const double damping_sigma =
-        damping *
-        std::hypot(fit.damping_ratio.sigma / std::max(zeta, 1e-300), 0.5 * average_sigma / average);
-    fit.stiffness = Estimate{average, average_sigma};
-    fit.damping = Estimate{damping, damping_sigma};
-    run.stiffness_source = "session average";
-  }
-}
-
-std::optional<SessionKelvinVoigt> AnalyseAcrossRuns(const SessionResult& result,
-                                                    bool average_stiffness,
-                                                    const std::vector<double>& own_stiffness) {
+// Table 3 and eq. 40 over the runs with a Kelvin-Voigt stiffness; with
+// [reduction] average_stiffness, every run's C from the runs' mean K.
+std::optional<SessionKelvinVoigt> AnalyseAcrossRuns(const std::vector<RunResult>& runs,
+                                                    bool average_stiffness, double mass) {
   SessionKelvinVoigt out;
-  out.average_stiffness = average_stiffness;
-  for (std::size_t i = 0; i < result.runs.size(); ++i) {
-    const RunResult& run = result.runs[i];
-    if (!run.ok || !run.kelvin_voigt->stiffness) continue;
+  std::vector<const KelvinVoigtTwoPointFit*> fits;
+  for (const RunResult& run : runs) {
+    if (!run.ok || !run.fits.kelvin_voigt->stiffness) continue;
+    const KelvinVoigtTwoPointFit& fit = *run.fits.kelvin_voigt;
+    fits.push_back(&fit);
     out.run_ids.push_back(run.id);
-    out.sqrt_restitution.push_back(std::sqrt(run.kelvin_voigt->restitution.value));
-    out.stiffness.push_back(own_stiffness[i]);
-    out.damping.push_back(run.kelvin_voigt->damping->value);
+    out.sqrt_restitution.push_back(std::sqrt(fit.restitution.value));
+    out.stiffness.push_back(fit.stiffness->value);
+    out.damping.push_back(fit.damping->value);
+    out.damping_sigma.push_back(fit.damping->sigma);
   }
   if (out.run_ids.empty()) return std::nullopt;
+  if (average_stiffness) {
+    const AverageStiffness average = AverageStiffnessOf(fits, mass);
+    out.average_stiffness = average.stiffness;
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      out.damping[i] = average.damping[i].value;
+      out.damping_sigma[i] = average.damping[i].sigma;
+    }
+  }
   out.spread = SpreadOf(out.stiffness);
   if (out.run_ids.size() >= 2) {
     try {
@@ -346,7 +293,7 @@ void KeepRejectedEntries(const Session& session, const ReduceOptions& options,
                                [](const RejectedEntry& entry) {
                                  RunResult failed;
                                  failed.id = entry.id;
-                                 failed.failure = entry.Reason();
+                                 failed.reason = entry.Reason();
                                  return failed;
                                });
   }
@@ -355,7 +302,7 @@ void KeepRejectedEntries(const Session& session, const ReduceOptions& options,
                                [](const RejectedEntry& entry) {
                                  LogResult failed;
                                  failed.id = entry.id;
-                                 failed.status = "failed: " + entry.Reason();
+                                 failed.reason = entry.Reason();
                                  return failed;
                                });
   }
@@ -396,7 +343,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
       } catch (const InputError& error) {
         LogResult failed;
         failed.id = log.id;
-        failed.status = std::string("failed: ") + error.what();
+        failed.reason = error.what();
         result.logs.push_back(std::move(failed));
       }
     }
@@ -459,27 +406,21 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   });
   result.runs = std::move(runs);
   for (const RunResult& run : result.runs) {
-    if (!run.ok || !run.right || !run.left) continue;
-    if (const auto disagreement = FirstDisagreement(*run.right, *run.left)) {
+    if (!run.ok || !run.measured.right || !run.measured.left) continue;
+    if (const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left)) {
       result.warnings.push_back(fmt::format("run \"{}\": its maxima stop at rebound {}: {}", run.id,
                                             disagreement->rebound, disagreement->why));
     }
   }
   if (options.products != Products::kFit) return result;
 
-  std::vector<double> own_stiffness;
-  for (const RunResult& run : result.runs) {
-    own_stiffness.push_back(
-        run.ok && run.kelvin_voigt->stiffness ? run.kelvin_voigt->stiffness->value : 0.0);
-  }
-  if (session.reduction.average_stiffness) ApplyAverageStiffness(result, session.apparatus->mass);
   result.joint_fits = FitSessionJointly(pendulum, session.apparatus->mass, result.separation,
                                         session_options.fit, result.runs);
   std::string why;
   result.model_comparison = CompareModels(pendulum, session_options.fit, result.runs, &why);
   if (!result.model_comparison) result.warnings.push_back(why);
   result.kelvin_voigt =
-      AnalyseAcrossRuns(result, session.reduction.average_stiffness, own_stiffness);
+      AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
 
   for (const Prediction& p : session.predictions) {
     const RunResult* source = result.FindRun(p.source_run);
@@ -488,9 +429,9 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
       if (source == nullptr || target == nullptr || !source->ok || !target->ok) {
         throw std::invalid_argument("both runs must reduce to a Kelvin-Voigt fit");
       }
-      result.predictions.push_back(PredictRun(pendulum, source->id, *source->kelvin_voigt,
-                                              target->id, target->xmax, *target->kelvin_voigt,
-                                              p.start_rebound));
+      result.predictions.push_back(PredictRun(pendulum, source->id, *source->fits.kelvin_voigt,
+                                              target->id, target->measured.xmax,
+                                              *target->fits.kelvin_voigt, p.start_rebound));
     } catch (const std::exception& error) {
       result.warnings.push_back(
           fmt::format("{}: prediction of run \"{}\" from run \"{}\" skipped: {}",

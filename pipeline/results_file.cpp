@@ -295,10 +295,9 @@ void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary
   Hdf5File& f = out.f;
   f.CreateGroup(g);
   f.SetAttribute(g, "method", "least-squares");
-  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.message);
+  f.SetAttribute(g, "status", fit.Status());
   if (fit.parameters.empty()) return;
-  // A failed fit's message is its reason, which the status holds.
-  if (fit.ok) f.SetAttribute(g, "termination", fit.message);
+  if (fit.ok) f.SetAttribute(g, "termination", fit.termination);
   f.SetAttribute(g, "converged", static_cast<long long>(fit.converged));
   f.SetAttribute(g, "identifiable", static_cast<long long>(fit.identifiable));
   f.SetAttribute(g, "rank", static_cast<long long>(fit.rank));
@@ -326,10 +325,12 @@ LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const s
   fit.model = model;
   const std::string status = f.ReadStringAttribute(g, "status");
   fit.ok = status == "ok";
+  if (!fit.ok) fit.reason = ReasonOf(status);
   if (in.layout == 1) {
-    fit.message = f.ReadStringAttribute(g, "solver_message");
+    // Its "solver_message": the termination, or a failed fit's reason.
+    (fit.ok ? fit.termination : fit.reason) = f.ReadStringAttribute(g, "solver_message");
   } else {
-    fit.message = fit.ok ? f.ReadStringAttribute(g, "termination") : ReasonOf(status);
+    if (fit.ok) fit.termination = f.ReadStringAttribute(g, "termination");
     if (!f.Exists(g + "/parameter_names")) return fit;  // the fit did not run
   }
   fit.converged = f.ReadIntegerAttribute(g, "converged") != 0;
@@ -362,7 +363,7 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
   for (const ModelComparisonRow& m : c.models) {
     const std::string h = g + "/" + m.model;
     f.CreateGroup(h);
-    f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.diagnostic);
+    f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.reason);
     f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
     f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
     f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
@@ -389,7 +390,7 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     m.model = model;
     const std::string status = f.ReadStringAttribute(h, "status");
     m.ok = status == "ok";
-    if (!m.ok) m.diagnostic = status;
+    if (!m.ok) m.reason = ReasonOf(status);
     m.maxima = static_cast<int>(f.ReadIntegerAttribute(h, "maxima"));
     m.parameter_count = static_cast<int>(f.ReadIntegerAttribute(h, "parameter_count"));
     m.dof = static_cast<int>(f.ReadIntegerAttribute(h, "dof"));
@@ -455,7 +456,7 @@ void WriteLog(Out& out, const LogResult& log) {
   Hdf5File& f = out.f;
   const std::string g = JoinPath({"logs", log.id});
   f.CreateGroup(g);
-  f.SetAttribute(g, "status", log.status);
+  f.SetAttribute(g, "status", log.Status());
   WriteSettings(f, g + "/settings", log.settings);
   for (const LogSourceResult& s : log.sources) {
     const std::string h = g + "/" + s.source;
@@ -484,8 +485,9 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
   const std::string g = JoinPath({"logs", id});
   LogResult log;
   log.id = id;
-  log.status = f.ReadStringAttribute(g, "status");
-  log.ok = log.status == "ok";
+  const std::string status = f.ReadStringAttribute(g, "status");
+  log.ok = status == "ok";
+  if (!log.ok) log.reason = ReasonOf(status);
   log.settings = ReadSettings(f, g + "/settings");
   for (const std::string& source : f.Children(g)) {
     const std::string h = g + "/" + source;
@@ -522,66 +524,72 @@ LogResult ReadLog(const Hdf5File& f, const std::string& id) {
 
 void WriteKelvinVoigt(Out& out, const RunResult& run) {
   Hdf5File& f = out.f;
-  const KelvinVoigtTwoPointFit& fit = *run.kelvin_voigt;
+  const RunFits& fits = run.fits;
+  const KelvinVoigtTwoPointFit& fit = *fits.kelvin_voigt;
   const std::string g = KelvinVoigtPath(run.id);
   f.CreateGroup(g);
   f.SetAttribute(g, "method", "two-point");
   f.SetAttribute(g, "separation", SeparationName(fit.separation));
   f.SetAttribute(g, "rebounds_used",
                  std::vector<long long>{fit.rebounds_used[0], fit.rebounds_used[1]});
-  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.diagnostic);
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
   if (!fit.ok) return;
-  // A caveat of a fit that succeeded (a failed fit's reason is its status).
-  if (!fit.diagnostic.empty()) f.SetAttribute(g, "diagnostic", fit.diagnostic);
+  if (!fit.note.empty()) f.SetAttribute(g, "note", fit.note);
   WriteEstimate(f, g + "/zeta", fit.damping_ratio, "1");
   WriteEstimate(f, g + "/restitution", fit.restitution, "1");
   WriteEstimate(f, g + "/log_restitution", fit.log_restitution, "1");
   if (fit.stiffness) {
     WriteEstimate(f, g + "/stiffness", *fit.stiffness, out.u.stiffness);
     WriteEstimate(f, g + "/damping", *fit.damping, out.u.damping);
-    f.SetAttribute(g, "stiffness_source", run.stiffness_source);
   }
-  if (fit.contact_time) f.WriteScalar(g + "/contact_time_used", *fit.contact_time, "s");
+  if (fit.contact_time) {
+    f.WriteScalar(g + "/contact_time_used", *fit.contact_time, "s");
+    f.SetAttribute(g + "/contact_time_used", "source", fits.contact_time_source);
+  }
   f.WriteVector(g + "/predicted_xmax", Values(fit.predicted_xmax), out.u.length);
   f.WriteVector(g + "/predicted_xmax_std_error", Sigmas(fit.predicted_xmax), out.u.length);
-  f.WriteVector(g + "/deviation", run.deviation, out.u.length);
-  f.WriteVector(g + "/deviation_pct_peak", run.deviation_pct_peak, "%");
-  f.WriteVector(g + "/deviation_pct_x0", run.deviation_pct_x0, "%");
-  if (!run.model_response.time_s.empty()) {
-    WriteCurve(out, g + "/response/time", run.model_response.time_s, "s",
-               g + "/response/displacement", run.model_response.value, out.u.length);
+  f.WriteVector(g + "/deviation", fits.deviation, out.u.length);
+  f.WriteVector(g + "/deviation_pct_peak", fits.deviation_pct_peak, "%");
+  f.WriteVector(g + "/deviation_pct_x0", fits.deviation_pct_x0, "%");
+  if (!fits.model_response.time_s.empty()) {
+    WriteCurve(out, g + "/response/time", fits.model_response.time_s, "s",
+               g + "/response/displacement", fits.model_response.value, out.u.length);
   }
   const std::size_t n = fit.predicted_xmax.size();
-  for (const std::string& a : SameLength(g, run.xmax.size(),
+  for (const std::string& a : SameLength(g, run.measured.xmax.size(),
                                          {{"predicted_xmax", n},
                                           {"predicted_xmax_std_error", n},
-                                          {"deviation", run.deviation.size()},
-                                          {"deviation_pct_peak", run.deviation_pct_peak.size()},
-                                          {"deviation_pct_x0", run.deviation_pct_x0.size()}})) {
+                                          {"deviation", fits.deviation.size()},
+                                          {"deviation_pct_peak", fits.deviation_pct_peak.size()},
+                                          {"deviation_pct_x0", fits.deviation_pct_x0.size()}})) {
     out.x.AttachScale(a, RunPath(run.id) + "/rebounds/rebound");
   }
 }
 
+// The measured maxima, and when they fall: measured on the traces, or (typed-in
+// maxima) as the fitted model has them, which the "source" attribute says.
 void WriteRebounds(Out& out, const RunResult& run) {
   Hdf5File& f = out.f;
+  const RunMeasurement& m = run.measured;
   const std::string g = RunPath(run.id) + "/rebounds";
-  f.WriteVector(g + "/xmax", run.xmax, out.u.length);
-  f.WriteVector(g + "/xmax_std_error", run.xmax_sigma, out.u.length);
-  if (!run.t_peak.empty()) {
-    f.WriteVector(g + "/t_peak", run.t_peak, "s");
-    f.SetAttribute(g + "/t_peak", "source", run.t_peak_source);
+  f.WriteVector(g + "/xmax", m.xmax, out.u.length);
+  f.WriteVector(g + "/xmax_std_error", m.xmax_sigma, out.u.length);
+  const std::vector<double>& t_peak = run.PeakTimes();
+  if (!t_peak.empty()) {
+    f.WriteVector(g + "/t_peak", t_peak, "s");
+    f.SetAttribute(g + "/t_peak", "source", std::string(run.PeakTimesSource()));
   }
-  if (!run.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", run.t_peak_sigma, "s");
-  if (!run.rebound_duration.empty()) f.WriteVector(g + "/duration", run.rebound_duration, "s");
-  WriteReboundScale(out, g, 0, run.xmax.size(),
-                    SameLength(g, run.xmax.size(),
-                               {{"xmax", run.xmax.size()},
-                                {"xmax_std_error", run.xmax_sigma.size()},
-                                {"t_peak", run.t_peak.size()},
-                                {"t_peak_std_error", run.t_peak_sigma.size()},
-                                {"duration", run.rebound_duration.size()}}));
-  if (run.right) WriteBar(out, g + "/right", *run.right);
-  if (run.left) WriteBar(out, g + "/left", *run.left);
+  if (!m.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", m.t_peak_sigma, "s");
+  if (!m.rebound_duration.empty()) f.WriteVector(g + "/duration", m.rebound_duration, "s");
+  WriteReboundScale(out, g, 0, m.xmax.size(),
+                    SameLength(g, m.xmax.size(),
+                               {{"xmax", m.xmax.size()},
+                                {"xmax_std_error", m.xmax_sigma.size()},
+                                {"t_peak", t_peak.size()},
+                                {"t_peak_std_error", m.t_peak_sigma.size()},
+                                {"duration", m.rebound_duration.size()}}));
+  if (m.right) WriteBar(out, g + "/right", *m.right);
+  if (m.left) WriteBar(out, g + "/left", *m.left);
 }
 
 void CheckRunId(const Hdf5File& f, const std::string& id) {
@@ -605,27 +613,28 @@ void WriteRun(Out& out, const RunResult& run) {
   }
   if (!run.fingerprint.empty()) f.SetAttribute(g, "input_fingerprint", run.fingerprint);
   WriteSettings(f, g + "/settings", run.settings);
-  if (!run.source.empty()) f.SetAttribute(g, "source", run.source);
-  if (!run.xmax.empty()) WriteRebounds(out, run);
-  if (!run.measured_displacement.time_s.empty()) {
-    WriteCurve(out, g + "/displacement/time", run.measured_displacement.time_s, "s",
-               g + "/displacement/average", run.measured_displacement.value, out.u.length);
+  const RunMeasurement& m = run.measured;
+  if (!m.source.empty()) f.SetAttribute(g, "source", m.source);
+  if (!m.xmax.empty()) WriteRebounds(out, run);
+  if (!m.measured_displacement.time_s.empty()) {
+    WriteCurve(out, g + "/displacement/time", m.measured_displacement.time_s, "s",
+               g + "/displacement/average", m.measured_displacement.value, out.u.length);
   }
-  for (std::size_t i = 0; i < run.overlays.size(); ++i) {
-    WriteOverlay(out, fmt::format("{}/digitized/{}", g, i), run.overlays[i]);
+  for (std::size_t i = 0; i < m.overlays.size(); ++i) {
+    WriteOverlay(out, fmt::format("{}/digitized/{}", g, i), m.overlays[i]);
   }
-  for (const CellCalibration& c : run.calibrations) {
+  for (const CellCalibration& c : m.calibrations) {
     WriteCalibration(out, g + "/calibration/" + c.cell, c);
   }
-  if (run.contact_time) {
-    f.WriteScalar(g + "/contact_time", *run.contact_time, "s");
-    f.WriteScalar(g + "/contact_time_std_error", run.contact_time_sigma, "s");
-    f.SetAttribute(g + "/contact_time", "source", run.contact_time_source);
+  if (m.contact_time) {
+    f.WriteScalar(g + "/contact_time", *m.contact_time, "s");
+    f.WriteScalar(g + "/contact_time_std_error", m.contact_time_sigma, "s");
+    f.SetAttribute(g + "/contact_time", "source", m.contact_time_source);
   }
-  if (run.kelvin_voigt) WriteKelvinVoigt(out, run);
-  const std::string scale = run.xmax.empty() ? "" : g + "/rebounds/rebound";
-  for (const LeastSquaresSummary& fit : run.least_squares) {
-    const bool per_rebound = fit.predicted_xmax.size() == run.xmax.size();
+  if (run.fits.kelvin_voigt) WriteKelvinVoigt(out, run);
+  const std::string scale = m.xmax.empty() ? "" : g + "/rebounds/rebound";
+  for (const LeastSquaresSummary& fit : run.fits.least_squares) {
+    const bool per_rebound = fit.predicted_xmax.size() == m.xmax.size();
     WriteLeastSquares(out, g + "/fit/" + fit.model, fit, per_rebound ? scale : "");
   }
 }
@@ -642,6 +651,9 @@ void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
   f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, out.u.stiffness);
   f.WriteVector(g + "/stiffness_pct_variation", s.spread.pct_variation, "%");
   f.WriteVector(g + "/damping", s.damping, out.u.damping);
+  f.WriteVector(g + "/damping_std_error", s.damping_sigma, out.u.damping);
+  if (s.average_stiffness)
+    WriteEstimate(f, g + "/average_stiffness", *s.average_stiffness, out.u.stiffness);
   const std::size_t n = s.run_ids.size();
   for (const std::string& a :
        SameLength(g, n,
@@ -649,7 +661,8 @@ void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
                    {"stiffness", s.stiffness.size()},
                    {"stiffness_deviation", s.spread.deviation.size()},
                    {"stiffness_pct_variation", s.spread.pct_variation.size()},
-                   {"damping", s.damping.size()}})) {
+                   {"damping", s.damping.size()},
+                   {"damping_std_error", s.damping_sigma.size()}})) {
     out.x.AttachScale(a, g + "/run_ids");
   }
   if (s.damping_line) {
@@ -733,8 +746,12 @@ std::vector<Estimate> Zip(const std::vector<double>& values, const std::vector<d
   return out;
 }
 
+// Layout 1 and the first files of layout 2 hold, with [reduction]
+// average_stiffness, the session's K and C in place of the run's own, and say
+// so in a "stiffness_source" attribute.
 void ReadKelvinVoigt(const In& in, RunResult& run) {
   const Hdf5File& f = in.f;
+  RunFits& fits = run.fits;
   const std::string k = KelvinVoigtPath(run.id);
   KelvinVoigtTwoPointFit fit;
   fit.separation = ParseSeparation(f.ReadStringAttribute(k, "separation"));
@@ -742,10 +759,14 @@ void ReadKelvinVoigt(const In& in, RunResult& run) {
   fit.rebounds_used = {static_cast<int>(used.at(0)), static_cast<int>(used.at(1))};
   const std::string status = f.ReadStringAttribute(k, "status");
   fit.ok = status == "ok";
-  if (f.HasAttribute(k, "diagnostic")) {
-    fit.diagnostic = f.ReadStringAttribute(k, "diagnostic");
-  } else if (!fit.ok) {
-    fit.diagnostic = ReasonOf(status);  // layout 2 says it once, in the status
+  if (!fit.ok) {
+    // Layout 1 repeated the reason in a "diagnostic" attribute.
+    fit.reason = ReasonOf(status);
+  } else {
+    // An ok fit's caveat: "note"; before, "diagnostic".
+    for (const char* name : {"note", "diagnostic"}) {
+      if (fit.note.empty() && f.HasAttribute(k, name)) fit.note = f.ReadStringAttribute(k, name);
+    }
   }
   if (fit.ok) {
     fit.damping_ratio = ReadEstimate(f, k + "/zeta");
@@ -754,35 +775,38 @@ void ReadKelvinVoigt(const In& in, RunResult& run) {
     if (f.Exists(k + "/stiffness")) {
       fit.stiffness = ReadEstimate(f, k + "/stiffness");
       fit.damping = ReadEstimate(f, k + "/damping");
-      run.stiffness_source = f.ReadStringAttribute(k, "stiffness_source");
     }
     fit.contact_time = f.ReadScalarIfPresent(k + "/contact_time_used");
+    if (fit.contact_time && f.HasAttribute(k + "/contact_time_used", "source")) {
+      fits.contact_time_source = f.ReadStringAttribute(k + "/contact_time_used", "source");
+    }
     fit.predicted_xmax =
         Zip(f.ReadVector(k + "/predicted_xmax"), f.ReadVector(k + "/predicted_xmax_std_error"));
-    run.deviation = f.ReadVector(k + "/deviation");
-    run.deviation_pct_peak = f.ReadVector(k + "/deviation_pct_peak");
-    run.deviation_pct_x0 = f.ReadVector(k + "/deviation_pct_x0");
+    fits.deviation = f.ReadVector(k + "/deviation");
+    fits.deviation_pct_peak = f.ReadVector(k + "/deviation_pct_peak");
+    fits.deviation_pct_x0 = f.ReadVector(k + "/deviation_pct_x0");
   }
   if (f.Exists(k + "/response/time")) {
-    run.model_response = {f.ReadVector(k + "/response/time"),
-                          f.ReadVector(k + "/response/displacement")};
+    fits.model_response = {f.ReadVector(k + "/response/time"),
+                           f.ReadVector(k + "/response/displacement")};
   }
-  run.kelvin_voigt = std::move(fit);
+  fits.kelvin_voigt = std::move(fit);
 }
 
 void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
+  RunMeasurement& m = run.measured;
   if (f.Exists(g + "/rebounds/xmax")) {
-    run.xmax = f.ReadVector(g + "/rebounds/xmax");
-    run.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
+    m.xmax = f.ReadVector(g + "/rebounds/xmax");
+    m.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
   }
   if (f.Exists(g + "/rebounds/t_peak")) {
-    run.t_peak = f.ReadVector(g + "/rebounds/t_peak");
-    run.t_peak_source = f.ReadStringAttribute(g + "/rebounds/t_peak", "source");
+    const bool from_model = f.ReadStringAttribute(g + "/rebounds/t_peak", "source") == "model";
+    (from_model ? run.fits.model_peak_times : m.t_peak) = f.ReadVector(g + "/rebounds/t_peak");
   }
-  run.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
-  run.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
-  if (f.Exists(g + "/rebounds/right")) run.right = ReadBar(f, g + "/rebounds/right");
-  if (f.Exists(g + "/rebounds/left")) run.left = ReadBar(f, g + "/rebounds/left");
+  m.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
+  m.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
+  if (f.Exists(g + "/rebounds/right")) m.right = ReadBar(f, g + "/rebounds/right");
+  if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }
 
 RunResult ReadRun(const In& in, const std::string& id) {
@@ -793,38 +817,44 @@ RunResult ReadRun(const In& in, const std::string& id) {
   run.settings = ReadSettings(f, g + "/settings");
   const std::string status = f.ReadStringAttribute(g, "status");
   run.ok = status == "ok";
-  if (!run.ok) run.failure = ReasonOf(status);
+  if (!run.ok) run.reason = ReasonOf(status);
   if (f.HasAttribute(g, "first_rebound")) {
     run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
   }
-  if (f.HasAttribute(g, "source")) run.source = f.ReadStringAttribute(g, "source");
+  RunMeasurement& m = run.measured;
+  if (f.HasAttribute(g, "source")) m.source = f.ReadStringAttribute(g, "source");
   if (f.HasAttribute(g, "input_fingerprint")) {
     run.fingerprint = f.ReadStringAttribute(g, "input_fingerprint");
   }
   run.initial_displacement = f.ReadScalarIfPresent(g + "/initial_displacement").value_or(0.0);
   ReadRebounds(f, g, run);
   if (f.Exists(g + "/displacement/time")) {
-    run.measured_displacement = {f.ReadVector(g + "/displacement/time"),
-                                 f.ReadVector(g + "/displacement/average")};
+    m.measured_displacement = {f.ReadVector(g + "/displacement/time"),
+                               f.ReadVector(g + "/displacement/average")};
   }
   if (f.Exists(g + "/digitized")) {
     for (const std::string& i : f.Children(g + "/digitized")) {
-      run.overlays.push_back(ReadOverlay(f, g + "/digitized/" + i));
+      m.overlays.push_back(ReadOverlay(f, g + "/digitized/" + i));
     }
   }
   if (f.Exists(g + "/calibration")) {
     for (const std::string& cell : f.Children(g + "/calibration")) {
-      run.calibrations.push_back(ReadCalibration(f, g + "/calibration/" + cell, cell));
+      m.calibrations.push_back(ReadCalibration(f, g + "/calibration/" + cell, cell));
     }
   }
-  if (f.Exists(g + "/contact_time")) {
-    run.contact_time = f.ReadScalar(g + "/contact_time");
-    run.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
-    run.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
+  // Before, a session's one contact time was written here as the run's, with
+  // the source "session"; the fit's "contact_time_used" holds it now.
+  if (f.Exists(g + "/contact_time") &&
+      f.ReadStringAttribute(g + "/contact_time", "source") == "session") {
+    if (run.ok) run.fits.contact_time_source = "session";
+  } else if (f.Exists(g + "/contact_time")) {
+    m.contact_time = f.ReadScalar(g + "/contact_time");
+    m.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
+    m.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
   }
   for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
     const std::string g_fit = g + "/fit/" + model;
-    if (f.Exists(g_fit)) run.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
+    if (f.Exists(g_fit)) run.fits.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
   }
   if (f.Exists(KelvinVoigtPath(id))) ReadKelvinVoigt(in, run);
   return run;
@@ -833,7 +863,8 @@ RunResult ReadRun(const In& in, const std::string& id) {
 SessionKelvinVoigt ReadSessionKelvinVoigt(const Hdf5File& f) {
   const std::string g = "/session/kelvin_voigt";
   SessionKelvinVoigt s;
-  s.average_stiffness = f.ReadStringAttribute(g, "stiffness") == "average";
+  if (f.Exists(g + "/average_stiffness"))
+    s.average_stiffness = ReadEstimate(f, g + "/average_stiffness");
   s.run_ids = f.ReadStrings(g + "/run_ids");
   s.sqrt_restitution = f.ReadVector(g + "/sqrt_restitution");
   s.stiffness = f.ReadVector(g + "/stiffness");
@@ -841,6 +872,8 @@ SessionKelvinVoigt ReadSessionKelvinVoigt(const Hdf5File& f) {
   s.spread.deviation = f.ReadVector(g + "/stiffness_deviation");
   s.spread.pct_variation = f.ReadVector(g + "/stiffness_pct_variation");
   s.damping = f.ReadVector(g + "/damping");
+  s.damping_sigma = ReadVectorIfPresent(f, g + "/damping_std_error");
+  s.damping_sigma.resize(s.damping.size(), 0.0);
   const std::string l = g + "/damping_line";
   if (f.Exists(l)) {
     DampingLine line;

@@ -197,7 +197,7 @@ std::string BarProblem(const std::string& name, const BarRebounds& bar) {
 
 }  // namespace
 
-std::string ReuseProblem(const RunResult& r) {
+std::string ReuseProblem(const RunMeasurement& r) {
   if (r.xmax.empty()) return "it has no xmax";
   const std::vector<std::pair<std::string, const std::vector<double>*>> vectors = {
       {"xmax", &r.xmax},

@@ -25,6 +25,6 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
 // Why a previous result's measurement of a run must not be reused (a value
 // that is not finite, sizes that disagree: a hand-edited or corrupted file),
 // e.g. "xmax[2] is nan"; empty when it may be.
-std::string ReuseProblem(const RunResult& previous);
+std::string ReuseProblem(const RunMeasurement& previous);
 
 }  // namespace impactlab

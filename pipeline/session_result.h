@@ -13,23 +13,18 @@
 #include "io/units.h"
 #include "model/pendulum.h"
 #include "options/settings.h"
+#include "rebounds/bar_rebounds.h"
 
 namespace impactlab {
-
-// One bar's rebounds as extracted from its displacement trace.
-struct BarRebounds {
-  std::vector<double> xmax, xmax_sigma;      // session numbering
-  std::vector<double> t_peak, t_peak_sigma;  // s since release
-  std::vector<double> duration;              // s, between the flank's zero crossings
-};
 
 // A least-squares fit as the results file keeps it (fit/least_squares.h has
 // the full result): named estimates, fit quality and what the data determine.
 struct LeastSquaresSummary {
   std::string model;  // group name: "kelvin_voigt_least_squares" or "poynting_thomson"
   bool converged = false;
-  bool ok = false;      // usable, dissipative and identifiable
-  std::string message;  // the solver's termination, or the diagnostic when !ok
+  bool ok = false;          // usable, dissipative and identifiable
+  std::string reason;       // why not, when !ok
+  std::string termination;  // the solver's, when ok
   bool identifiable = false;
   int rank = 0;
   std::string identifiability;  // in words: which combination is not determined
@@ -44,6 +39,8 @@ struct LeastSquaresSummary {
   // ("stiffness_1"; the results file names them so).
   std::vector<std::string> covariance_names;
   std::vector<double> correlation;  // n x n, row-major
+
+  std::string Status() const { return ok ? "ok" : "failed: " + reason; }
 };
 
 // A digitized photo as the report shows it: the photo with the grid and
@@ -92,49 +89,78 @@ struct StageSeconds {
   double fit = 0.0;        // the closed-form fit and the model response
 };
 
-struct RunResult {
-  std::string id;
-  StageSeconds seconds;
-  std::string fingerprint;  // hash of the run's inputs (run_fingerprint.h)
-  bool reused = false;      // measurement taken from the previous results file
-  bool ok = false;
-  std::string failure;  // why, when !ok (file, key and reason where they apply)
-  std::string source;   // where the maxima came from: "typed-in", "csv" or "photo"
-
-  double initial_displacement = 0.0;  // X0, length units
-  int first_rebound = 1;
+// What measuring a run gave, its stages' results composed: its traces'
+// calibrations, rebounds and contact pulse (MeasureTraceRun), or the maxima
+// typed into the manifest. A run whose inputs are unchanged takes it whole
+// from the earlier results file.
+struct RunMeasurement {
+  std::string source;  // where the maxima came from: "typed-in", "csv" or "photo"
 
   std::vector<double> xmax;          // rebound 0, 1, ... (session numbering)
   std::vector<double> xmax_sigma;    // one-sigma, same length (0 where unknown)
-  std::vector<double> t_peak;        // s since release
-  std::vector<double> t_peak_sigma;  // one-sigma, same length when read from traces, else empty
-  std::string t_peak_source;         // "trace", or "model" for typed-in runs
+  std::vector<double> t_peak;        // s since release (trace runs; empty when typed in)
+  std::vector<double> t_peak_sigma;  // one-sigma, same length as t_peak
 
-  std::optional<double> contact_time;  // s
+  std::optional<double> contact_time;  // s, the run's own
   double contact_time_sigma = 0.0;
-  std::string contact_time_source;  // "typed-in", "session" or "contact trace"
+  std::string contact_time_source;  // "typed-in" or "contact trace"
 
   // Trace-based runs: each bar's rebounds (the run's xmax is their average,
   // as the thesis did) and the calibrations used.
   std::optional<BarRebounds> right, left;
   std::vector<double> rebound_duration;  // s, of the average, session numbering
   std::vector<CellCalibration> calibrations;
-  // Figures 16-18: the measured displacement (trace runs; the average of the
-  // bars) and the fitted Kelvin-Voigt model's response, length units.
+  // Figures 16-18: the measured displacement (the average of the bars), length units.
   Curve measured_displacement;
-  Curve model_response;
   std::vector<PhotoOverlay> overlays;  // photo runs: the run photo, digitized
+};
 
+// The run's own fits (FitRun): what they were fitted to, the closed-form
+// Kelvin-Voigt fit with Table 2's deviations, and the least-squares fits.
+struct RunFits {
+  // The maxima and contact time the fits used: the run's own, or the
+  // session's one contact time when [reduction] gives it (Table 3).
+  ReboundMeasurements fitted;
+  std::string contact_time_source;  // "typed-in", "contact trace" or "session"
   std::optional<KelvinVoigtTwoPointFit> kelvin_voigt;
-  std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
   // Table 2: predicted - measured, in length units, % of the measured peak and % of X0.
   std::vector<double> deviation, deviation_pct_peak, deviation_pct_x0;
-  std::string stiffness_source;  // "run" or "session average"
+  // Typed-in runs: when the fitted model's maxima fall, s since release.
+  std::vector<double> model_peak_times;
+  // Figures 16-18: the fitted Kelvin-Voigt model's response, length units.
+  Curve model_response;
+  std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
+};
+
+// A run's result: what it is, whether it reduced (and the reason when not),
+// and its stages' results.
+struct RunResult {
+  std::string id;
+  StageSeconds seconds;
+  std::string fingerprint;  // hash of the run's inputs (run_fingerprint.h)
+  bool reused = false;      // measurement taken from the previous results file
+  bool ok = false;
+  std::string reason;  // why, when !ok (file, key and reason where they apply)
+
+  double initial_displacement = 0.0;  // X0, length units
+  int first_rebound = 1;
+
+  RunMeasurement measured;
+  RunFits fits;  // empty unless fitted
+
   // The stage settings its measurement and fits used, of the stages that
   // apply to it (pipeline/stage_options.h), by key.
   SettingValues settings;
 
-  std::string Status() const { return ok ? "ok" : "failed: " + failure; }
+  std::string Status() const { return ok ? "ok" : "failed: " + reason; }
+  // When the maxima fall: measured on the traces, else the fitted model's
+  // ("trace" or "model"; empty when neither is known).
+  const std::vector<double>& PeakTimes() const {
+    return measured.t_peak.empty() ? fits.model_peak_times : measured.t_peak;
+  }
+  const char* PeakTimesSource() const {
+    return !measured.t_peak.empty() ? "trace" : !fits.model_peak_times.empty() ? "model" : "";
+  }
 };
 
 // Table 3 and eq. 40 over the runs with a Kelvin-Voigt fit and a contact time.
@@ -142,10 +168,12 @@ struct SessionKelvinVoigt {
   std::vector<std::string> run_ids;
   std::vector<double> sqrt_restitution;  // sqrt(xi), xi = the run's fitted e
   std::vector<double> stiffness;         // each run's own K
-  std::vector<double> damping;           // C as the runs report it (own or average K)
+  // C per run: from the run's own K, or from the average when there is one.
+  std::vector<double> damping, damping_sigma;
   StiffnessSpread spread;
   std::optional<DampingLine> damping_line;
-  bool average_stiffness = false;
+  // [reduction] average_stiffness: K_avg, which every run's C above is from.
+  std::optional<Estimate> average_stiffness;
 };
 
 // An encoder/accelerometer log (signal/log_analysis.h), as the results file keeps it.
@@ -180,17 +208,19 @@ struct LogResult {
   SettingValues settings;  // the log_analysis settings it was analysed with
   std::string id;
   bool ok = false;
-  std::string status;  // "ok" or "failed: <file, line and reason>"
+  std::string reason;  // why, when !ok (file, line and key where they apply)
   std::vector<LogSourceResult> sources;
   std::optional<Estimate> impact_offset_s;  // simulation - experiment
   std::vector<LogComparisonRow> comparison;
+
+  std::string Status() const { return ok ? "ok" : "failed: " + reason; }
 };
 
 // Which restitution model predicts unseen runs best (fit/joint_fits.h).
 struct ModelComparisonRow {
   std::string model;  // "per-run", "common", "linear-in-speed"
   bool ok = false;
-  std::string diagnostic;
+  std::string reason;                     // why, when !ok
   std::vector<NamedEstimate> parameters;  // per-run speeds excluded
   int maxima = 0, parameter_count = 0, dof = 0;
   double chi2 = 0.0, aic = 0.0, bic = 0.0;

@@ -9,10 +9,12 @@
 
 #include <fmt/format.h>
 
+#include "calibration/displacement.h"
 #include "io/errors.h"
 #include "io/session_file.h"
 #include "io/trace.h"
 #include "pipeline/photo_traces.h"
+#include "rebounds/bar_rebounds.h"
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
@@ -63,42 +65,6 @@ void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
   }
 }
 
-// Volts to displacement through a cell's curve. Samples outside the
-// calibrated voltages are dropped, never extrapolated; too many of them means
-// the calibration does not cover what the run needs.
-DisplacementHistory ToDisplacement(const Trace& trace, const CalibrationResult& calibration,
-                                   const InputLocation& where) {
-  const PhotocellCurve& curve = calibration.curve;
-  DisplacementHistory h;
-  std::size_t dropped = 0;
-  double v_lo = trace.volts.front(), v_hi = trace.volts.front();
-  for (std::size_t i = 0; i < trace.volts.size(); ++i) {
-    const double v = trace.volts[i];
-    v_lo = std::min(v_lo, v);
-    v_hi = std::max(v_hi, v);
-    if (!curve.Covers(v)) {
-      ++dropped;
-      continue;
-    }
-    const double x = curve.DisplacementFromVolts(v);
-    const double sigma_v =
-        trace.sigma_volts.empty() ? calibration.residual_rms_volts : trace.sigma_volts[i];
-    const double slope = std::abs(curve.SlopeAt(std::clamp(x, 0.0, curve.x_max())));
-    h.time_s.push_back(trace.time_s[i]);
-    h.displacement.push_back(x);
-    h.sigma.push_back(std::hypot(curve.DisplacementSigma(v), sigma_v / slope));
-  }
-  if (dropped > trace.volts.size() / 50) {
-    throw InputError(
-        where,
-        fmt::format(
-            "{} of {} samples ({:.4g} .. {:.4g} V) lie outside the calibrated range {:.4g} .. "
-            "{:.4g} V: the calibration does not cover what this run needs",
-            dropped, trace.volts.size(), v_lo, v_hi, curve.volts_min(), curve.volts_max()));
-  }
-  return h;
-}
-
 }  // namespace
 
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
@@ -121,79 +87,6 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
   for (std::size_t i = 0; i < c.volts.size(); i += stride) {
     out.points_x.push_back(c.ideal_displacement[i]);
     out.points_volts.push_back(c.volts[i]);
-  }
-  return out;
-}
-
-namespace {
-
-// Session numbering: PENDUL rebound N is session rebound N - first_rebound.
-BarRebounds Renumber(const ReboundExtraction& e, int first_rebound) {
-  BarRebounds out;
-  for (const ExtractedRebound& r : e.rebounds) {
-    const int n = r.number - first_rebound;
-    if (n < 0) continue;
-    if (n != static_cast<int>(out.xmax.size())) break;  // keep the sequence gap-free
-    out.xmax.push_back(r.xmax.value);
-    out.xmax_sigma.push_back(r.xmax.sigma);
-    out.t_peak.push_back(r.t_peak.value);
-    out.t_peak_sigma.push_back(r.t_peak.sigma);
-    out.duration.push_back(r.duration.value);
-  }
-  return out;
-}
-
-// A maximum's standard error with its cell curve's: the peak fit averages
-// the samples' independent noise, but every sample near the peak reads
-// through the same stretch of the curve, so the curve's error there passes
-// to the maximum whole. `sigma_at(x)`: the curves' one-sigma error at x.
-template <class SigmaAt>
-void AddCurveSigma(BarRebounds& bar, SigmaAt&& sigma_at) {
-  for (std::size_t n = 0; n < bar.xmax.size(); ++n) {
-    bar.xmax_sigma[n] = std::hypot(bar.xmax_sigma[n], sigma_at(bar.xmax[n]));
-  }
-}
-
-}  // namespace
-
-std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
-                                                 const BarRebounds& left) {
-  constexpr double kPeakShareOfDuration = 0.1;
-  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
-  for (std::size_t n = 0; n < both; ++n) {
-    const double duration = 0.5 * (right.duration[n] + left.duration[n]);
-    const double apart_s = std::abs(right.t_peak[n] - left.t_peak[n]);
-    if (apart_s > kPeakShareOfDuration * duration) {
-      return BarDisagreement{
-          n, fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
-                         "{:.4g} s), more than a tenth of its duration: one bar's trace was "
-                         "misread and its rebounds slipped",
-                         n, apart_s, right.t_peak[n], left.t_peak[n])};
-    }
-  }
-  return std::nullopt;
-}
-
-BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
-                       const BarRebounds& averaged) {
-  BarRebounds out;
-  const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
-  const std::size_t both =
-      disagreement ? disagreement->rebound : std::min(right.xmax.size(), left.xmax.size());
-  for (std::size_t n = 0; n < both; ++n) {
-    out.xmax.push_back(0.5 * (right.xmax[n] + left.xmax[n]));
-    out.xmax_sigma.push_back(0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]));
-    out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
-    out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
-    out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
-  }
-  if (disagreement) return out;
-  for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
-    out.xmax.push_back(averaged.xmax[n]);
-    out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
-    out.t_peak.push_back(averaged.t_peak[n]);
-    out.t_peak_sigma.push_back(averaged.t_peak_sigma[n]);
-    out.duration.push_back(averaged.duration[n]);
   }
   return out;
 }
@@ -288,9 +181,12 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   return cell;
 }
 
-void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                     const StageOptions& options, CalibrationCache& calibrations, RunResult& out) {
+MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
+                                 const StageOptions& options, CalibrationCache& calibrations) {
   const TraceSpanLimits& limits = options.rebound_extraction.limits;
+  MeasuredTraceRun result;
+  RunMeasurement& out = result.measured;
+  StageSeconds& seconds = result.seconds;
   out.source = run.photo ? "photo" : "csv";
   // Every trace the run reads from its photo, in one pass over the photo.
   std::map<std::string, TraceSettings> from_photo;
@@ -308,7 +204,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       throw InputError({session.manifest, RunKey(run) + ".photo", std::nullopt},
                        "traces without `csv` are read from the run's photo, and it has none");
     }
-    photo = Timed(out.seconds.load, [&] {
+    photo = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize);
     });
     out.overlays.push_back(photo->overlay);
@@ -316,7 +212,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   // Every trace checked as read: its span against the pendulum's swings, and
   // (right, left) that it resolves them.
   const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
-    Trace trace = settings.csv ? Timed(out.seconds.load,
+    Trace trace = settings.csv ? Timed(seconds.load,
                                        [&] { return ReadSessionTraceCsv(session, *settings.csv); })
                                : photo->traces.at(name);
     const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
@@ -336,7 +232,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
       throw InputError({session.manifest, key, std::nullopt},
                        fmt::format("no calibration is named for the {} cell", cell));
     }
-    const CalibratedCell& calibrated = calibrations.Get(cal_it->second, &out.seconds);
+    const CalibratedCell& calibrated = calibrations.Get(cal_it->second, &seconds);
     const CalibrationResult& calibration = calibrated.calibration;
     const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
@@ -345,8 +241,13 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
     const Trace trace = trace_of(cell, trace_it->second);
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};
-    histories[cell] =
-        Timed(out.seconds.extract, [&] { return ToDisplacement(trace, calibration, where); });
+    histories[cell] = Timed(seconds.extract, [&] {
+      try {
+        return DisplacementFromVolts(trace, calibration);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(where, e.what());
+      }
+    });
     curves[cell] = &calibration.curve;
   }
   if (histories.empty()) {
@@ -355,8 +256,9 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   }
 
   const auto extract = [&](const DisplacementHistory& h) {
-    return Timed(out.seconds.extract, [&] {
-      return Renumber(ExtractRebounds(h, pendulum, options.rebound_extraction), run.first_rebound);
+    return Timed(seconds.extract, [&] {
+      return InSessionNumbering(ExtractRebounds(h, pendulum, options.rebound_extraction),
+                                run.first_rebound);
     });
   };
   const auto curve_sigma = [&](const char* cell) {
@@ -409,7 +311,6 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
   out.xmax_sigma = both.xmax_sigma;
   out.t_peak = both.t_peak;
   out.t_peak_sigma = both.t_peak_sigma;
-  out.t_peak_source = "trace";
   out.rebound_duration = both.duration;
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
@@ -429,6 +330,7 @@ void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pen
           e.what());
     }
   }
+  return result;
 }
 
 }  // namespace impactlab

@@ -59,32 +59,15 @@ class CalibrationCache {
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
                                      double release_x, const CalibratedCell& calibrated);
 
-// The first rebound (session numbering) the two bars disagree about, and
-// why. The bars meet at every impact and swing out for the same time, so a
-// rebound's peaks lie within a millisecond of each other; peaks more than a
-// tenth of the rebound's duration apart mean one bar's walk slipped a
-// rebound (a misread stretch of its trace). Their maxima are no test: the
-// momentum the bars exchange leaves them a constant length apart, with
-// alternating sign, which grows against the shrinking rebounds.
-struct BarDisagreement {
-  std::size_t rebound = 0;
-  std::string why;
+// A run measured from its traces, and the time each stage took.
+struct MeasuredTraceRun {
+  RunMeasurement measured;
+  StageSeconds seconds;
 };
-std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right, const BarRebounds& left);
 
-// The session's maxima from both bars (session numbering, gap-free): the
-// mean of the bars' own where both have the rebound (the thesis's average of
-// the two displacements at its peak, without reading one bar at the other's
-// sample times), sigmas combined; past the last rebound both have, the
-// averaged history's own as long as it has them. The sequence stops at the
-// first rebound the bars disagree about: past it neither can be trusted.
-BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
-                       const BarRebounds& averaged);
-
-// Fills `out`'s measured fields (xmax, t_peak, contact time, bars,
-// calibrations), measured with the run's `options`. Throws InputError or
-// std::exception with the reason.
-void MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                     const StageOptions& options, CalibrationCache& calibrations, RunResult& out);
+// The run's calibrations, rebounds and contact pulse, measured with the
+// run's `options`. Throws InputError or std::exception with the reason.
+MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
+                                 const StageOptions& options, CalibrationCache& calibrations);
 
 }  // namespace impactlab

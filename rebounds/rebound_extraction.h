@@ -19,6 +19,7 @@
 
 #include "io/trace.h"
 #include "model/contact_pulse.h"
+#include "model/displacement_history.h"
 #include "model/estimate.h"
 #include "model/pendulum.h"
 
@@ -26,12 +27,6 @@ namespace impactlab {
 
 // The fewest samples a history must hold for ExtractRebounds.
 inline constexpr std::size_t kMinHistorySamples = 16;
-
-struct DisplacementHistory {
-  std::vector<double> time_s;        // s since release, increasing
-  std::vector<double> displacement;  // length units
-  std::vector<double> sigma;         // one-sigma per sample (length); empty when unknown
-};
 
 // Bounds on a trace's time axis, checked before any work that grows with its
 // span: a wrong unit or a typo (time_per_div = 1e8, a CSV's time column in

@@ -91,19 +91,20 @@ std::string RunFigure(const RunResult& run, const UnitLabels& u) {
   plot.title = fmt::format("Run {}: displacement", run.id);
   plot.x_label = "time since release (s)";
   plot.y_label = fmt::format("displacement X ({})", u.length);
-  if (!run.measured_displacement.time_s.empty()) {
-    plot.series.push_back({"measured (average of bars)", run.measured_displacement.time_s,
-                           run.measured_displacement.value, PlotSeries::Style::kLine, kBlue});
+  if (!run.measured.measured_displacement.time_s.empty()) {
+    plot.series.push_back({"measured (average of bars)", run.measured.measured_displacement.time_s,
+                           run.measured.measured_displacement.value, PlotSeries::Style::kLine,
+                           kBlue});
   }
-  if (!run.model_response.time_s.empty()) {
-    plot.series.push_back({"Kelvin-Voigt fit", run.model_response.time_s, run.model_response.value,
-                           PlotSeries::Style::kLine, kOrange});
+  if (!run.fits.model_response.time_s.empty()) {
+    plot.series.push_back({"Kelvin-Voigt fit", run.fits.model_response.time_s,
+                           run.fits.model_response.value, PlotSeries::Style::kLine, kOrange});
   }
-  plot.series.push_back(
-      {"measured maxima", run.t_peak, run.xmax, PlotSeries::Style::kMarkers, kRed});
+  plot.series.push_back({"measured maxima", run.measured.t_peak, run.measured.xmax,
+                         PlotSeries::Style::kMarkers, kRed});
   return Figure(plot, fmt::format("Measured and theoretical response of run {} (thesis Figures "
                                   "16-18); maxima from {}, times from the {}.",
-                                  run.id, run.source, run.t_peak_source));
+                                  run.id, run.measured.source, run.PeakTimesSource()));
 }
 
 std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
@@ -113,8 +114,8 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
   plot.y_label = "photocell output (V)";
   const char* colours[] = {kBlue, kGreen};
   std::string notes;
-  for (std::size_t k = 0; k < run.calibrations.size(); ++k) {
-    const CellCalibration& c = run.calibrations[k];
+  for (std::size_t k = 0; k < run.measured.calibrations.size(); ++k) {
+    const CellCalibration& c = run.measured.calibrations[k];
     // The curve as fitted (its stored coefficients), evaluated for display.
     const PhotocellCurve stored(c.release_x, c.chebyshev, {}, 0.0);
     PlotSeries curve{fmt::format("{} cell: fitted curve (order {})", c.cell, c.order),
@@ -147,9 +148,9 @@ std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
   contact.y_label = "contact time (us)";
   PlotSeries points{"runs", {}, {}, PlotSeries::Style::kMarkers, kBlue};
   for (const RunResult& run : r.runs) {
-    if (run.contact_time && run.contact_time_source != "session") {
+    if (run.measured.contact_time && run.measured.contact_time_source != "session") {
       points.x.push_back(run.initial_displacement);
-      points.y.push_back(*run.contact_time * 1e6);
+      points.y.push_back(*run.measured.contact_time * 1e6);
     }
   }
   if (!points.x.empty()) {
@@ -258,16 +259,17 @@ std::string RenderHtmlReport(const SessionResult& r) {
   for (const Table& t : BuildTables(r)) html += RenderTable(t, ReportFormat::kHtml);
   html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
   for (const LogResult& log : r.logs) {
-    html += fmt::format("<h2>Log {}</h2>\n<p>{}</p>\n", EscapeHtml(log.id), EscapeHtml(log.status));
+    html +=
+        fmt::format("<h2>Log {}</h2>\n<p>{}</p>\n", EscapeHtml(log.id), EscapeHtml(log.Status()));
     html += LogFigures(log);
   }
   for (const RunResult& run : r.runs) {
-    if (run.xmax.empty()) continue;
+    if (run.measured.xmax.empty()) continue;
     html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", EscapeHtml(run.id));
     html += RunFigure(run, u);
-    if (!run.calibrations.empty()) html += CalibrationFigure(run, u);
-    for (const PhotoOverlay& o : run.overlays) html += OverlayFigure(o);
-    html += CalibrationOverlays(run.calibrations);
+    if (!run.measured.calibrations.empty()) html += CalibrationFigure(run, u);
+    for (const PhotoOverlay& o : run.measured.overlays) html += OverlayFigure(o);
+    html += CalibrationOverlays(run.measured.calibrations);
   }
   return html + "</body>\n</html>\n";
 }

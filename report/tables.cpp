@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
+#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -36,20 +39,33 @@ Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
                "Deviation % of peak",
                "Deviation % of X0"};
   for (const RunResult& run : r.runs) {
-    if (!run.ok || !run.kelvin_voigt) continue;  // failed, or reduced --only rebounds
-    const auto& fit = *run.kelvin_voigt;
-    for (std::size_t n = 0; n < run.xmax.size(); ++n) {
+    if (!run.ok || !run.fits.kelvin_voigt) continue;  // failed, or reduced --only rebounds
+    const auto& fit = *run.fits.kelvin_voigt;
+    for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
       const bool used = static_cast<int>(n) == fit.rebounds_used[0] ||
                         static_cast<int>(n) == fit.rebounds_used[1];
-      t.rows.push_back({run.id, fmt::format("{}{}", n, used ? "*" : ""), Fixed(run.xmax[n], 4),
-                        Fixed(fit.predicted_xmax[n].value, 4), Signed(run.deviation[n], 4),
-                        Fixed(std::abs(run.deviation_pct_peak[n]), 1),
-                        Fixed(std::abs(run.deviation_pct_x0[n]), 1)});
+      t.rows.push_back({run.id, fmt::format("{}{}", n, used ? "*" : ""),
+                        Fixed(run.measured.xmax[n], 4), Fixed(fit.predicted_xmax[n].value, 4),
+                        Signed(run.fits.deviation[n], 4),
+                        Fixed(std::abs(run.fits.deviation_pct_peak[n]), 1),
+                        Fixed(std::abs(run.fits.deviation_pct_x0[n]), 1)});
     }
   }
   t.notes = {"* rebound used to determine the Kelvin-Voigt parameters.",
              "Deviation = theoretical - experimental; percentages are of its magnitude."};
   return t;
+}
+
+// With [reduction] average_stiffness: the session's K avg and the run's C
+// from it, as the run's K and C.
+std::optional<std::pair<Estimate, Estimate>> AveragedRun(const SessionResult& r,
+                                                         const std::string& run_id) {
+  if (!r.kelvin_voigt || !r.kelvin_voigt->average_stiffness) return std::nullopt;
+  const SessionKelvinVoigt& s = *r.kelvin_voigt;
+  const auto at = std::find(s.run_ids.begin(), s.run_ids.end(), run_id);
+  if (at == s.run_ids.end()) return std::nullopt;
+  const auto i = static_cast<std::size_t>(at - s.run_ids.begin());
+  return std::pair{*s.average_stiffness, Estimate{s.damping[i], s.damping_sigma[i]}};
 }
 
 Table ParameterTable(const SessionResult& r, const UnitLabels& u) {
@@ -65,20 +81,25 @@ Table ParameterTable(const SessionResult& r, const UnitLabels& u) {
                "tau_c (us)",
                "Status"};
   for (const RunResult& run : r.runs) {
-    if (!run.ok || !run.kelvin_voigt) {
+    if (!run.ok || !run.fits.kelvin_voigt) {
       t.rows.push_back({run.id, "", "", "", "", "", "", run.Status()});
       continue;
     }
-    const auto& fit = *run.kelvin_voigt;
+    const auto& fit = *run.fits.kelvin_voigt;
+    std::optional<Estimate> stiffness = fit.stiffness, damping = fit.damping;
+    if (const auto average = AveragedRun(r, run.id)) std::tie(stiffness, damping) = *average;
     t.rows.push_back({run.id, fmt::format("{}-{}", fit.rebounds_used[0], fit.rebounds_used[1]),
                       WithSigma(fit.damping_ratio, 5), WithSigma(fit.restitution, 4),
-                      fit.stiffness ? WithSigma(*fit.stiffness, 0) : "-",
-                      fit.damping ? WithSigma(*fit.damping, 3) : "-",
+                      stiffness ? WithSigma(*stiffness, 0) : "-",
+                      damping ? WithSigma(*damping, 3) : "-",
                       fit.contact_time ? Fixed(*fit.contact_time * 1e6, 1) : "-", "ok"});
   }
   t.notes = {"± one standard error, propagated from the stated reading uncertainties.",
              fmt::format("Pendulum convention: {}; separation: {}.", ConventionName(r.convention),
                          SeparationName(r.separation))};
+  if (r.kelvin_voigt && r.kelvin_voigt->average_stiffness) {
+    t.notes.push_back("K: the session's average; C from it at each run's own zeta.");
+  }
   return t;
 }
 
@@ -117,12 +138,12 @@ Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) 
                "chi2 / dof",
                "Status"};
   for (const RunResult& run : r.runs) {
-    const LeastSquaresSummary* fit = FindFit(run.least_squares, "kelvin_voigt_least_squares");
+    const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "kelvin_voigt_least_squares");
     if (fit == nullptr) continue;
     t.rows.push_back({run.id, Determined(*fit, "zeta", 5), Determined(*fit, "restitution", 4),
                       Determined(*fit, "stiffness", 0), Determined(*fit, "damping", 3),
                       fmt::format("{:.3g} / {}", fit->chi2, fit->dof),
-                      fit->ok ? "ok" : fit->message});
+                      fit->ok ? "ok" : fit->reason});
   }
   t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37)."};
   return t;
@@ -143,10 +164,11 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
     t.rows.push_back({name, Determined(fit, "stiffness_1", 0), Determined(fit, "stiffness_2", 0),
                       Determined(fit, "damping", 3), Determined(fit, "restitution", 4),
                       Determined(fit, "contact_time", 7),
-                      fit.identifiability.empty() ? fit.message : fit.identifiability});
+                      fit.identifiability.empty() ? (fit.ok ? fit.termination : fit.reason)
+                                                  : fit.identifiability});
   };
   for (const RunResult& run : r.runs) {
-    if (const LeastSquaresSummary* fit = FindFit(run.least_squares, "poynting_thomson")) {
+    if (const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "poynting_thomson")) {
       row(run.id, *fit);
     }
   }
@@ -320,7 +342,7 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   std::vector<Table> tables = {DeviationTable(r, u), ParameterTable(r, u)};
   const bool any_least_squares =
       std::any_of(r.runs.begin(), r.runs.end(),
-                  [](const RunResult& run) { return !run.least_squares.empty(); });
+                  [](const RunResult& run) { return !run.fits.least_squares.empty(); });
   if (any_least_squares) {
     tables.push_back(KelvinVoigtLeastSquaresTable(r, u));
     tables.push_back(PoyntingThomsonTable(r, u));

@@ -308,7 +308,7 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
   fit.samples = static_cast<int>(samples.size());
   const int most_parameters = 4 * options.modes + 2 * options.decays + (options.fit_offset ? 1 : 0);
   if (static_cast<int>(samples.size()) < 3 * most_parameters + 16) {
-    fit.diagnostic =
+    fit.reason =
         fmt::format("{} samples are too few for {} mode(s)", samples.size(), options.modes);
     return fit;
   }
@@ -338,7 +338,7 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
     }
   }
   if (modes.empty()) {
-    fit.diagnostic = "the matrix pencil found no oscillating mode above the noise";
+    fit.reason = "the matrix pencil found no oscillating mode above the noise";
     return fit;
   }
   const int mode_count = static_cast<int>(modes.size());
@@ -382,7 +382,7 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
   ceres::Solve(solver, &problem, &summary);
   fit.iterations = static_cast<int>(summary.iterations.size());
   if (!summary.IsSolutionUsable()) {
-    fit.diagnostic = "Ceres: " + summary.message;
+    fit.reason = "Ceres: " + summary.message;
     return fit;
   }
 
@@ -425,7 +425,7 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
                                      inverse_values.asDiagonal() *
                                      eigen.eigenvectors().transpose() * scale.asDiagonal();
   if (!fit.covariance_ok) {
-    fit.diagnostic = "J^T J is singular at the solution: two terms cannot be told apart";
+    fit.note = "J^T J is singular at the solution: two terms cannot be told apart";
   }
   auto sigma = [&](Eigen::Index i) { return std::sqrt(std::max(0.0, covariance(i, i))); };
 
@@ -459,8 +459,8 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
     fit.decays.push_back({{block[0], sigma(c0)}, {block[1], sigma(c0 + 1)}});
   }
   if (options.fit_offset) fit.offset = {offset_block[0], sigma(p - 1)};
-  if (mode_count < options.modes && fit.diagnostic.empty()) {
-    fit.diagnostic = fmt::format("{} of {} mode(s) above the noise", mode_count, options.modes);
+  if (mode_count < options.modes && fit.note.empty()) {
+    fit.note = fmt::format("{} of {} mode(s) above the noise", mode_count, options.modes);
   }
   fit.ok = true;
   fit.fit_ms =

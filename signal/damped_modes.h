@@ -83,7 +83,8 @@ struct RealDecay {
 
 struct DampedModeFit {
   bool ok = false;
-  std::string diagnostic;                // why not ok, or notes (e.g. fewer modes than asked)
+  std::string reason;                    // why not ok
+  std::string note;                      // an ok fit's caveat (e.g. fewer modes than asked)
   std::vector<DampedMode> modes;         // by decreasing energy
   std::vector<RealDecay> decays;         // by decreasing energy
   std::vector<DampedMode> pencil_modes;  // the starting values (no uncertainties)

@@ -201,7 +201,7 @@ ImpactEstimate DetectImpact(const std::vector<ChannelSamples>& channels, double 
     }
   }
   if (!estimate.found) {
-    estimate.diagnostic =
+    estimate.reason =
         accelerometers == 0 && estimate.channels.empty()
             ? "no accelerometer or encoder channel"
             : fmt::format("no jump above {} noise sigmas and no velocity change found",

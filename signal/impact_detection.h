@@ -63,7 +63,7 @@ struct ChannelImpact {
 
 struct ImpactEstimate {
   bool found = false;
-  std::string diagnostic;               // why not found
+  std::string reason;                   // why not found
   Estimate time_s;                      // log time of the impact
   long long sample = -1;                // first sample after it (index into the values given)
   std::string method;                   // e.g. "accelerometer a1", "encoder q1"

@@ -246,7 +246,8 @@ void FitRingDown(std::span<const double> values, std::size_t begin, std::size_t 
 void CrossCheck(const LogAnalysisOptions& options, ChannelAnalysis& channel) {
   const DampedModeFit& fit = channel.ring_down;
   if (!fit.ok || fit.modes.empty()) {
-    if (!fit.diagnostic.empty()) channel.notes.push_back("ring-down fit: " + fit.diagnostic);
+    const std::string& why = fit.ok ? fit.note : fit.reason;
+    if (!why.empty()) channel.notes.push_back("ring-down fit: " + why);
     return;
   }
   if (channel.fft_frequency_hz <= 0.0) {
@@ -280,7 +281,7 @@ void CrossCheck(const LogAnalysisOptions& options, ChannelAnalysis& channel) {
         fmt::format("the FFT's dominant peak is the fit's mode {} by energy ({:.5g} Hz holds more)",
                     nearest + 1, fit.modes[0].frequency_hz.value));
   }
-  if (!fit.covariance_ok) channel.notes.push_back("ring-down fit: " + fit.diagnostic);
+  if (!fit.covariance_ok) channel.notes.push_back("ring-down fit: " + fit.note);
   channel.dominant_frequency_hz = mode.frequency_hz;
   channel.damping_ratio = mode.damping_ratio;
   channel.frequency_source = "fit";
@@ -494,17 +495,16 @@ LogAnalysis AnalyseLog(const Log& log, const LogAnalysisOptions& options) {
     }
     result.experiment = std::move(experiment.analysis);
     result.ok = true;
-    result.status = "ok";
   } catch (const InputError& error) {
-    result.status = std::string("failed: ") + error.what();
+    result.reason = error.what();
   } catch (const std::invalid_argument& error) {
-    result.status = std::string("failed: ") + error.what();
+    result.reason = error.what();
   }
   return result;
 }
 
 std::string LogAnalysis::Brief() const {
-  if (!ok) return fmt::format("log {}: {}\n", log_id, status);
+  if (!ok) return fmt::format("log {}: failed: {}\n", log_id, reason);
   std::string text = fmt::format("log {}\n", log_id);
   auto source_lines = [&](const SourceAnalysis& s) {
     text += fmt::format("  {}: {} samples at {:.6g} Hz", NameOf(s.source), s.read.samples,
@@ -516,7 +516,7 @@ std::string LogAnalysis::Brief() const {
     text += s.impact.found
                 ? fmt::format("; impact at {:.6f} s +- {:.2g} ({})\n", s.impact.time_s.value,
                               s.impact.time_s.sigma, s.impact.method)
-                : fmt::format("; no impact: {}\n", s.impact.diagnostic);
+                : fmt::format("; no impact: {}\n", s.impact.reason);
     for (const ChannelAnalysis& c : s.channels) {
       text += fmt::format("    {:<6}", c.name);
       if (c.dominant_frequency_hz) {

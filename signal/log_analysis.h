@@ -142,7 +142,7 @@ struct LogComparison {
 struct LogAnalysis {
   std::string log_id;
   bool ok = false;
-  std::string status;  // "ok" or "failed: <reason>" (file, line and key where they apply)
+  std::string reason;  // why, when !ok (file, line and key where they apply)
   SourceAnalysis experiment;
   std::optional<SourceAnalysis> simulation;
   std::optional<LogComparison> comparison;

@@ -55,7 +55,7 @@ std::vector<JointRun> Generate(LogE log_e, double noise, unsigned seed) {
 void CheckSane(const SessionModelComparison& c) {
   REQUIRE(c.models.size() == 3);
   for (const JointModelFit& m : c.models) {
-    INFO(m.name << ": " << m.diagnostic);
+    INFO(m.name << ": " << m.reason);
     CHECK(m.ok);
     CHECK(m.status.converged);
     CHECK(std::isfinite(m.chi2));

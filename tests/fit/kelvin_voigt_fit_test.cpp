@@ -51,7 +51,7 @@ TEST_CASE("two_point: recovers K and C from the model's own maxima for any pair"
   }
 }
 
-TEST_CASE("two_point: equal maxima are the elastic limit, growing maxima a diagnostic") {
+TEST_CASE("two_point: equal maxima are the elastic limit (a note), growing maxima a reason") {
   const Pendulum p{22.0, kG, PendulumConvention::kExact};
   ReboundMeasurements m;
   m.xmax = {0.3, 0.3, 0.35};
@@ -60,10 +60,10 @@ TEST_CASE("two_point: equal maxima are the elastic limit, growing maxima a diagn
   CHECK(equal.ok);
   CHECK(equal.damping_ratio.value == 0.0);
   CHECK(equal.damping->value == 0.0);
-  CHECK_THAT(equal.diagnostic, Catch::Contains("no measurable dissipation"));
+  CHECK_THAT(equal.note, Catch::Contains("no measurable dissipation"));
   const KelvinVoigtTwoPointFit grows = FitKelvinVoigtTwoPoint(p, kMass, m, {{1, 2}});
   CHECK_FALSE(grows.ok);
-  CHECK_THAT(grows.diagnostic, Catch::Contains("exceeds"));
+  CHECK_THAT(grows.reason, Catch::Contains("exceeds"));
   CHECK_THROWS_AS(FitKelvinVoigtTwoPoint(p, kMass, m, {{1, 3}}), std::invalid_argument);
 }
 

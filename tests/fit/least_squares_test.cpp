@@ -75,7 +75,7 @@ TEST_CASE("kv_least_squares: recovers zeta, v0, K and C from noiseless maxima to
       KelvinVoigtLeastSquaresOptions options;
       options.separation = sep;
       const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(p, kMass, m, options);
-      INFO(fit.diagnostic << " / " << fit.status.message);
+      INFO(fit.reason << " / " << fit.status.message);
       REQUIRE(fit.ok);
       CHECK(fit.status.converged);
       CHECK(RelErr(fit.damping_ratio.value, RatesOf(truth).damping_ratio) < 1e-10);
@@ -124,7 +124,7 @@ TEST_CASE("kv_least_squares: two maxima reproduce the closed-form two-point fit"
   CHECK(RelErr(ls.damping_ratio.value, two.damping_ratio.value) < 1e-12);
   CHECK(RelErr(ls.stiffness->value, two.stiffness->value) < 1e-12);
   CHECK(ls.dof == 0);
-  CHECK_THAT(ls.diagnostic, Catch::Contains("scatter unknown"));
+  CHECK_THAT(ls.reason, Catch::Contains("scatter unknown"));
 }
 
 // Monte-Carlo: Gaussian reading errors of known sigma; the reported standard
@@ -194,7 +194,7 @@ TEST_CASE("kv_least_squares: growing maxima are a diagnostic, not NaN") {
   m.contact_time = 350e-6;
   const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
   CHECK_FALSE(fit.ok);
-  CHECK_THAT(fit.diagnostic, Catch::Contains("no dissipation"));
+  CHECK_THAT(fit.reason, Catch::Contains("no dissipation"));
   CHECK(fit.log_restitution.value > 0.0);
   CHECK(std::isfinite(fit.log_restitution.sigma));
   CHECK_FALSE(fit.stiffness.has_value());
@@ -282,7 +282,7 @@ TEST_CASE(
     options.mass = kMass;
     options.separation = sep;
     const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
-    INFO(SeparationName(sep) << ": " << fit.diagnostic << " / " << fit.status.message << " / "
+    INFO(SeparationName(sep) << ": " << fit.reason << " / " << fit.status.message << " / "
                              << fit.identifiability.message);
     REQUIRE(fit.ok);
     CHECK(RelErr(fit.stiffness1.value, kTruth.stiffness1) < 1e-6);
@@ -307,7 +307,7 @@ TEST_CASE(
   CHECK(fit.status.usable);
   CHECK_FALSE(fit.ok);
   CHECK(fit.identifiability.rank == 1);
-  CHECK_THAT(fit.diagnostic, Catch::Contains("not identifiable") && Catch::Contains("only e"));
+  CHECK_THAT(fit.reason, Catch::Contains("not identifiable") && Catch::Contains("only e"));
   // The one determined direction is the gradient of ln e.
   CHECK(std::abs(Cosine(
             fit.identifiability.directions[0],
@@ -335,7 +335,7 @@ TEST_CASE(
   CHECK(fit.status.usable);
   CHECK_FALSE(fit.ok);
   REQUIRE(fit.identifiability.rank == 2);
-  CHECK_THAT(fit.diagnostic, Catch::Contains("same e and tau_c at every impact speed"));
+  CHECK_THAT(fit.reason, Catch::Contains("same e and tau_c at every impact speed"));
   // The undetermined direction changes neither ln e nor tau_c.
   const std::vector<double>& null = fit.identifiability.directions[2];
   const auto sep = Separation::kKinematic;
@@ -358,13 +358,13 @@ TEST_CASE("pt_least_squares: started a factor 100 away it converges, or says it 
     options.initial =
         PoyntingThomson{kMass, kTruth.stiffness1 * f1, kTruth.stiffness2 * f2, kTruth.damping * fc};
     const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
-    INFO("start factors " << f1 << ", " << f2 << ", " << fc << ": " << fit.diagnostic);
+    INFO("start factors " << f1 << ", " << f2 << ", " << fc << ": " << fit.reason);
     if (fit.ok) {
       CHECK(RelErr(fit.stiffness1.value, kTruth.stiffness1) < 1e-6);
       CHECK(RelErr(fit.stiffness2.value, kTruth.stiffness2) < 1e-6);
       CHECK(RelErr(fit.damping.value, kTruth.damping) < 1e-6);
     } else {
-      CHECK_FALSE(fit.diagnostic.empty());
+      CHECK_FALSE(fit.reason.empty());
       CHECK(fit.chi2 > 1.0);  // a false minimum shows in the fit, not hidden
     }
   }
@@ -379,7 +379,7 @@ TEST_CASE("pt_least_squares: a start where contact never ends is a status, not a
   const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
   CHECK_FALSE(fit.ok);
   CHECK_FALSE(fit.status.usable);
-  CHECK_THAT(fit.diagnostic, Catch::Contains("contact never ends"));
+  CHECK_THAT(fit.reason, Catch::Contains("contact never ends"));
   // Contact times need uncertainties when maxima have none.
   std::vector<PoyntingThomsonRun> runs = data.runs;
   runs[0].measured.xmax_sigma.clear();

@@ -77,11 +77,11 @@ TEST_CASE("calibration band: maxima read through a correlated calibration have h
     const RunResult& run = result.runs[0];
     INFO(run.Status());
     REQUIRE(run.ok);
-    REQUIRE(run.xmax.size() >= 4);
-    for (std::size_t n = 0; n < run.xmax.size(); ++n) {
-      const double error = run.xmax[n] - truth[n + 1];  // first_rebound = 1
+    REQUIRE(run.measured.xmax.size() >= 4);
+    for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
+      const double error = run.measured.xmax[n] - truth[n + 1];  // first_rebound = 1
       worst_error = std::max(worst_error, std::abs(error));
-      sum += (error / run.xmax_sigma[n]) * (error / run.xmax_sigma[n]);
+      sum += (error / run.measured.xmax_sigma[n]) * (error / run.measured.xmax_sigma[n]);
       ++count;
     }
   }

@@ -104,8 +104,8 @@ TEST_CASE("hints_session: a session with hints reduces and its results say which
   for (const RunResult& run : result.runs) {
     INFO(run.id << ": " << run.Status());
     REQUIRE(run.ok);
-    REQUIRE(run.overlays.size() == 1);
-    CHECK(run.overlays[0].hints == (run.id == id ? "graticule_corners, left.points" : ""));
+    REQUIRE(run.measured.overlays.size() == 1);
+    CHECK(run.measured.overlays[0].hints == (run.id == id ? "graticule_corners, left.points" : ""));
     // As well measured with the hints as the tolerances of photo_session ask.
     const nlohmann::json* run_truth = nullptr;
     for (const auto& t : summary.truth["runs"]) {
@@ -114,9 +114,9 @@ TEST_CASE("hints_session: a session with hints reduces and its results say which
     REQUIRE(run_truth != nullptr);
     const double x0 = (*run_truth)["initial_displacement"];
     const auto& xmax = (*run_truth)["rebounds"]["xmax"];
-    CHECK(run.xmax.size() >= 3);
-    for (std::size_t n = 0; n < run.xmax.size() && n < xmax.size(); ++n) {
-      CHECK(100.0 * std::abs(run.xmax[n] - xmax[n].get<double>()) / x0 < 0.2);
+    CHECK(run.measured.xmax.size() >= 3);
+    for (std::size_t n = 0; n < run.measured.xmax.size() && n < xmax.size(); ++n) {
+      CHECK(100.0 * std::abs(run.measured.xmax[n] - xmax[n].get<double>()) / x0 < 0.2);
     }
   }
 }

@@ -62,13 +62,13 @@ TEST_CASE("limits: time_per_div = 1e8 or 1e300, a CSV's time in ns: those runs f
       INFO("run " << run.id << ": " << run.Status());
       if (run.id == photo_run.id) {
         CHECK_FALSE(run.ok);
-        CHECK_THAT(run.failure, Catch::Contains("traces.right.time_per_div") &&
-                                    Catch::Contains("swings out and back of this pendulum") &&
-                                    Catch::Contains("at most 1000 are expected"));
+        CHECK_THAT(run.reason, Catch::Contains("traces.right.time_per_div") &&
+                                   Catch::Contains("swings out and back of this pendulum") &&
+                                   Catch::Contains("at most 1000 are expected"));
       } else if (run.id == csv_run.id) {
         CHECK_FALSE(run.ok);
-        CHECK_THAT(run.failure, Catch::Contains(csv.filename().string()) &&
-                                    Catch::Contains("swings out and back of this pendulum"));
+        CHECK_THAT(run.reason, Catch::Contains(csv.filename().string()) &&
+                                   Catch::Contains("swings out and back of this pendulum"));
       } else {
         CHECK(run.ok);
         ok += run.ok;
@@ -93,8 +93,8 @@ TEST_CASE("limits: a calibration photo's time_per_div of 1e300 fails the runs us
   const RunResult* run = result.FindRun(photo_run.id);
   REQUIRE(run != nullptr);
   CHECK_FALSE(run->ok);
-  CHECK_THAT(run->failure, Catch::Contains("calibration \"" + id + "\".trace.time_per_div") &&
-                               Catch::Contains("swings"));
+  CHECK_THAT(run->reason, Catch::Contains("calibration \"" + id + "\".trace.time_per_div") &&
+                              Catch::Contains("swings"));
 }
 
 TEST_CASE(
@@ -110,7 +110,7 @@ TEST_CASE(
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() <
         /*max_seconds=*/5.0);
   CHECK_FALSE(result.runs[0].ok);
-  CHECK_THAT(result.runs[0].failure,
+  CHECK_THAT(result.runs[0].reason,
              Catch::Contains("first_rebound = 200000000") && Catch::Contains("at most 1000"));
   CHECK(result.FailedRuns() == 1);
 }

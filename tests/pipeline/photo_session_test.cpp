@@ -64,13 +64,14 @@ Errors ReduceGenerated(PhotoStyle style, std::uint64_t seed) {
     errors.photo_runs += truth["form"] == "photo";
     const double x0 = truth["initial_displacement"];
     const auto& xmax = truth["rebounds"]["xmax"];
-    CHECK(run->xmax.size() >= 3);
-    for (std::size_t n = 0; n < run->xmax.size() && n < xmax.size(); ++n) {
-      errors.xmax_pct_x0.push_back(100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0);
+    CHECK(run->measured.xmax.size() >= 3);
+    for (std::size_t n = 0; n < run->measured.xmax.size() && n < xmax.size(); ++n) {
+      errors.xmax_pct_x0.push_back(100.0 * std::abs(run->measured.xmax[n] - xmax[n].get<double>()) /
+                                   x0);
     }
-    if (run->contact_time) {
+    if (run->measured.contact_time) {
       const double tau = truth["contact"]["duration_s"];
-      errors.contact_pct.push_back(100.0 * std::abs(*run->contact_time - tau) / tau);
+      errors.contact_pct.push_back(100.0 * std::abs(*run->measured.contact_time - tau) / tau);
     }
   }
   return errors;
@@ -130,7 +131,7 @@ TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and
   for (const RunResult& run : result.runs) {
     if (run.id == victim.id) {
       CHECK_FALSE(run.ok);
-      CHECK_THAT(run.failure, Catch::Contains(victim.photo->filename().string()));
+      CHECK_THAT(run.reason, Catch::Contains(victim.photo->filename().string()));
     } else {
       CHECK(run.ok);
       ok += run.ok;
@@ -150,10 +151,10 @@ TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the 
   int calibration_overlays = 0, spreads_measured = 0;
   for (const RunResult& run : read.runs) {
     REQUIRE(run.ok);
-    REQUIRE(run.overlays.size() == 1);
+    REQUIRE(run.measured.overlays.size() == 1);
     // The displacement traces' spread, kept with its sigma where measured; the
     // contact pulse's levels never write fast enough to measure one.
-    const PhotoOverlay& o = run.overlays[0];
+    const PhotoOverlay& o = run.measured.overlays[0];
     REQUIRE(o.trace_spread_px2.size() == o.trace_names.size());
     REQUIRE(o.trace_spread_sigma_px2.size() == o.trace_names.size());
     for (std::size_t i = 0; i < o.trace_names.size(); ++i) {
@@ -168,7 +169,7 @@ TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the 
         CHECK(o.trace_spread_sigma_px2[i] < 0.5 * o.trace_spread_px2[i]);
       }
     }
-    for (const CellCalibration& c : run.calibrations) {
+    for (const CellCalibration& c : run.measured.calibrations) {
       REQUIRE(c.overlay);
       CHECK(c.overlay->jpeg.size() > 1000);
       CHECK_THAT(html, Catch::Contains(c.overlay->photo));

@@ -44,11 +44,11 @@ TEST_CASE("rejected entries: a bad run fails alone, at its place, and the others
   REQUIRE(result.runs.size() == 10);
   CHECK(result.runs[0].id == "bad");
   CHECK_FALSE(result.runs[0].ok);
-  CHECK_THAT(result.runs[0].failure, Contains("session.toml"));
-  CHECK_THAT(result.runs[0].failure, Contains("run \"bad\".initial_displacement"));
-  CHECK_THAT(result.runs[0].failure, Contains("found string \"abc\""));
+  CHECK_THAT(result.runs[0].reason, Contains("session.toml"));
+  CHECK_THAT(result.runs[0].reason, Contains("run \"bad\".initial_displacement"));
+  CHECK_THAT(result.runs[0].reason, Contains("found string \"abc\""));
   CHECK(result.runs[1].id == "#2");
-  CHECK_THAT(result.runs[1].failure, Contains("expected a run id (a string) of 1 to 64 letters"));
+  CHECK_THAT(result.runs[1].reason, Contains("expected a run id (a string) of 1 to 64 letters"));
   CHECK(result.FailedRuns() == 2);
   for (std::size_t i = 2; i < result.runs.size(); ++i) CHECK(result.runs[i].ok);
   // Table 4's prediction still follows from the good runs.
@@ -61,7 +61,7 @@ TEST_CASE("rejected entries: a bad run fails alone, at its place, and the others
   REQUIRE(back.runs.size() == 10);
   CHECK(back.runs[1].id == "#2");
   CHECK_FALSE(back.runs[1].ok);
-  CHECK(back.runs[1].failure == result.runs[1].failure);
+  CHECK(back.runs[1].reason == result.runs[1].reason);
 }
 
 TEST_CASE("rejected entries: a calibration no run needs is reported as a warning") {
@@ -90,7 +90,7 @@ TEST_CASE("rejected entries: a bad log fails alone beside a good one") {
   CHECK(result.logs[0].ok);
   CHECK_FALSE(result.logs[1].ok);
   CHECK(result.logs[1].id == "broken");
-  CHECK_THAT(result.logs[1].status, Contains("found both"));
+  CHECK_THAT(result.logs[1].reason, Contains("found both"));
 }
 
 }  // namespace

@@ -40,9 +40,11 @@ TEST_CASE("results_file: the minimum layout is present and every numeric dataset
   CHECK(f.ReadStringAttribute("/", "units") == "in-lbf-s");
   CHECK(f.ReadStringAttribute("/runs/0.234", "status") == "ok");
   for (const char* name :
-       {"/runs/0.234/rebounds/xmax", "/runs/0.234/rebounds/t_peak", "/runs/0.234/contact_time",
-        "/runs/0.234/fit/kelvin_voigt/zeta", "/runs/0.234/fit/kelvin_voigt/stiffness",
-        "/runs/0.234/fit/kelvin_voigt/damping", "/runs/0.234/fit/kelvin_voigt/restitution",
+       {"/runs/0.234/rebounds/xmax", "/runs/0.234/rebounds/t_peak",
+        // The session gives the one contact time; the runs have none of their own.
+        "/runs/0.234/fit/kelvin_voigt/contact_time_used", "/runs/0.234/fit/kelvin_voigt/zeta",
+        "/runs/0.234/fit/kelvin_voigt/stiffness", "/runs/0.234/fit/kelvin_voigt/damping",
+        "/runs/0.234/fit/kelvin_voigt/restitution",
         "/runs/0.234/fit/kelvin_voigt/predicted_xmax"}) {
     INFO(name);
     CHECK(f.Exists(name));
@@ -71,11 +73,11 @@ TEST_CASE("results_file: reading back gives what was written") {
   REQUIRE(read.runs.size() == written.runs.size());
   for (std::size_t i = 0; i < read.runs.size(); ++i) {
     CHECK(read.runs[i].id == written.runs[i].id);  // manifest order kept
-    CHECK(read.runs[i].xmax == written.runs[i].xmax);
-    CHECK(read.runs[i].kelvin_voigt->stiffness->value ==
-          written.runs[i].kelvin_voigt->stiffness->value);
-    CHECK(read.runs[i].kelvin_voigt->predicted_xmax.size() ==
-          written.runs[i].kelvin_voigt->predicted_xmax.size());
+    CHECK(read.runs[i].measured.xmax == written.runs[i].measured.xmax);
+    CHECK(read.runs[i].fits.kelvin_voigt->stiffness->value ==
+          written.runs[i].fits.kelvin_voigt->stiffness->value);
+    CHECK(read.runs[i].fits.kelvin_voigt->predicted_xmax.size() ==
+          written.runs[i].fits.kelvin_voigt->predicted_xmax.size());
   }
   CHECK(read.kelvin_voigt->damping_line->b.value == written.kelvin_voigt->damping_line->b.value);
   REQUIRE(read.predictions.size() == 1);

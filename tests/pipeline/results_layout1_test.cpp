@@ -47,7 +47,8 @@ void CheckSame(const LeastSquaresSummary& a, const LeastSquaresSummary& b) {
   CHECK(a.model == b.model);
   CHECK(a.ok == b.ok);
   CHECK(a.converged == b.converged);
-  CHECK(a.message == b.message);
+  CHECK(a.reason == b.reason);
+  CHECK(a.termination == b.termination);
   CHECK(a.identifiable == b.identifiable);
   CHECK(a.rank == b.rank);
   CHECK(a.identifiability == b.identifiability);
@@ -66,29 +67,29 @@ void CheckSame(const RunResult& a, const RunResult& b) {
   CHECK(a.id == b.id);
   CHECK(a.fingerprint == b.fingerprint);
   CHECK(a.ok == b.ok);
-  CHECK(a.failure == b.failure);
-  CHECK(a.source == b.source);
+  CHECK(a.reason == b.reason);
+  CHECK(a.measured.source == b.measured.source);
   CHECK(Same(a.initial_displacement, b.initial_displacement));
   CHECK(a.first_rebound == b.first_rebound);
-  CHECK(Same(a.xmax, b.xmax));
-  CHECK(Same(a.xmax_sigma, b.xmax_sigma));
-  CHECK(Same(a.t_peak, b.t_peak));
-  CHECK(Same(a.t_peak_sigma, b.t_peak_sigma));
-  CHECK(a.t_peak_source == b.t_peak_source);
-  CHECK(a.contact_time == b.contact_time);
-  CHECK(Same(a.contact_time_sigma, b.contact_time_sigma));
-  CHECK(a.contact_time_source == b.contact_time_source);
-  CHECK(Same(a.model_response.time_s, b.model_response.time_s));
-  CHECK(Same(a.model_response.value, b.model_response.value));
-  CHECK(a.stiffness_source == b.stiffness_source);
-  CHECK(Same(a.deviation, b.deviation));
-  CHECK(Same(a.deviation_pct_peak, b.deviation_pct_peak));
-  CHECK(Same(a.deviation_pct_x0, b.deviation_pct_x0));
-  REQUIRE(a.kelvin_voigt.has_value() == b.kelvin_voigt.has_value());
-  if (a.kelvin_voigt) {
-    const KelvinVoigtTwoPointFit &p = *a.kelvin_voigt, &q = *b.kelvin_voigt;
+  CHECK(Same(a.measured.xmax, b.measured.xmax));
+  CHECK(Same(a.measured.xmax_sigma, b.measured.xmax_sigma));
+  CHECK(Same(a.measured.t_peak, b.measured.t_peak));
+  CHECK(Same(a.measured.t_peak_sigma, b.measured.t_peak_sigma));
+  CHECK(a.PeakTimesSource() == b.PeakTimesSource());
+  CHECK(a.measured.contact_time == b.measured.contact_time);
+  CHECK(Same(a.measured.contact_time_sigma, b.measured.contact_time_sigma));
+  CHECK(a.measured.contact_time_source == b.measured.contact_time_source);
+  CHECK(Same(a.fits.model_response.time_s, b.fits.model_response.time_s));
+  CHECK(Same(a.fits.model_response.value, b.fits.model_response.value));
+  CHECK(a.fits.contact_time_source == b.fits.contact_time_source);
+  CHECK(Same(a.fits.deviation, b.fits.deviation));
+  CHECK(Same(a.fits.deviation_pct_peak, b.fits.deviation_pct_peak));
+  CHECK(Same(a.fits.deviation_pct_x0, b.fits.deviation_pct_x0));
+  REQUIRE(a.fits.kelvin_voigt.has_value() == b.fits.kelvin_voigt.has_value());
+  if (a.fits.kelvin_voigt) {
+    const KelvinVoigtTwoPointFit &p = *a.fits.kelvin_voigt, &q = *b.fits.kelvin_voigt;
     CHECK(p.ok == q.ok);
-    CHECK(p.diagnostic == q.diagnostic);
+    CHECK(p.reason == q.reason);
     CHECK(p.separation == q.separation);
     CHECK(p.rebounds_used == q.rebounds_used);
     CHECK(Same(p.damping_ratio, q.damping_ratio));
@@ -102,9 +103,9 @@ void CheckSame(const RunResult& a, const RunResult& b) {
       CHECK(Same(p.predicted_xmax[i], q.predicted_xmax[i]));
     }
   }
-  REQUIRE(a.least_squares.size() == b.least_squares.size());
-  for (std::size_t i = 0; i < a.least_squares.size(); ++i) {
-    CheckSame(a.least_squares[i], b.least_squares[i]);
+  REQUIRE(a.fits.least_squares.size() == b.fits.least_squares.size());
+  for (std::size_t i = 0; i < a.fits.least_squares.size(); ++i) {
+    CheckSame(a.fits.least_squares[i], b.fits.least_squares[i]);
   }
 }
 
@@ -118,7 +119,7 @@ void CheckSame(const ModelComparison& a, const ModelComparison& b) {
     INFO("model " << p.model);
     CHECK(p.model == q.model);
     CHECK(p.ok == q.ok);
-    CHECK(p.diagnostic == q.diagnostic);
+    CHECK(p.reason == q.reason);
     CHECK(Same(p.parameters, q.parameters));
     CHECK((p.maxima == q.maxima && p.parameter_count == q.parameter_count && p.dof == q.dof));
     CHECK(Same(std::vector<double>{p.chi2, p.aic, p.bic, p.log_restitution_spread,
@@ -154,7 +155,9 @@ void CheckSame(const SessionResult& a, const SessionResult& b) {
     CHECK(Same(p.spread.average, q.spread.average));
     CHECK(Same(p.spread.deviation, q.spread.deviation));
     CHECK(Same(p.spread.pct_variation, q.spread.pct_variation));
-    CHECK(p.average_stiffness == q.average_stiffness);
+    REQUIRE(p.average_stiffness.has_value() == q.average_stiffness.has_value());
+    if (p.average_stiffness) CHECK(Same(*p.average_stiffness, *q.average_stiffness));
+    CHECK(Same(p.damping_sigma, q.damping_sigma));
     REQUIRE(p.damping_line.has_value() == q.damping_line.has_value());
     if (p.damping_line) {
       CHECK(Same(p.damping_line->a, q.damping_line->a));
@@ -193,30 +196,33 @@ TEST_CASE("results_layout1: a layout-1 file reads with its values where they wer
   const RunResult& run = r.runs[2];
   CHECK(run.id == "0.405");
   CHECK(run.ok);
-  CHECK(run.source == "typed-in");
-  CHECK(run.xmax == std::vector<double>{0.293, 0.195, 0.117, 0.060, 0.053});
-  CHECK(run.t_peak_source == "model");
-  CHECK(run.contact_time_source == "session");
-  REQUIRE(run.kelvin_voigt.has_value());
-  CHECK(run.kelvin_voigt->stiffness->value == Approx(460000).epsilon(0.05));
-  CHECK(run.model_response.time_s.size() == run.model_response.value.size());
-  REQUIRE(run.least_squares.size() == 2);
-  const LeastSquaresSummary& kv = run.least_squares[0];
+  CHECK(run.measured.source == "typed-in");
+  CHECK(run.measured.xmax == std::vector<double>{0.293, 0.195, 0.117, 0.060, 0.053});
+  CHECK(run.PeakTimesSource() == "model");
+  // The session's one contact time is the fit's, not the run's.
+  CHECK_FALSE(run.measured.contact_time.has_value());
+  CHECK(run.fits.contact_time_source == "session");
+  CHECK(run.fits.kelvin_voigt->contact_time.has_value());
+  REQUIRE(run.fits.kelvin_voigt.has_value());
+  CHECK(run.fits.kelvin_voigt->stiffness->value == Approx(460000).epsilon(0.05));
+  CHECK(run.fits.model_response.time_s.size() == run.fits.model_response.value.size());
+  REQUIRE(run.fits.least_squares.size() == 2);
+  const LeastSquaresSummary& kv = run.fits.least_squares[0];
   CHECK(kv.model == "kelvin_voigt_least_squares");
   CHECK(kv.ok);
-  CHECK_THAT(kv.message, Catch::StartsWith("Function tolerance reached"));
+  CHECK_THAT(kv.termination, Catch::StartsWith("Function tolerance reached"));
   CHECK(kv.correlation.size() == kv.covariance_names.size() * kv.covariance_names.size());
-  const LeastSquaresSummary& pt = run.least_squares[1];
+  const LeastSquaresSummary& pt = run.fits.least_squares[1];
   CHECK(!pt.ok);
-  CHECK_THAT(pt.message, Catch::StartsWith("not identifiable"));
+  CHECK_THAT(pt.reason, Catch::StartsWith("not identifiable"));
   CHECK(pt.correlation.size() == 16);
 
   const RunResult& rising = r.runs[3];
   CHECK(!rising.ok);
-  CHECK_THAT(rising.failure, Catch::Contains("the pair shows no dissipation"));
-  REQUIRE(rising.kelvin_voigt.has_value());
-  CHECK(!rising.kelvin_voigt->ok);
-  CHECK_THAT(rising.kelvin_voigt->diagnostic, Catch::StartsWith("rebound 1 (0.18) exceeds"));
+  CHECK_THAT(rising.reason, Catch::Contains("the pair shows no dissipation"));
+  REQUIRE(rising.fits.kelvin_voigt.has_value());
+  CHECK(!rising.fits.kelvin_voigt->ok);
+  CHECK_THAT(rising.fits.kelvin_voigt->reason, Catch::StartsWith("rebound 1 (0.18) exceeds"));
 
   REQUIRE(r.joint_fits.size() == 1);
   CHECK(r.joint_fits[0].correlation.size() == 36);

@@ -108,7 +108,7 @@ TEST_CASE(
   std::vector<std::string> run_ids;
   for (const RunResult& run : r.runs) run_ids.push_back(run.id);
   for (const RunResult& run : r.runs) {
-    for (const LeastSquaresSummary& fit : run.least_squares) {
+    for (const LeastSquaresSummary& fit : run.fits.least_squares) {
       CheckCorrelation(path, "/runs/" + run.id + "/fit/" + fit.model, fit, run_ids);
     }
   }
@@ -163,7 +163,7 @@ TEST_CASE("results_layout2: a session of logs only has no pendulum and no runs")
   CHECK(read.runs.empty());
   CHECK(read.apparatus.mass == 0.0);
   REQUIRE(read.logs.size() == written.logs.size());
-  CHECK(read.logs[0].status == written.logs[0].status);
+  CHECK(read.logs[0].Status() == written.logs[0].Status());
 }
 
 // A string attribute as the HDF5 Image spec has them (fixed length).
@@ -185,7 +185,7 @@ SessionResult WithOverlay(const std::vector<unsigned char>& jpeg) {
   RunResult run;
   run.id = "photo";
   run.initial_displacement = 0.3;
-  run.failure = "not measured";
+  run.reason = "not measured";
   PhotoOverlay overlay;
   overlay.photo = "runs/photo.jpg";
   overlay.jpeg = jpeg;
@@ -193,7 +193,7 @@ SessionResult WithOverlay(const std::vector<unsigned char>& jpeg) {
   overlay.trace_coverage = {0.9, 0.8};
   overlay.trace_spread_px2 = {1.0, 2.0};
   overlay.trace_spread_sigma_px2 = {0.1, 0.2};
-  run.overlays = {overlay};
+  run.measured.overlays = {overlay};
   r.runs = {run};
   return r;
 }
@@ -222,8 +222,8 @@ TEST_CASE("results_layout2: a digitized photo's overlay is an HDF5 true-colour i
   CHECK(rgb.at<cv::Vec3b>(22, 30)[0] > 200);  // the red stripe is red
   // The JPEG stays for the report, and reads back as it was.
   CHECK(f.ReadBytes("/runs/photo/digitized/0/overlay_jpeg") == jpeg);
-  REQUIRE(ReadResults(path).runs.at(0).overlays.size() == 1);
-  CHECK(ReadResults(path).runs[0].overlays[0].jpeg == jpeg);
+  REQUIRE(ReadResults(path).runs.at(0).measured.overlays.size() == 1);
+  CHECK(ReadResults(path).runs[0].measured.overlays[0].jpeg == jpeg);
   CHECK(Attached(path, "/runs/photo/digitized/0/trace_coverage",
                  "/runs/photo/digitized/0/trace_names"));
 }
@@ -237,17 +237,17 @@ SessionResult WithNothingToSay() {
   r.created = "2026-01-01T00:00:00Z";
   RunResult rejected;
   rejected.id = "rejected";
-  rejected.failure = "session.toml:3: run \"rejected\".initial_displacement: must be positive";
+  rejected.reason = "session.toml:3: run \"rejected\".initial_displacement: must be positive";
   RunResult run;
   run.id = "run";
   run.initial_displacement = 0.3;
-  run.xmax = {0.1};
-  run.xmax_sigma = {0.0};
-  run.failure = "one maximum";
+  run.measured.xmax = {0.1};
+  run.measured.xmax_sigma = {0.0};
+  run.reason = "one maximum";
   LeastSquaresSummary fit;
   fit.model = "poynting_thomson";
-  fit.message = "needs two maxima";
-  run.least_squares = {fit};
+  fit.reason = "needs two maxima";
+  run.fits.least_squares = {fit};
   r.runs = {rejected, run};
   return r;
 }
@@ -266,12 +266,12 @@ TEST_CASE("results_layout2: what does not apply is not written") {
 
   const SessionResult read = ReadResults(path);
   REQUIRE(read.runs.size() == 2);
-  CHECK(read.runs[0].failure == WithNothingToSay().runs[0].failure);
+  CHECK(read.runs[0].reason == WithNothingToSay().runs[0].reason);
   CHECK(read.runs[0].initial_displacement == 0.0);
-  REQUIRE(read.runs[1].least_squares.size() == 1);
-  const LeastSquaresSummary& pt = read.runs[1].least_squares[0];
+  REQUIRE(read.runs[1].fits.least_squares.size() == 1);
+  const LeastSquaresSummary& pt = read.runs[1].fits.least_squares[0];
   CHECK_FALSE(pt.ok);
-  CHECK(pt.message == "needs two maxima");
+  CHECK(pt.reason == "needs two maxima");
   CHECK(pt.parameters.empty());
 }
 

@@ -292,9 +292,12 @@ TEST_CASE("results_names: docs/results.md lists every name of the files, and no 
   struct Reduction {
     fs::path session;
     Products products;
+    bool average_stiffness = false;  // [reduction] average_stiffness
   };
+  const fs::path typed_in = TypedInSession(dir.path() / "typed-in");
   const std::vector<Reduction> reductions = {
-      {TypedInSession(dir.path() / "typed-in"), Products::kFit},
+      {typed_in, Products::kFit},
+      {typed_in, Products::kFit, true},
       {photos, Products::kFit},
       {photos, Products::kCalibration},
       {kSamples / "logs-two-link", Products::kFit},
@@ -305,7 +308,9 @@ TEST_CASE("results_names: docs/results.md lists every name of the files, and no 
     ReduceOptions options;
     options.products = r.products;
     options.jobs = 2;
-    const SessionResult result = ReduceSession(ReadManifest(r.session).session, options);
+    Session session = ReadManifest(r.session).session;
+    session.reduction.average_stiffness = r.average_stiffness;
+    const SessionResult result = ReduceSession(session, options);
     Add(vocabulary, result);
     files.push_back(dir.path() /
                     fmt::format("{}-{}.h5", files.size(), r.session.filename().string()));

@@ -84,19 +84,19 @@ TEST_CASE("trace_session: CSV traces reduce to the model's maxima, contact time 
   const RunResult& run = result.runs[0];
   INFO(run.Status());
   REQUIRE(run.ok);
-  CHECK(run.source == "csv");
-  REQUIRE(run.xmax.size() >= 4);
-  for (std::size_t n = 0; n < run.xmax.size(); ++n) {
+  CHECK(run.measured.source == "csv");
+  REQUIRE(run.measured.xmax.size() >= 4);
+  for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
     // Session rebound n is PENDUL rebound n + 1 (first_rebound = 1).
-    CHECK(run.xmax[n] == Approx(w.truth.xmax[n + 1]).epsilon(1e-6));
-    CHECK(run.t_peak[n] == Approx(w.truth.peak_time[n + 1]).margin(1e-5));
+    CHECK(run.measured.xmax[n] == Approx(w.truth.xmax[n + 1]).epsilon(1e-6));
+    CHECK(run.measured.t_peak[n] == Approx(w.truth.peak_time[n + 1]).margin(1e-5));
   }
-  CHECK(run.contact_time_source == "contact trace");
-  CHECK(*run.contact_time == Approx(w.truth.contact.contact_time).margin(1e-6));
-  CHECK(run.kelvin_voigt->stiffness->value == Approx(kK).epsilon(1e-2));
-  CHECK(run.kelvin_voigt->damping->value == Approx(kC).epsilon(2e-2));
-  REQUIRE(run.calibrations.size() == 2);
-  CHECK(run.calibrations[0].residual_rms_volts < 1e-6);
+  CHECK(run.measured.contact_time_source == "contact trace");
+  CHECK(*run.measured.contact_time == Approx(w.truth.contact.contact_time).margin(1e-6));
+  CHECK(run.fits.kelvin_voigt->stiffness->value == Approx(kK).epsilon(1e-2));
+  CHECK(run.fits.kelvin_voigt->damping->value == Approx(kC).epsilon(2e-2));
+  REQUIRE(run.measured.calibrations.size() == 2);
+  CHECK(run.measured.calibrations[0].residual_rms_volts < 1e-6);
 }
 
 TEST_CASE("trace_session: with noisy traces the maxima stay within their reported uncertainty") {
@@ -106,11 +106,11 @@ TEST_CASE("trace_session: with noisy traces the maxima stay within their reporte
   const RunResult& run = result.runs[0];
   INFO(run.Status());
   REQUIRE(run.ok);
-  for (std::size_t n = 0; n < run.xmax.size(); ++n) {
+  for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
     INFO("rebound " << n);
-    CHECK(run.xmax_sigma[n] > 0.0);
-    CHECK(std::abs(run.xmax[n] - w.truth.xmax[n + 1]) < 5.0 * run.xmax_sigma[n]);
-    CHECK(std::abs(run.xmax[n] - w.truth.xmax[n + 1]) < 5e-4 * 0.405);  // 0.05 % of X0
+    CHECK(run.measured.xmax_sigma[n] > 0.0);
+    CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5.0 * run.measured.xmax_sigma[n]);
+    CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5e-4 * 0.405);  // 0.05 % of X0
   }
 }
 
@@ -139,7 +139,7 @@ TEST_CASE("trace_session: a calibration that does not cover the run is refused")
   session.calibrations[0].initial_displacement = 0.2;
   const SessionResult result = ReduceSession(session, {});
   CHECK_FALSE(result.runs[0].ok);
-  CHECK_THAT(result.runs[0].failure, Catch::Contains("does not cover"));
+  CHECK_THAT(result.runs[0].reason, Catch::Contains("does not cover"));
 }
 
 // Two runs sharing nothing: the trace session's run and a second, typed-in one.
@@ -165,10 +165,10 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
   const SessionResult second = ReduceSession(session, again);
   CHECK(second.runs[0].reused);
   CHECK_FALSE(second.runs[1].reused);  // typed-in runs read the manifest, never the file
-  CHECK(second.runs[1].xmax == first.runs[1].xmax);
-  CHECK(second.runs[0].xmax == first.runs[0].xmax);
-  CHECK(second.runs[0].kelvin_voigt->stiffness->value ==
-        first.runs[0].kelvin_voigt->stiffness->value);
+  CHECK(second.runs[1].measured.xmax == first.runs[1].measured.xmax);
+  CHECK(second.runs[0].measured.xmax == first.runs[0].measured.xmax);
+  CHECK(second.runs[0].fits.kelvin_voigt->stiffness->value ==
+        first.runs[0].fits.kelvin_voigt->stiffness->value);
 
   // Edit the typed-in run only: the trace run is still reused.
   Session edited = session;
@@ -176,7 +176,7 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
   const SessionResult third = ReduceSession(edited, again);
   CHECK(third.runs[0].reused);
   CHECK_FALSE(third.runs[1].reused);
-  CHECK(third.runs[1].xmax[2] == 0.128);
+  CHECK(third.runs[1].measured.xmax[2] == 0.128);
 
   // A changed input file (a calibration's bytes) invalidates the runs using it.
   WriteSession(dir.path() / "other", 0.6, 0.002);
@@ -234,8 +234,9 @@ TEST_CASE("reuse: a changed setting re-measures exactly the runs it touches") {
       0.4, {session.manifest, "run \"again\".rebound_extraction.peak_window_fraction", 30}};
   const SessionResult own = ReduceSession(edited, again);
   CHECK(Remeasured(own) == Ids{"typed", "again"});
-  CHECK(own.runs[2].xmax != first.runs[2].xmax);  // measured with a narrower peak window
-  CHECK(own.runs[0].xmax == first.runs[0].xmax);
+  CHECK(own.runs[2].measured.xmax !=
+        first.runs[2].measured.xmax);  // measured with a narrower peak window
+  CHECK(own.runs[0].measured.xmax == first.runs[0].measured.xmax);
 
   // The photocell's: every run whose traces are converted with a calibration.
   ReduceOptions photocell = again;
@@ -252,9 +253,9 @@ TEST_CASE("reuse: a changed setting re-measures exactly the runs it touches") {
   fit.overrides = CommandLineSettings({{"fit.kelvin_voigt.solver.max_iterations", "1"}});
   const SessionResult refit = ReduceSession(session, fit);
   CHECK(Remeasured(refit) == Ids{"typed"});
-  REQUIRE(refit.runs[0].least_squares.size() == first.runs[0].least_squares.size());
-  CHECK(first.runs[0].least_squares[0].converged);
-  CHECK_FALSE(refit.runs[0].least_squares[0].converged);  // one iteration is not enough
+  REQUIRE(refit.runs[0].fits.least_squares.size() == first.runs[0].fits.least_squares.size());
+  CHECK(first.runs[0].fits.least_squares[0].converged);
+  CHECK_FALSE(refit.runs[0].fits.least_squares[0].converged);  // one iteration is not enough
 }
 
 TEST_CASE("settings: manifest -> options -> results file -> options, for every result") {
@@ -287,8 +288,8 @@ method = "gaussian"
   // A run of CSV traces: no digitizer's settings, the rest as it resolved them.
   const RunResult& run = read.runs[0];
   CHECK(run.settings == SettingsOfStages(run_options, {"rebound_extraction", "fit"}));
-  REQUIRE(run.calibrations.size() == 2);
-  CHECK(run.calibrations[0].settings == SettingsOfStages(session_options, {"photocell"}));
+  REQUIRE(run.measured.calibrations.size() == 2);
+  CHECK(run.measured.calibrations[0].settings == SettingsOfStages(session_options, {"photocell"}));
 
   // And back into options: the file's settings give the same options.
   StageOptions from_file;
@@ -315,10 +316,10 @@ TEST_CASE("reuse: a changed convention measures again and matches a fresh run") 
     INFO("run " << again.runs[i].id);
     CHECK_FALSE(again.runs[i].reused);
     CHECK(again.runs[i].fingerprint != exact.runs[i].fingerprint);
-    CHECK(again.runs[i].xmax == fresh.runs[i].xmax);
+    CHECK(again.runs[i].measured.xmax == fresh.runs[i].measured.xmax);
   }
   // The calibration depends on the pendulum: the trace run's maxima differ.
-  CHECK(again.runs[0].xmax != exact.runs[0].xmax);
+  CHECK(again.runs[0].measured.xmax != exact.runs[0].measured.xmax);
 }
 
 TEST_CASE("reuse: the fingerprint covers the convention, separation, products and producer") {
@@ -362,33 +363,33 @@ TEST_CASE("reuse: a NaN written into one run's xmax measures that run again, oth
     return *std::find_if(r.runs.begin(), r.runs.end(),
                          [&](const RunResult& run) { return run.id == id; });
   };
-  run_of(edited, "run").xmax[1] = std::nan("");
-  run_of(edited, "typed").xmax[0] = std::nan("");
+  run_of(edited, "run").measured.xmax[1] = std::nan("");
+  run_of(edited, "typed").measured.xmax[0] = std::nan("");
   const auto copy = dir.path() / "edited.h5";
   WriteResults(edited, copy);
   const SessionResult previous = ReadResults(copy);
-  REQUIRE(std::isnan(previous.FindRun("run")->xmax[1]));
-  CHECK_THAT(ReuseProblem(*previous.FindRun("run")), Catch::Equals("xmax[1] is nan"));
-  CHECK(ReuseProblem(*previous.FindRun("again")).empty());
+  REQUIRE(std::isnan(previous.FindRun("run")->measured.xmax[1]));
+  CHECK_THAT(ReuseProblem(previous.FindRun("run")->measured), Catch::Equals("xmax[1] is nan"));
+  CHECK(ReuseProblem(previous.FindRun("again")->measured).empty());
 
   ReduceOptions options;
   options.previous = &previous;
   const SessionResult second = ReduceSession(session, options);
   REQUIRE(second.FailedRuns() == 0);
   CHECK_FALSE(second.runs[0].reused);
-  CHECK(second.runs[0].xmax == first.runs[0].xmax);
+  CHECK(second.runs[0].measured.xmax == first.runs[0].measured.xmax);
   CHECK_FALSE(second.runs[1].reused);  // typed-in: the manifest's values, not the file's
-  CHECK(second.runs[1].xmax == session.runs[1].rebounds);
+  CHECK(second.runs[1].measured.xmax == session.runs[1].rebounds);
   CHECK(second.runs[2].reused);
-  CHECK(second.runs[2].xmax == first.runs[2].xmax);
+  CHECK(second.runs[2].measured.xmax == first.runs[2].measured.xmax);
 }
 
 TEST_CASE("reuse: values that are not finite or disagree in size are named") {
-  RunResult r;
+  RunMeasurement r;
   r.xmax = {0.3, 0.2};
   r.xmax_sigma = {1e-3, 1e-3};
   CHECK(ReuseProblem(r).empty());
-  RunResult bad = r;
+  RunMeasurement bad = r;
   bad.xmax_sigma.pop_back();
   CHECK_THAT(ReuseProblem(bad), Catch::Contains("xmax has 2 values but xmax_std_error has 1"));
   bad = r;
@@ -464,7 +465,7 @@ TEST_CASE("parallel: two jobs give exactly the results of one") {
   CHECK(calls == 2);
   for (std::size_t i = 0; i < serial.runs.size(); ++i) {
     CHECK(parallel.runs[i].id == serial.runs[i].id);
-    CHECK(parallel.runs[i].xmax == serial.runs[i].xmax);
+    CHECK(parallel.runs[i].measured.xmax == serial.runs[i].measured.xmax);
   }
 }
 
@@ -482,7 +483,7 @@ TEST_CASE("products: --only calibration and --only rebounds stop where asked") {
   const SessionResult r = ReduceSession(session, rebounds_only);
   REQUIRE(r.runs.size() == 2);
   CHECK(r.runs[0].ok);
-  CHECK_FALSE(r.runs[0].kelvin_voigt.has_value());
+  CHECK_FALSE(r.runs[0].fits.kelvin_voigt.has_value());
   CHECK_FALSE(r.kelvin_voigt.has_value());
 }
 
@@ -498,83 +499,17 @@ TEST_CASE("trace_session: each peak time carries its standard error, into the fi
   REQUIRE(result.runs.size() == 1);
   const RunResult& run = result.runs[0];
   REQUIRE(run.ok);
-  REQUIRE(run.t_peak_sigma.size() == run.t_peak.size());
-  for (std::size_t n = 0; n < run.t_peak.size(); ++n) {
+  REQUIRE(run.measured.t_peak_sigma.size() == run.measured.t_peak.size());
+  for (std::size_t n = 0; n < run.measured.t_peak.size(); ++n) {
     INFO("rebound " << n);
-    CHECK(run.t_peak_sigma[n] > 0.0);
-    CHECK(std::abs(run.t_peak[n] - w.truth.peak_time[n + 1]) < 5.0 * run.t_peak_sigma[n]);
+    CHECK(run.measured.t_peak_sigma[n] > 0.0);
+    CHECK(std::abs(run.measured.t_peak[n] - w.truth.peak_time[n + 1]) <
+          5.0 * run.measured.t_peak_sigma[n]);
   }
   WriteResults(result, dir.path() / "r.h5");
   const SessionResult back = ReadResults(dir.path() / "r.h5");
   REQUIRE(back.runs.size() == 1);
-  CHECK(back.runs[0].t_peak_sigma == run.t_peak_sigma);
-}
-
-TEST_CASE("trace runs: the session's maxima are the bars' mean, then the average's own") {
-  const auto bar = [](std::vector<double> xmax, double sigma, double t0) {
-    BarRebounds b;
-    for (std::size_t n = 0; n < xmax.size(); ++n) {
-      b.xmax.push_back(xmax[n]);
-      b.xmax_sigma.push_back(sigma);
-      b.t_peak.push_back(t0 + 0.75 * n);
-      b.t_peak_sigma.push_back(0.1 * sigma);
-      b.duration.push_back(0.75 + 0.01 * n);
-    }
-    return b;
-  };
-  // The left bar lost its last rebound; the averaged history has one more.
-  const BarRebounds right = bar({0.50, 0.40, 0.32}, 3e-4, 0.75);
-  const BarRebounds left = bar({0.52, 0.42}, 4e-4, 0.76);
-  const BarRebounds averaged = bar({0.5101, 0.4102, 0.3203}, 2e-4, 0.755);
-  const BarRebounds both = MeanOfBars(right, left, averaged);
-  REQUIRE(both.xmax.size() == 3);
-  CHECK(both.xmax[0] == Approx(0.51));
-  CHECK(both.xmax[1] == Approx(0.41));
-  CHECK(both.xmax_sigma[0] == Approx(0.5 * std::hypot(3e-4, 4e-4)));  // 2.5e-4
-  CHECK(both.t_peak[1] == Approx(0.755 + 0.75));
-  CHECK(both.xmax[2] == Approx(0.3203));  // past what both bars have
-  CHECK(both.xmax_sigma[2] == Approx(2e-4));
-}
-
-TEST_CASE("trace runs: the maxima stop where one bar's rebounds slipped against the other's") {
-  // The right bar misread its rebound 2 (a scratch near the peak) and from
-  // there on numbers each rebound one early: its rebound 2 peaks 0.29 s after
-  // the left bar's, its rebound 3 is the left bar's 4. Averaged by number,
-  // rebound 3 would mix two rebounds (randomised seed 1011's run 0.713: 9.4 %
-  // of X0 off, with a sigma of 0.03 %).
-  BarRebounds right, left;
-  const double left_peaks[] = {0.75, 1.50, 2.25, 3.00, 3.75};
-  const double right_peaks[] = {0.75, 1.50, 2.54, 3.75, 4.50};
-  const double left_xmax[] = {0.57, 0.46, 0.37, 0.30, 0.24};
-  const double right_xmax[] = {0.57, 0.46, 0.50, 0.24, 0.19};
-  for (int n = 0; n < 5; ++n) {
-    left.xmax.push_back(left_xmax[n]);
-    right.xmax.push_back(right_xmax[n]);
-    left.t_peak.push_back(left_peaks[n]);
-    right.t_peak.push_back(right_peaks[n] + 2e-4);
-    for (BarRebounds* b : {&right, &left}) {
-      b->xmax_sigma.push_back(1e-3);
-      b->t_peak_sigma.push_back(1e-4);
-      b->duration.push_back(0.75);
-    }
-  }
-  const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
-  REQUIRE(disagreement.has_value());
-  CHECK(disagreement->rebound == 2);
-  CHECK_THAT(disagreement->why, Catch::Contains("slipped"));
-  const BarRebounds both = MeanOfBars(right, left, left);
-  REQUIRE(both.xmax.size() == 2);  // the averaged history's own are not appended either
-  CHECK(both.xmax[1] == Approx(0.46));
-
-  // Peaks 0.2 ms apart, maxima 6 % apart (the bars' exchange of momentum
-  // leaves them a constant length apart): they agree.
-  right = left;
-  for (std::size_t n = 0; n < 5; ++n) {
-    right.t_peak[n] += 2e-4;
-    right.xmax[n] += (n % 2 == 0 ? 1.0 : -1.0) * 0.014;
-  }
-  CHECK_FALSE(FirstDisagreement(right, left).has_value());
-  CHECK(MeanOfBars(right, left, left).xmax.size() == 5);
+  CHECK(back.runs[0].measured.t_peak_sigma == run.measured.t_peak_sigma);
 }
 
 TEST_CASE("trace runs: bars drawn in alternate slots too long to bridge give the bars' mean") {
@@ -600,10 +535,10 @@ TEST_CASE("trace runs: bars drawn in alternate slots too long to bridge give the
   const RunResult& run = result.runs[0];
   INFO(run.Status());
   REQUIRE(run.ok);
-  REQUIRE(run.xmax.size() >= 2);
-  for (std::size_t n = 0; n < run.xmax.size(); ++n) {
+  REQUIRE(run.measured.xmax.size() >= 2);
+  for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
     INFO("rebound " << n);
-    CHECK(run.xmax[n] == Approx(w.truth.xmax[n + 1]).epsilon(1e-5));
+    CHECK(run.measured.xmax[n] == Approx(w.truth.xmax[n + 1]).epsilon(1e-5));
   }
 }
 

@@ -41,7 +41,7 @@ TEST_CASE("html_report: a digitized photo's overlay is embedded, not linked") {
   o.jpeg = {0xff, 0xd8, 0xff, 0xe0, 'M', 'a', 'n'};
   o.trace_names = {"right"};
   o.trace_coverage = {0.9};
-  r.runs[0].overlays.push_back(o);
+  r.runs[0].measured.overlays.push_back(o);
   const std::string html = RenderHtmlReport(r);
   CHECK_THAT(html, Catch::Contains("data:image/jpeg;base64,/9j/4E1hbg=="));
   CHECK_THAT(html, Catch::Contains("right 90 %"));

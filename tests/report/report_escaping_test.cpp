@@ -49,13 +49,12 @@ SessionResult Hostile() {
   r.runs.push_back(r.runs.back());
   r.runs.back().id = "-1\n+2";
   r.runs.back().ok = false;
-  r.runs.back().failure = kScript + "\n" + kPipes + "\n# heading\n`code` *b* [l](javascript:x)";
+  r.runs.back().reason = kScript + "\n" + kPipes + "\n# heading\n`code` *b* [l](javascript:x)";
   r.warnings.push_back(kSvg + kInputFile);
 
   LogResult log;
   log.id = "../../" + kInputFile;
   log.ok = true;
-  log.status = "ok";
   LogSourceResult source;
   source.source = "experiment";
   source.impact_method = kPipes + "\n" + kScript;
@@ -71,7 +70,7 @@ SessionResult Hostile() {
   overlay.photo = kSvg + ".jpg";
   overlay.trace_names = {kScript};
   overlay.trace_coverage = {0.5};
-  r.runs[0].overlays.push_back(overlay);
+  r.runs[0].measured.overlays.push_back(overlay);
   return r;
 }
 

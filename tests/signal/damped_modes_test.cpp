@@ -97,7 +97,7 @@ TEST_CASE("Pure noise or too short a window is a result that is not ok", "[dampe
   AddNoise(noise, 1.0, 9);
   const DampedModeFit fit = FitDampedModes(noise, 1000.0, {});
   CHECK_FALSE(fit.ok);
-  CHECK_FALSE(fit.diagnostic.empty());
+  CHECK_FALSE(fit.reason.empty());
   const std::vector<double> short_window(20, 1.0);
   CHECK_FALSE(FitDampedModes(short_window, 1000.0, {}).ok);
 }

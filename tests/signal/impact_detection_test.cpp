@@ -85,7 +85,7 @@ TEST_CASE("Noise alone holds no impact", "[impact]") {
   const ImpactEstimate estimate =
       DetectImpact({{"a1", LogChannelKind::kAcceleration, a}}, 0.0, kRate, {});
   CHECK_FALSE(estimate.found);
-  CHECK_FALSE(estimate.diagnostic.empty());
+  CHECK_FALSE(estimate.reason.empty());
   CHECK_FALSE(DetectImpact({}, 0.0, kRate, {}).found);
 }
 

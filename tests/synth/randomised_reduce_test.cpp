@@ -47,14 +47,14 @@ TEST_CASE("synth: a randomised sample reduces, and its maxima follow the truth")
       REQUIRE(run != nullptr);
       ++runs;
       if (!run->ok) {
-        failures += "seed " + std::to_string(seed) + ": " + run->failure + "\n";
+        failures += "seed " + std::to_string(seed) + ": " + run->reason + "\n";
         continue;
       }
       ++reduced;
       const double x0 = truth["initial_displacement"];
       const auto& xmax = truth["rebounds"]["xmax"];
-      for (std::size_t n = 0; n < run->xmax.size() && n < xmax.size(); ++n) {
-        const double pct = 100.0 * std::abs(run->xmax[n] - xmax[n].get<double>()) / x0;
+      for (std::size_t n = 0; n < run->measured.xmax.size() && n < xmax.size(); ++n) {
+        const double pct = 100.0 * std::abs(run->measured.xmax[n] - xmax[n].get<double>()) / x0;
         INFO("seed " << seed << " run " << run->id << " rebound " << n << ": " << pct
                      << " % of X0");
         CHECK(pct <= kMaxXmaxErrorPctX0);

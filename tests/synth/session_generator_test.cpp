@@ -131,13 +131,14 @@ TEST_CASE("synth: CSV and typed-in runs reduce to the simulated maxima and conta
     const double x0 = truth["initial_displacement"];
     const double tolerance = form == "csv" ? 1e-3 * x0 : 6e-4;  // typed: rounded to 0.001
     for (std::size_t n = 0; n < 5; ++n) {
-      CHECK(std::abs(run->xmax[n] - truth["rebounds"]["xmax"][n].get<double>()) <= tolerance);
+      CHECK(std::abs(run->measured.xmax[n] - truth["rebounds"]["xmax"][n].get<double>()) <=
+            tolerance);
     }
     CHECK(
-        *run->contact_time ==
+        *run->measured.contact_time ==
         Approx(truth["contact"]["duration_s"].get<double>()).epsilon(form == "csv" ? 3e-3 : 1e-3));
     // The fitted K against the simulated element: eq. 37 from tau_c and zeta.
-    CHECK(run->kelvin_voigt->stiffness->value ==
+    CHECK(run->fits.kelvin_voigt->stiffness->value ==
           Approx(truth["kelvin_voigt"]["stiffness"].get<double>()).epsilon(0.02));
   }
 }
@@ -155,7 +156,7 @@ TEST_CASE("synth: a Poynting-Thomson session's rebounds keep the simulated resti
     REQUIRE(run != nullptr);
     REQUIRE(run->ok);
     // Every impact of a linear contact keeps the same fraction of the speed.
-    CHECK(run->kelvin_voigt->restitution.value ==
+    CHECK(run->fits.kelvin_voigt->restitution.value ==
           Approx(truth["restitution"].get<double>()).epsilon(form_tolerance(truth)));
   }
 }

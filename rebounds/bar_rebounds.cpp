@@ -1,0 +1,73 @@
+#include "rebounds/bar_rebounds.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace impactlab {
+
+BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound) {
+  BarRebounds out;
+  for (const ExtractedRebound& r : extraction.rebounds) {
+    const int n = r.number - first_rebound;
+    if (n < 0) continue;
+    if (n != static_cast<int>(out.xmax.size())) break;  // keep the sequence gap-free
+    out.xmax.push_back(r.xmax.value);
+    out.xmax_sigma.push_back(r.xmax.sigma);
+    out.t_peak.push_back(r.t_peak.value);
+    out.t_peak_sigma.push_back(r.t_peak.sigma);
+    out.duration.push_back(r.duration.value);
+  }
+  return out;
+}
+
+void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at) {
+  for (std::size_t n = 0; n < bar.xmax.size(); ++n) {
+    bar.xmax_sigma[n] = std::hypot(bar.xmax_sigma[n], curve_sigma_at(bar.xmax[n]));
+  }
+}
+
+std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
+                                                 const BarRebounds& left) {
+  constexpr double kPeakShareOfDuration = 0.1;
+  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
+  for (std::size_t n = 0; n < both; ++n) {
+    const double duration = 0.5 * (right.duration[n] + left.duration[n]);
+    const double apart_s = std::abs(right.t_peak[n] - left.t_peak[n]);
+    if (apart_s > kPeakShareOfDuration * duration) {
+      return BarDisagreement{
+          n, fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
+                         "{:.4g} s), more than a tenth of its duration: one bar's trace was "
+                         "misread and its rebounds slipped",
+                         n, apart_s, right.t_peak[n], left.t_peak[n])};
+    }
+  }
+  return std::nullopt;
+}
+
+BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
+                       const BarRebounds& averaged) {
+  BarRebounds out;
+  const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
+  const std::size_t both =
+      disagreement ? disagreement->rebound : std::min(right.xmax.size(), left.xmax.size());
+  for (std::size_t n = 0; n < both; ++n) {
+    out.xmax.push_back(0.5 * (right.xmax[n] + left.xmax[n]));
+    out.xmax_sigma.push_back(0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]));
+    out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
+    out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
+    out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
+  }
+  if (disagreement) return out;
+  for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
+    out.xmax.push_back(averaged.xmax[n]);
+    out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
+    out.t_peak.push_back(averaged.t_peak[n]);
+    out.t_peak_sigma.push_back(averaged.t_peak_sigma[n]);
+    out.duration.push_back(averaged.duration[n]);
+  }
+  return out;
+}
+
+}  // namespace impactlab

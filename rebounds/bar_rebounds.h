@@ -1,0 +1,55 @@
+// Each bar's rebounds in the session's numbering, and the session's maxima
+// from both bars: the thesis averaged the two displacements (Chapter III).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rebounds/rebound_extraction.h"
+
+namespace impactlab {
+
+// One bar's rebounds as extracted from its displacement history.
+struct BarRebounds {
+  std::vector<double> xmax, xmax_sigma;      // session numbering
+  std::vector<double> t_peak, t_peak_sigma;  // s since release
+  std::vector<double> duration;              // s, between the flank's zero crossings
+};
+
+// Session numbering: PENDUL rebound N is session rebound N - first_rebound.
+// The sequence is kept gap-free: it stops at the first rebound the
+// extraction left out.
+BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound);
+
+// Each maximum's standard error with its cell curve's: the peak fit averages
+// the samples' independent noise, but every sample near the peak reads
+// through the same stretch of the curve, so the curve's error there passes to
+// the maximum whole. `curve_sigma_at(x)`: the curves' one-sigma error at x.
+void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at);
+
+// The first rebound (session numbering) the two bars disagree about, and
+// why. The bars meet at every impact and swing out for the same time, so a
+// rebound's peaks lie within a millisecond of each other; peaks more than a
+// tenth of the rebound's duration apart mean one bar's walk slipped a
+// rebound (a misread stretch of its trace). Their maxima are no test: the
+// momentum the bars exchange leaves them a constant length apart, with
+// alternating sign, which grows against the shrinking rebounds.
+struct BarDisagreement {
+  std::size_t rebound = 0;
+  std::string why;
+};
+std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right, const BarRebounds& left);
+
+// The session's maxima from both bars (session numbering, gap-free): the
+// mean of the bars' own where both have the rebound (the thesis's average of
+// the two displacements at its peak, without reading one bar at the other's
+// sample times), sigmas combined; past the last rebound both have, the
+// averaged history's own as long as it has them. The sequence stops at the
+// first rebound the bars disagree about: past it neither can be trusted.
+BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
+                       const BarRebounds& averaged);
+
+}  // namespace impactlab
