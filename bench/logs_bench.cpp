@@ -184,7 +184,7 @@ void ImpactTable(int seeds) {
       const BeamLogSummary summary = GenerateBeamLogs(folder, options);
       Log log = ReadManifest(folder).session.logs.at(0);
       log.simulation.reset();
-      const LogAnalysis analysis = AnalyseLog(log, {});
+      const LogAnalysis analysis = AnalyseLog(log, LogFileRecords(log, {}), {});
       const double error =
           analysis.experiment.impact.found
               ? (analysis.experiment.impact.time_s.value - summary.experiment_impact_s) * 1000.0
@@ -267,7 +267,7 @@ void ThroughputTable(long long rows) {
   const double rss_before = PeakRssMb();
   started = Clock::now();
   const double analyse_cpu = CpuSeconds();
-  const LogAnalysis analysis = AnalyseLog(log, {});
+  const LogAnalysis analysis = AnalyseLog(log, LogFileRecords(log, {}), {});
   const double analyse_s = CpuSeconds() - analyse_cpu;
   const double analyse_wall_s = Seconds(started);
   fmt::print(

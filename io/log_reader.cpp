@@ -466,6 +466,20 @@ LogReadReport ReadLogCsv(const fs::path& file, const std::string& time_column,
   return report;
 }
 
+LogRecords LogFileRecords(const Log& log, const LogReadOptions& options) {
+  LogReadOptions read = options;
+  read.session_folder = log.folder;
+  const auto record = [&](const fs::path& file, LogSource source) -> LogRecord {
+    return [file, source, read, time_column = log.time_column,
+            channels = log.channels](const LogBlockCallback& on_block) {
+      return ReadLogCsv(file, time_column, channels, source, read, on_block);
+    };
+  };
+  LogRecords records{record(log.experiment, LogSource::kExperiment), std::nullopt};
+  if (log.simulation) records.simulation = record(*log.simulation, LogSource::kSimulation);
+  return records;
+}
+
 LogSeries ReadLogSeries(const fs::path& file, const std::string& time_column,
                         const std::vector<LogChannel>& channels, LogSource source,
                         const LogReadOptions& options) {

@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -130,6 +131,22 @@ using LogBlockCallback = std::function<void(const LogBlock&)>;
 LogReadReport ReadLogCsv(const std::filesystem::path& file, const std::string& time_column,
                          const std::vector<LogChannel>& channels, LogSource source,
                          const LogReadOptions& options, const LogBlockCallback& on_block);
+
+// A log's record, streamed: each call reads it from its start, hands every
+// block to `on_block` in order and returns what reading found. The analysis
+// of a long log reads it twice (whole and decimated, then around the impact at
+// full rate), so it is handed the record to read, not the samples.
+using LogRecord = std::function<LogReadReport(const LogBlockCallback& on_block)>;
+
+// A log's records: its experiment's and, when it has one, its simulation's.
+struct LogRecords {
+  LogRecord experiment;
+  std::optional<LogRecord> simulation;
+};
+
+// The records of a manifest's `[[log]]`: its CSV files, read with
+// `options` from inside the log's session folder.
+LogRecords LogFileRecords(const Log& log, const LogReadOptions& options);
 
 // The whole log in memory (small logs, tests).
 struct LogSeries {

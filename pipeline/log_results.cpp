@@ -44,7 +44,7 @@ LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
 }  // namespace
 
 LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
-  const LogAnalysis a = AnalyseLog(log, options);
+  const LogAnalysis a = AnalyseLog(log, LogFileRecords(log, options.read), options);
   LogResult out;
   out.id = a.log_id;
   out.ok = a.ok;

@@ -25,40 +25,27 @@ struct AnalysisSeries {
   double TimeOf(double sample) const { return start_time_s + sample / rate_hz; }
 };
 
-const std::filesystem::path& FileOf(const Log& log, LogSource source) {
-  return source == LogSource::kExperiment ? log.experiment : *log.simulation;
-}
-
-// A log's files are read from inside its session folder only.
-LogReadOptions ReadOptionsOf(const Log& log, const LogAnalysisOptions& options) {
-  LogReadOptions read = options.read;
-  read.session_folder = log.folder;
-  return read;
-}
-
 // Pass 1: every channel, decimated on the fly when the log would not fit.
-AnalysisSeries ReadForAnalysis(const Log& log, LogSource source,
+AnalysisSeries ReadForAnalysis(const Log& log, const LogRecord& record,
                                const LogAnalysisOptions& options) {
   AnalysisSeries series;
   series.values.resize(log.channels.size());
   std::vector<StreamingDecimator> decimators;
-  series.read = ReadLogCsv(
-      FileOf(log, source), log.time_column, log.channels, source, ReadOptionsOf(log, options),
-      [&](const LogBlock& block) {
-        if (decimators.empty()) {
-          const auto budget = static_cast<long long>(options.max_analysis_samples);
-          series.decimation = static_cast<int>(
-              std::max<long long>(1, (block.estimated_samples + budget - 1) / budget));
-          for (std::size_t c = 0; c < log.channels.size(); ++c) {
-            decimators.emplace_back(series.decimation);
-            series.values[c].reserve(
-                static_cast<std::size_t>(block.estimated_samples / series.decimation + 64));
-          }
-        }
-        for (std::size_t c = 0; c < log.channels.size(); ++c) {
-          decimators[c].Push(block.values[c], series.values[c]);
-        }
-      });
+  series.read = record([&](const LogBlock& block) {
+    if (decimators.empty()) {
+      const auto budget = static_cast<long long>(options.max_analysis_samples);
+      series.decimation =
+          static_cast<int>(std::max<long long>(1, (block.estimated_samples + budget - 1) / budget));
+      for (std::size_t c = 0; c < log.channels.size(); ++c) {
+        decimators.emplace_back(series.decimation);
+        series.values[c].reserve(
+            static_cast<std::size_t>(block.estimated_samples / series.decimation + 64));
+      }
+    }
+    for (std::size_t c = 0; c < log.channels.size(); ++c) {
+      decimators[c].Push(block.values[c], series.values[c]);
+    }
+  });
   for (std::size_t c = 0; c < decimators.size(); ++c) decimators[c].Finish(series.values[c]);
   series.start_time_s = series.read.first_time_s;
   series.rate_hz = 1.0 / (series.read.mean_interval_s * series.decimation);
@@ -75,7 +62,7 @@ std::vector<ChannelSamples> SamplesOf(const Log& log,
 }
 
 // Pass 2 (decimated logs): the full-rate samples around the coarse instant.
-ImpactEstimate RefineImpact(const Log& log, LogSource source, const AnalysisSeries& series,
+ImpactEstimate RefineImpact(const Log& log, const LogRecord& record, const AnalysisSeries& series,
                             const ImpactEstimate& coarse, const LogAnalysisOptions& options) {
   const double file_rate = 1.0 / series.read.mean_interval_s;
   const double reach_s =
@@ -87,18 +74,16 @@ ImpactEstimate RefineImpact(const Log& log, LogSource source, const AnalysisSeri
   const auto reach = static_cast<long long>(std::ceil(reach_s * file_rate));
   const long long first = std::max<long long>(0, centre - reach), last = centre + reach;
   std::vector<std::vector<double>> window(log.channels.size());
-  ReadLogCsv(
-      FileOf(log, source), log.time_column, log.channels, source, ReadOptionsOf(log, options),
-      [&](const LogBlock& block) {
-        const long long begin = std::max(first, block.first_sample);
-        const long long end =
-            std::min(last, block.first_sample + static_cast<long long>(block.time_s.size()));
-        for (long long i = begin; i < end; ++i) {
-          for (std::size_t c = 0; c < window.size(); ++c) {
-            window[c].push_back(block.values[c][static_cast<std::size_t>(i - block.first_sample)]);
-          }
-        }
-      });
+  record([&](const LogBlock& block) {
+    const long long begin = std::max(first, block.first_sample);
+    const long long end =
+        std::min(last, block.first_sample + static_cast<long long>(block.time_s.size()));
+    for (long long i = begin; i < end; ++i) {
+      for (std::size_t c = 0; c < window.size(); ++c) {
+        window[c].push_back(block.values[c][static_cast<std::size_t>(i - block.first_sample)]);
+      }
+    }
+  });
   ImpactEstimate fine = DetectImpact(SamplesOf(log, window),
                                      series.start_time_s + static_cast<double>(first) / file_rate,
                                      file_rate, options.impact);
@@ -351,13 +336,14 @@ struct SourceResult {
   AnalysisSeries series;
 };
 
-SourceResult Analyse(const Log& log, LogSource source, const LogAnalysisOptions& options) {
+SourceResult Analyse(const Log& log, LogSource source, const LogRecord& record,
+                     const LogAnalysisOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   SourceResult result;
   SourceAnalysis& analysis = result.analysis;
   analysis.source = source;
-  analysis.file = FileOf(log, source);
-  result.series = ReadForAnalysis(log, source, options);
+  result.series = ReadForAnalysis(log, record, options);
+  analysis.file = result.series.read.file;
   AnalysisSeries& series = result.series;
   analysis.read = series.read;
   analysis.sample_rate_hz = 1.0 / series.read.mean_interval_s;
@@ -366,7 +352,7 @@ SourceResult Analyse(const Log& log, LogSource source, const LogAnalysisOptions&
   analysis.impact = DetectImpact(SamplesOf(log, series.values), series.start_time_s, series.rate_hz,
                                  options.impact);
   if (analysis.impact.found && series.decimation > 1) {
-    analysis.impact = RefineImpact(log, source, series, analysis.impact, options);
+    analysis.impact = RefineImpact(log, record, series, analysis.impact, options);
   }
   for (std::size_t c = 0; c < log.channels.size(); ++c) {
     analysis.channels.push_back(
@@ -469,27 +455,25 @@ bool LogAnalysisOptions::Check(std::string* error) const {
   return true;
 }
 
-SourceAnalysis AnalyseLogSource(const Log& log, LogSource source,
+SourceAnalysis AnalyseLogSource(const Log& log, LogSource source, const LogRecord& record,
                                 const LogAnalysisOptions& options) {
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("LogAnalysisOptions: " + error);
   }
-  if (source == LogSource::kSimulation && !log.simulation) {
-    throw std::invalid_argument("log " + log.id + " has no simulation file");
-  }
-  return Analyse(log, source, options).analysis;
+  return Analyse(log, source, record, options).analysis;
 }
 
-LogAnalysis AnalyseLog(const Log& log, const LogAnalysisOptions& options) {
+LogAnalysis AnalyseLog(const Log& log, const LogRecords& records,
+                       const LogAnalysisOptions& options) {
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("LogAnalysisOptions: " + error);
   }
   LogAnalysis result;
   result.log_id = log.id;
   try {
-    SourceResult experiment = Analyse(log, LogSource::kExperiment, options);
-    if (log.simulation) {
-      SourceResult simulation = Analyse(log, LogSource::kSimulation, options);
+    SourceResult experiment = Analyse(log, LogSource::kExperiment, records.experiment, options);
+    if (records.simulation) {
+      SourceResult simulation = Analyse(log, LogSource::kSimulation, *records.simulation, options);
       result.comparison = Compare(log, experiment, simulation);
       result.simulation = std::move(simulation.analysis);
     }

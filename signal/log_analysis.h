@@ -3,11 +3,11 @@
 // (docs/logs.md). The results file stores exactly this struct.
 //
 // Per source (experiment, simulation):
-//   1. read the CSV (io/log_reader.h) in blocks; a log longer than
-//      `max_analysis_samples` is low-pass decimated on the fly (signal/decimate.h),
-//      so memory stays bounded whatever its length;
+//   1. read its record (io/log_reader.h LogRecord, which the caller opens) in
+//      blocks; a log longer than `max_analysis_samples` is low-pass decimated on
+//      the fly (signal/decimate.h), so memory stays bounded whatever its length;
 //   2. the impact instant (signal/impact_detection.h); on a decimated log a second
-//      pass reads the file again and keeps only the full-rate samples around the
+//      pass reads the record again and keeps only the full-rate samples around the
 //      coarse instant to refine it;
 //   3. segments: free flight (start .. impact - guard), post-impact (impact .. end),
 //      whole record; per channel and segment a spectrum with its peaks
@@ -42,7 +42,7 @@
 namespace impactlab {
 
 struct LogAnalysisOptions {
-  LogReadOptions read;
+  LogReadOptions read;       // how the pipeline reads the records (io/log_reader.h LogFileRecords)
   SpectrumOptions spectrum;  // detrend is set per channel: linear for angles, mean otherwise
   DampedModeOptions modes;   // max_frequency_hz 0: 1.5 x the highest of the leading FFT peaks
   ImpactDetectionOptions impact;
@@ -113,7 +113,7 @@ struct ChannelAnalysis {
 
 struct SourceAnalysis {
   LogSource source = LogSource::kExperiment;
-  std::filesystem::path file;
+  std::filesystem::path file;   // the record's, as its reader reports it
   LogReadReport read;           // rows, dropped and interpolated samples, issues
   double sample_rate_hz = 0.0;  // of the file: 1 / mean interval
   int decimation = 1;           // analysis rate = sample_rate_hz / decimation
@@ -150,12 +150,16 @@ struct LogAnalysis {
   std::string Brief() const;  // a few lines: impact, per channel frequency/damping, comparison
 };
 
-// Never throws for bad data: a log that cannot be read or analysed comes back
-// with !ok and the reason. Throws std::invalid_argument for bad options.
-LogAnalysis AnalyseLog(const Log& log, const LogAnalysisOptions& options);
+// `log`: the manifest's entry (its channels and time column); `records`: its
+// experiment's and simulation's records (io/log_reader.h LogFileRecords reads
+// its files). Never throws for bad data: a log that cannot be read or
+// analysed comes back with !ok and the reason. Throws std::invalid_argument
+// for bad options.
+LogAnalysis AnalyseLog(const Log& log, const LogRecords& records,
+                       const LogAnalysisOptions& options);
 
 // One source alone (used by AnalyseLog; throws InputError for unreadable data).
-SourceAnalysis AnalyseLogSource(const Log& log, LogSource source,
+SourceAnalysis AnalyseLogSource(const Log& log, LogSource source, const LogRecord& record,
                                 const LogAnalysisOptions& options);
 
 }  // namespace impactlab

@@ -65,7 +65,7 @@ void CheckImpact(const SourceAnalysis& source, const nlohmann::json& truth, doub
 TEST_CASE("The generated pair: impact within 2 samples, modes within 4 sigma of truth",
           "[log_analysis]") {
   const Generated generated;
-  const LogAnalysis analysis = AnalyseLog(generated.log, {});
+  const LogAnalysis analysis = AnalyseLog(generated.log, LogFileRecords(generated.log, {}), {});
   REQUIRE(analysis.ok);
   REQUIRE(analysis.simulation);
   const nlohmann::json& truth = generated.truth;
@@ -88,7 +88,7 @@ TEST_CASE("The generated pair: impact within 2 samples, modes within 4 sigma of 
 TEST_CASE("The comparison: frequency differences and the impact offset as in truth",
           "[log_analysis]") {
   const Generated generated;
-  const LogAnalysis analysis = AnalyseLog(generated.log, {});
+  const LogAnalysis analysis = AnalyseLog(generated.log, LogFileRecords(generated.log, {}), {});
   REQUIRE(analysis.comparison);
   const LogComparison& comparison = *analysis.comparison;
   REQUIRE(comparison.impact_offset_s);
@@ -113,7 +113,7 @@ TEST_CASE("Bad rows are reported with their lines and change nothing else", "[lo
   BeamLogOptions options;
   options.inject_defects = true;
   const Generated generated(options);
-  const LogAnalysis analysis = AnalyseLog(generated.log, {});
+  const LogAnalysis analysis = AnalyseLog(generated.log, LogFileRecords(generated.log, {}), {});
   REQUIRE(analysis.ok);
   const LogReadReport& read = analysis.experiment.read;
   CHECK(read.dropped_rows == 2);    // the NaN row and the duplicate
@@ -133,7 +133,8 @@ TEST_CASE("A log decimated to fit the memory budget gives the same answers", "[l
   const Generated generated;
   LogAnalysisOptions options;
   options.max_analysis_samples = 1024;  // 5000 rows: decimated by 5
-  const LogAnalysis analysis = AnalyseLog(generated.log, options);
+  const LogAnalysis analysis =
+      AnalyseLog(generated.log, LogFileRecords(generated.log, {}), options);
   REQUIRE(analysis.ok);
   CHECK(analysis.experiment.decimation == 5);
   CHECK(analysis.experiment.sample_rate_hz == Approx(1000.0));
@@ -149,13 +150,14 @@ TEST_CASE("A log decimated to fit the memory budget gives the same answers", "[l
 TEST_CASE("An unreadable log is a failed result naming the file", "[log_analysis]") {
   Generated generated;
   fs::remove(generated.log.experiment);
-  const LogAnalysis analysis = AnalyseLog(generated.log, {});
+  const LogAnalysis analysis = AnalyseLog(generated.log, LogFileRecords(generated.log, {}), {});
   CHECK_FALSE(analysis.ok);
   CHECK_FALSE(analysis.ok);
   CHECK_THAT(analysis.reason, Contains("case1-experiment.csv"));
   LogAnalysisOptions bad;
   bad.max_fit_samples = 1;
-  CHECK_THROWS_AS(AnalyseLog(generated.log, bad), std::invalid_argument);
+  CHECK_THROWS_AS(AnalyseLog(generated.log, LogFileRecords(generated.log, {}), bad),
+                  std::invalid_argument);
 }
 
 TEST_CASE("The sample session sample_data/logs-two-link matches its truth file", "[log_analysis]") {
@@ -165,7 +167,8 @@ TEST_CASE("The sample session sample_data/logs-two-link matches its truth file",
   REQUIRE(manifest.session.logs.size() == 1);
   nlohmann::json truth;
   std::ifstream(folder.string() + ".truth.json") >> truth;
-  const LogAnalysis analysis = AnalyseLog(manifest.session.logs[0], {});
+  const LogAnalysis analysis =
+      AnalyseLog(manifest.session.logs[0], LogFileRecords(manifest.session.logs[0], {}), {});
   REQUIRE(analysis.ok);
   const double rate = truth["sample_rate_hz"];
   CheckImpact(analysis.experiment, truth["experiment"], rate);
@@ -182,6 +185,53 @@ TEST_CASE("Log analysis options: the defaults pass Check", "[log_analysis]") {
   bad.max_analysis_samples = 10;
   CHECK_FALSE(bad.Check(&error));
   CHECK_THAT(error, Contains("max_analysis_samples"));
+}
+
+TEST_CASE("The analysis reads only the records it is handed, never a file itself",
+          "[log_analysis]") {
+  const Generated generated;
+  const LogAnalysis from_files = AnalyseLog(generated.log, LogFileRecords(generated.log, {}), {});
+  REQUIRE(from_files.ok);
+  // The experiment's record held in memory, served in blocks of 333 samples;
+  // the manifest's files moved away.
+  const LogSeries series =
+      ReadLogSeries(generated.log.folder / generated.log.experiment, generated.log.time_column,
+                    generated.log.channels, LogSource::kExperiment);
+  Log moved = generated.log;
+  moved.experiment = "nowhere.csv";
+  moved.simulation.reset();
+  int reads = 0;
+  const LogRecord in_memory = [&](const LogBlockCallback& on_block) {
+    ++reads;
+    const std::size_t n = series.time_s.size();
+    for (std::size_t first = 0; first < n; first += 333) {
+      const std::size_t end = std::min(n, first + 333);
+      LogBlock block;
+      block.first_sample = static_cast<long long>(first);
+      block.sample_interval_s = series.report.sample_interval_s;
+      block.estimated_samples = static_cast<long long>(n);
+      block.time_s.assign(series.time_s.begin() + first, series.time_s.begin() + end);
+      for (const auto& channel : series.values) {
+        block.values.emplace_back(channel.begin() + first, channel.begin() + end);
+      }
+      on_block(block);
+    }
+    return series.report;
+  };
+  const LogAnalysis analysis = AnalyseLog(moved, {in_memory, std::nullopt}, {});
+  REQUIRE(analysis.ok);
+  CHECK(reads == 1);  // whole at once: no second pass without decimation
+  CHECK_FALSE(analysis.simulation.has_value());
+  CHECK(analysis.experiment.impact.time_s.value == from_files.experiment.impact.time_s.value);
+  REQUIRE(analysis.experiment.channels.size() == from_files.experiment.channels.size());
+  for (std::size_t c = 0; c < analysis.experiment.channels.size(); ++c) {
+    const ChannelAnalysis &a = analysis.experiment.channels[c],
+                          &b = from_files.experiment.channels[c];
+    REQUIRE(a.dominant_frequency_hz.has_value() == b.dominant_frequency_hz.has_value());
+    if (a.dominant_frequency_hz) {
+      CHECK(a.dominant_frequency_hz->value == b.dominant_frequency_hz->value);
+    }
+  }
 }
 
 }  // namespace
