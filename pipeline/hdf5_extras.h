@@ -15,14 +15,9 @@
 #include <vector>
 
 #include "io/hdf5_file.h"
+#include "pipeline/rgb_image.h"
 
 namespace impactlab {
-
-// An 8-bit colour image: rows of pixels, each red, green, blue.
-struct RgbImage {
-  int height = 0, width = 0;
-  std::vector<unsigned char> pixels;  // height * width * 3, row-major
-};
 
 class Hdf5Extras {
  public:

@@ -1,6 +1,7 @@
 #include "pipeline/photo_traces.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
 #include "io/errors.h"
@@ -14,11 +15,18 @@ namespace {
 // afterwards: a full-size overlay cost about as much as the digitizing.
 constexpr int kOverlayWidthPx = 1200;
 
-std::vector<unsigned char> EncodeOverlay(const Photo& photo, const DigitizeResult& result) {
-  std::vector<unsigned char> jpeg;
-  cv::imencode(".jpg", DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx}), jpeg,
-               {cv::IMWRITE_JPEG_QUALITY, 82});
-  return jpeg;
+// The overlay as JPEG, and at half size as RGB pixels (a quarter of the
+// pixels to store keeps writing the results file cheap).
+void DrawOverlays(const Photo& photo, const DigitizeResult& result, PhotoOverlay& out) {
+  const cv::Mat bgr = DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx});
+  cv::imencode(".jpg", bgr, out.jpeg, {cv::IMWRITE_JPEG_QUALITY, 82});
+  cv::Mat half;
+  cv::resize(bgr, half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  RgbImage& preview = out.preview;
+  preview = {half.rows, half.cols, {}};
+  preview.pixels.resize(static_cast<std::size_t>(half.rows) * half.cols * 3);
+  cv::Mat rgb(half.rows, half.cols, CV_8UC3, preview.pixels.data());
+  cv::cvtColor(half, rgb, cv::COLOR_BGR2RGB);
 }
 
 // The manifest's corners hint for the photo at `path`: of the run or the
@@ -51,7 +59,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
 
   DigitizedPhoto out;
   out.overlay.photo = std::filesystem::relative(path, session.folder).string();
-  out.overlay.jpeg = EncodeOverlay(photo, result);
+  DrawOverlays(photo, result, out.overlay);
   out.overlay.graticule_residual_px = result.graticule.residual_px;
   out.overlay.processing_ms = result.ProcessingMs();
   out.overlay.hints = HintsUsed(result);

@@ -136,9 +136,9 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
 }
 
 // The overlay's pixels, red-green-blue, as its JPEG decodes at half its size
-// (none if it does not). A preview for HDFView: libjpeg scales while it
-// decodes, and a quarter of the pixels to deflate and store kept the file's
-// writing from costing more than the reduce itself (the JPEG keeps them all).
+// (none if it does not): the preview of an overlay read from an earlier
+// results file (a reused run's), which keeps only the JPEG. libjpeg scales
+// while it decodes.
 RgbImage DecodeOverlay(const std::vector<unsigned char>& jpeg) {
   if (jpeg.empty()) return {};
   const cv::Mat bgr = cv::imdecode(jpeg, cv::IMREAD_REDUCED_COLOR_2);
@@ -159,8 +159,11 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   if (!o.hints.empty()) f.SetAttribute(h, "hints", o.hints);
   // The pixels as an HDF5 image, which HDFView shows (it cannot decode a
   // JPEG); the JPEG itself for the report's HTML, a tenth of the size.
-  const RgbImage image = DecodeOverlay(o.jpeg);
-  if (!image.pixels.empty()) out.x.WriteImage(h + "/overlay", image);
+  if (!o.preview.pixels.empty()) {
+    out.x.WriteImage(h + "/overlay", o.preview);
+  } else if (const RgbImage image = DecodeOverlay(o.jpeg); !image.pixels.empty()) {
+    out.x.WriteImage(h + "/overlay", image);
+  }
   f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
   f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
   f.WriteStrings(h + "/trace_names", o.trace_names);

@@ -13,6 +13,7 @@
 #include "io/units.h"
 #include "model/pendulum.h"
 #include "options/settings.h"
+#include "pipeline/rgb_image.h"
 #include "rebounds/bar_rebounds.h"
 
 namespace impactlab {
@@ -46,8 +47,12 @@ struct LeastSquaresSummary {
 // A digitized photo as the report shows it: the photo with the grid and
 // traces found drawn on it (a downscaled JPEG) and how well they were found.
 struct PhotoOverlay {
-  std::string photo;                 // the file, relative to the session
-  std::vector<unsigned char> jpeg;   // the overlay image, encoded
+  std::string photo;                // the file, relative to the session
+  std::vector<unsigned char> jpeg;  // the overlay image, encoded
+  // The overlay at half that size, for the results file's HDF5 image (which
+  // HDFView shows; it cannot decode a JPEG). Made while digitizing, on the
+  // reduce's threads; not read back from a results file.
+  RgbImage preview;
   double graticule_residual_px = 0;  // RMS residual of the grid fit, photo pixels
   std::vector<std::string> trace_names;
   std::vector<double> trace_coverage;  // fraction of the sweep with samples, per trace
