@@ -1,5 +1,7 @@
 #include "io/hdf5_file.h"
 
+#include <type_traits>
+
 #include <fmt/format.h>
 #include <hdf5.h>
 
@@ -220,6 +222,11 @@ struct Hdf5File::Impl {
 };
 
 Hdf5File::Hdf5File(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+std::int64_t Hdf5File::NativeId() const {
+  static_assert(std::is_same_v<hid_t, std::int64_t>, "a hid_t is kept as int64_t");
+  return impl_->file.get();
+}
 Hdf5File::Hdf5File(Hdf5File&&) noexcept = default;
 Hdf5File& Hdf5File::operator=(Hdf5File&&) noexcept = default;
 Hdf5File::~Hdf5File() = default;

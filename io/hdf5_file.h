@@ -4,6 +4,7 @@
 // The HDF5 library stays private to io/.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -70,6 +71,9 @@ class Hdf5File {
   static Hdf5File CreateInMemory(const std::filesystem::path& path);
   friend void WriteHdf5Atomically(const std::filesystem::path& path,
                                   const std::function<void(Hdf5File&)>& write);
+  // The file's HDF5 identifier (a hid_t), for io/hdf5_extras.h.
+  std::int64_t NativeId() const;
+  friend class Hdf5Extras;
   std::unique_ptr<Impl> impl_;
 };
 

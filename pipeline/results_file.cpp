@@ -7,7 +7,7 @@
 #include "io/errors.h"
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
-#include "pipeline/hdf5_extras.h"
+#include "io/hdf5_extras.h"
 
 namespace impactlab {
 namespace {

@@ -13,7 +13,7 @@
 #include "io/units.h"
 #include "model/pendulum.h"
 #include "options/settings.h"
-#include "pipeline/rgb_image.h"
+#include "io/rgb_image.h"
 #include "rebounds/bar_rebounds.h"
 
 namespace impactlab {

@@ -14,7 +14,7 @@
 
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
-#include "pipeline/hdf5_extras.h"
+#include "io/hdf5_extras.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
 #include "tests/support/temp_dir.h"

@@ -1,4 +1,4 @@
-#include "pipeline/hdf5_extras.h"
+#include "io/hdf5_extras.h"
 
 #include <algorithm>
 #include <type_traits>
@@ -57,44 +57,11 @@ Id StringType(const std::filesystem::path& file, const std::string& object) {
   return type;
 }
 
-// The name HDF5 knows an open file by.
-std::string FileName(hid_t file) {
-  const ssize_t size = H5Fget_name(file, nullptr, 0);
-  if (size <= 0) return {};
-  std::string name(static_cast<std::size_t>(size), '\0');
-  if (H5Fget_name(file, name.data(), name.size() + 1) != size) return {};
-  return name;
-}
-
-// The file open for writing under `path`, among all files HDF5 has open (the
-// identifiers H5Fget_obj_ids returns are borrowed, not new); -1 unless
-// exactly one matches.
-hid_t WritableFileNamed(const std::filesystem::path& path) {
-  const ssize_t count = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
-  if (count <= 0) return -1;
-  std::vector<hid_t> ids(static_cast<std::size_t>(count));
-  if (H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_FILE, ids.size(), ids.data()) != count) return -1;
-  hid_t found = -1;
-  int matches = 0;
-  for (hid_t id : ids) {
-    unsigned intent = 0;
-    if (H5Fget_intent(id, &intent) < 0 || (intent & H5F_ACC_RDWR) == 0) continue;
-    if (FileName(id) == path.string()) {
-      found = id;
-      ++matches;
-    }
-  }
-  return matches == 1 ? found : -1;
-}
-
 std::string LastComponent(const std::string& path) { return path.substr(path.rfind('/') + 1); }
 
 }  // namespace
 
-Hdf5Extras::Hdf5Extras(const Hdf5File& file) : path_(file.path()) {
-  file_ = WritableFileNamed(path_);
-  if (file_ < 0) Fail(path_, "", "HDF5 does not have this file open for writing (a bug)");
-}
+Hdf5Extras::Hdf5Extras(const Hdf5File& file) : path_(file.path()), file_(file.NativeId()) {}
 
 void Hdf5Extras::Check(int status, const std::string& object, const char* what) const {
   if (status < 0) Fail(path_, object, fmt::format("HDF5 could not {}", what));

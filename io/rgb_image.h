@@ -1,4 +1,4 @@
-// An image as HDF5's image convention stores it (pipeline/hdf5_extras.h).
+// An image as HDF5's image convention stores it (io/hdf5_extras.h).
 #pragma once
 
 #include <vector>

@@ -1,11 +1,8 @@
-// What results layout 2 needs of HDF5 that io/'s Hdf5File does not wrap:
-// 2-D datasets, string-array attributes, dimension scales (HDF5 Dimension
-// Scales, H5DS) and images (HDF5 Image and Palette Specification 1.2), the
-// last two from HDF5's high-level library (hdf5_hl).
-//
-// They belong in Hdf5File. io/ was being reworked by others when layout 2 was
-// written, so they live here and reach the file an Hdf5File is writing by its
-// name among HDF5's open files (its identifier is private to io/).
+// What results layout 2 needs of HDF5 beyond Hdf5File's scalars, vectors and
+// strings: 2-D datasets, string-array attributes, dimension scales (HDF5
+// Dimension Scales, H5DS) and images (HDF5 Image and Palette Specification
+// 1.2), the last two from HDF5's high-level library (hdf5_hl). They write into
+// the file an Hdf5File is writing.
 #pragma once
 
 #include <cstdint>
@@ -15,14 +12,13 @@
 #include <vector>
 
 #include "io/hdf5_file.h"
-#include "pipeline/rgb_image.h"
+#include "io/rgb_image.h"
 
 namespace impactlab {
 
 class Hdf5Extras {
  public:
-  // The in-memory file `file` is writing (WriteHdf5Atomically). Throws
-  // InputError naming it if HDF5 does not have exactly one such file open.
+  // Writes into `file` (which must outlive this).
   explicit Hdf5Extras(const Hdf5File& file);
 
   // A rows x cols float64 dataset from row-major `values`, with its `units`.
