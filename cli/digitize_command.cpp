@@ -98,10 +98,7 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
       if (args->run.empty() == args->calibration.empty()) {
         throw std::invalid_argument("digitize: give exactly one of --run ID or --calibration ID");
       }
-      const std::filesystem::path folder = std::filesystem::is_directory(args->manifest)
-                                               ? args->manifest
-                                               : args->manifest.parent_path();
-      const ManifestReadResult manifest = ReadManifest(folder.empty() ? "." : folder);
+      const ManifestReadResult manifest = ReadManifest(args->manifest);
       const Session& session = manifest.session;
       const Target target = FindTarget(session, args->run, args->calibration);
       if (target.requests.empty()) {

@@ -1,24 +1,93 @@
 // impactlab: data reduction for impact experiments (docs/commands.md).
+#include <algorithm>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <opencv2/core/utility.hpp>
 
 #include "cli/commands.h"
 #include "cli/version.h"
+#include "fit/least_squares.h"
 #include "io/atomic_file.h"
 #include "io/errors.h"
+#include "io/hdf5_file.h"
+#include "io/spelling.h"
 #include "pipeline/process_memory.h"
 
+namespace {
+
+using namespace impactlab::cli;
+
+// `--version`: this build and the libraries its numbers rest on.
+std::string VersionText() {
+  return fmt::format("impactlab {}\nOpenCV {}, Ceres Solver {}, HDF5 {}", kVersion,
+                     cv::getVersionString(), impactlab::CeresVersion(), impactlab::Hdf5Version());
+}
+
+// The whole command's help (App::help() of a parsed app gives its chosen
+// subcommand's).
+std::string Usage(const CLI::App& app) {
+  return app.get_formatter()->make_help(&app, "impactlab", CLI::AppFormatMode::Normal);
+}
+
+std::vector<std::string> CommandNames(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
+  return names;
+}
+
+// `impactlab help [COMMAND]`.
+void AddHelpCommand(CLI::App& app, Action& action) {
+  CLI::App* cmd = app.add_subcommand("help", "Show the commands, or one command's options");
+  auto topic = std::make_shared<std::string>();
+  cmd->add_option("command", *topic, "The command to explain");
+  cmd->callback([&app, &action, topic] {
+    action = [&app, topic] {
+      if (topic->empty()) {
+        fmt::print("{}", Usage(app));
+        return kExitOk;
+      }
+      for (const CLI::App* command : app.get_subcommands({})) {
+        if (command->get_name() == *topic) {
+          fmt::print("{}", command->help());
+          return kExitOk;
+        }
+      }
+      fmt::print(stderr, "error: no command \"{}\"{}; the commands are: {}\n", *topic,
+                 impactlab::DidYouMean(*topic, CommandNames(app)),
+                 fmt::join(CommandNames(app), ", "));
+      return kExitUsage;
+    };
+  });
+}
+
+// The first argument, when it is neither an option nor a command: a typo,
+// most likely, said with the nearest command.
+std::optional<std::string> UnknownCommand(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return std::nullopt;
+  const std::vector<std::string> names = CommandNames(app);
+  if (std::find(names.begin(), names.end(), argv[1]) != names.end()) return std::nullopt;
+  return fmt::format(
+      "error: no command \"{}\"{}; the commands are: {}\nRun `impactlab help` for more.", argv[1],
+      impactlab::DidYouMean(argv[1], names), fmt::join(names, ", "));
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace impactlab::cli;
   impactlab::KeepFreedMemoryForReuse();
   // A temporary output file being written is removed on Ctrl-C and kill.
   impactlab::InstallTemporaryFileCleanup();
   CLI::App app{"impactlab: reduce impact experiments (pendulum rebounds, contact models, logs)"};
-  app.set_version_flag("--version", std::string("impactlab ") + kVersion);
-  app.require_subcommand(1);
+  app.name("impactlab");
+  app.set_version_flag("-V,--version", VersionText());
+  app.require_subcommand(0, 1);
   Action action;
   AddReduceCommand(app, action);
   AddReportCommand(app, action);
@@ -28,14 +97,23 @@ int main(int argc, char** argv) {
   AddSynthCommand(app, action);
   AddSynthLogsCommand(app, action);
   AddSettingsCommand(app, action);
+  AddHelpCommand(app, action);
+  if (const auto unknown = UnknownCommand(app, argc, argv)) {
+    fmt::print(stderr, "{}\n", *unknown);
+    return kExitUsage;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
+  if (!action) {  // a bare call: what there is to do
+    fmt::print("{}", Usage(app));
+    return kExitUsage;
+  }
   try {
-    return action ? action() : kExitUsage;
+    return action();
   } catch (const impactlab::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitInputError;

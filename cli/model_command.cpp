@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "model/kelvin_voigt.h"
 #include "model/poynting_thomson.h"
 
@@ -48,8 +49,8 @@ struct CommonArgs {
 };
 
 void AddCommonOptions(CLI::App* cmd, CommonArgs& args, const char* force_rule) {
-  cmd->add_option("--mass", args.mass, "M")->required()->check(CLI::PositiveNumber);
-  cmd->add_option("--speed", args.speed, "Impact speed v0")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("--mass", args.mass, "M")->required()->check(kPositive);
+  cmd->add_option("--speed", args.speed, "Impact speed v0")->required()->check(kPositive);
   cmd->add_option("--separation", args.separation,
                   std::string("kinematic (x = 0) or force (") + force_rule + " = 0)")
       ->check(CLI::IsMember({"kinematic", "force"}))
@@ -65,8 +66,8 @@ void AddKelvinVoigt(CLI::App* model, Action& action) {
   CLI::App* cmd = model->add_subcommand(
       "kv", "Kelvin-Voigt (spring K parallel to dashpot C); any consistent units");
   AddCommonOptions(cmd, *kv, "K x + C x'");
-  cmd->add_option("--stiffness", kv->stiffness, "K")->required()->check(CLI::PositiveNumber);
-  cmd->add_option("--damping", kv->damping, "C")->required()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--stiffness", kv->stiffness, "K")->required()->check(kPositive);
+  cmd->add_option("--damping", kv->damping, "C")->required()->check(kNonNegative);
   cmd->callback([&action, kv] {
     action = [kv] {
       const KelvinVoigt m{kv->mass, kv->stiffness, kv->damping};
@@ -89,13 +90,11 @@ void AddPoyntingThomson(CLI::App* model, Action& action) {
   AddCommonOptions(cmd, *pt, "K1 x1 + K2 (x1 - x2)");
   cmd->add_option("--k1", pt->k1, "K1, the spring from the mass to ground")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--k2", pt->k2, "K2, the spring in series with the dashpot")
       ->required()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--damping", pt->damping, "C, the dashpot")
-      ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
+  cmd->add_option("--damping", pt->damping, "C, the dashpot")->required()->check(kPositive);
   cmd->callback([&action, pt] {
     action = [pt] {
       const PoyntingThomson m{pt->mass, pt->k1, pt->k2, pt->damping};

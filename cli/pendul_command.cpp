@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/validators.h"
 #include "fit/pendul.h"
 #include "io/units.h"
 #include "model/rebound_history.h"
@@ -24,16 +25,13 @@ struct PendulumArgs {
 };
 
 void AddPendulumOptions(CLI::App* cmd, PendulumArgs& a) {
-  cmd->add_option("--length", a.length, "Pendulum length L")
-      ->required()
-      ->check(CLI::PositiveNumber);
-  auto* mass =
-      cmd->add_option("--mass", a.mass, "Mass M of one pendulum")->check(CLI::PositiveNumber);
-  auto* weight = cmd->add_option("--weight", a.weight, "Weight W of one pendulum (M = W/g)")
-                     ->check(CLI::PositiveNumber);
+  cmd->add_option("--length", a.length, "Pendulum length L")->required()->check(kPositive);
+  auto* mass = cmd->add_option("--mass", a.mass, "Mass M of one pendulum")->check(kPositive);
+  auto* weight =
+      cmd->add_option("--weight", a.weight, "Weight W of one pendulum (M = W/g)")->check(kPositive);
   mass->excludes(weight);
   cmd->add_option("--gravity", a.gravity, "g (default: 385.644 in/s^2 or 9.80665 m/s^2)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--units", a.units, "in-lbf-s or SI (for the default g)")
       ->check(CLI::IsMember({"in-lbf-s", "SI"}))
       ->capture_default_str();
@@ -47,7 +45,7 @@ void AddPendulumOptions(CLI::App* cmd, PendulumArgs& a) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_option("--step", a.step, "Print the displacement history sampled every STEP s (CSV)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
 }
 
 struct Resolved {
@@ -99,7 +97,7 @@ void AddMeasuredOptions(CLI::App* cmd, MeasuredArgs& m) {
       ->expected(2);
   cmd->add_option("--contact-time", m.contact_time, "Measured contact time tau_c, s")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
 }
 
 PendulFit FitMeasured(const Resolved& setup, const MeasuredArgs& m, int rebounds) {
@@ -139,11 +137,9 @@ void AddPendulCommand(CLI::App& app, Action& action) {
     CLI::App* cmd = pendul->add_subcommand(
         "response", "Option 2: the response, tau_c and tau_r from given K and C");
     AddPendulumOptions(cmd, *p);
-    cmd->add_option("--stiffness", (*kc)[0], "K")->required()->check(CLI::PositiveNumber);
-    cmd->add_option("--damping", (*kc)[1], "C")->required()->check(CLI::NonNegativeNumber);
-    cmd->add_option("--x0", (*kc)[2], "Release displacement X0")
-        ->required()
-        ->check(CLI::PositiveNumber);
+    cmd->add_option("--stiffness", (*kc)[0], "K")->required()->check(kPositive);
+    cmd->add_option("--damping", (*kc)[1], "C")->required()->check(kNonNegative);
+    cmd->add_option("--x0", (*kc)[2], "Release displacement X0")->required()->check(kPositive);
     cmd->callback([&action, p, kc] {
       action = [p, kc] {
         const Resolved setup = Resolve(*p);

@@ -63,7 +63,9 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd =
       app.add_subcommand("reduce", "Reduce a lab session folder to an HDF5 results file");
-  cmd->add_option("session", args->session, "Session folder (with session.toml)")->required();
+  cmd->add_option("session", args->session,
+                  "Session folder (with session.toml), or its session.toml")
+      ->required();
   cmd->add_option("-o,--output", args->output, "Results file (written atomically)")
       ->capture_default_str();
   cmd->add_option("--convention", args->convention,
@@ -86,7 +88,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args, stage_flags] {
     action = [args, stage_flags] {
       const auto start = std::chrono::steady_clock::now();
-      CheckOutputPath(args->output, args->session);  // before any work
+      CheckOutputPath(args->output, SessionFolderOf(args->session));  // before any work
       const ManifestReadResult manifest = ReadManifest(args->session);
       ReduceOptions options;
       if (!args->convention.empty()) options.convention = ParseConvention(args->convention);

@@ -44,11 +44,18 @@ void AddReportCommand(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"md", "csv", "tex", "html"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", args->output,
-                  "Output file (default: standard output); with csv, an existing folder gets "
-                  "one file per table");
+                  "Output file, - for standard output (default: standard output; for html, the "
+                  "results file's name with .html); with csv, an existing folder gets one file "
+                  "per table");
   cmd->callback([&action, args] {
     action = [args] {
       const ReportFormat format = *ParseReportFormat(args->format);
+      // A page of megabytes is no use on a terminal: it goes beside the results.
+      if (format == ReportFormat::kHtml && args->output.empty()) {
+        args->output = std::filesystem::path(args->results).replace_extension(".html");
+        fmt::print(stderr, "writing {}\n", args->output.string());
+      }
+      if (args->output == "-") args->output.clear();
       const bool csv_folder = format == ReportFormat::kCsv && !args->output.empty() &&
                               std::filesystem::is_directory(args->output);
       if (!args->output.empty() && !csv_folder) CheckReportOutput(args->output, args->results);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <ceres/version.h>
 #include <fmt/format.h>
 
 #include "fit/least_squares_internal.h"
@@ -223,4 +224,6 @@ std::vector<double> MaximumSigmas(const std::vector<double>& xmax,
 }
 
 }  // namespace fit_internal
+std::string CeresVersion() { return CERES_VERSION_STRING; }
+
 }  // namespace impactlab

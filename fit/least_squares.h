@@ -96,6 +96,9 @@ struct Identifiability {
   std::string message;  // the verdict in words (which combination is undetermined)
 };
 
+// The Ceres Solver the fits were built with, e.g. "2.1.0".
+std::string CeresVersion();
+
 // "0.577 log K1 - 0.707 log K2 + 0.408 log C" (terms below 0.005 dropped).
 std::string FormatCombination(const std::vector<double>& direction,
                               const std::vector<std::string>& names);

@@ -223,6 +223,12 @@ struct Hdf5File::Impl {
 
 Hdf5File::Hdf5File(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
+std::string Hdf5Version() {
+  unsigned major = 0, minor = 0, release = 0;
+  if (H5get_libversion(&major, &minor, &release) < 0) return "unknown";
+  return fmt::format("{}.{}.{}", major, minor, release);
+}
+
 std::int64_t Hdf5File::NativeId() const {
   static_assert(std::is_same_v<hid_t, std::int64_t>, "a hid_t is kept as int64_t");
   return impl_->file.get();

@@ -15,6 +15,9 @@
 
 namespace impactlab {
 
+// The HDF5 library in use, e.g. "1.10.8".
+std::string Hdf5Version();
+
 class Hdf5File {
  public:
   // Opens read-only. Throws InputError naming the file. (Files are written

@@ -15,6 +15,7 @@
 #include "io/manifest.h"
 
 #include "io/session_file.h"
+#include "io/spelling.h"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -218,7 +219,31 @@ class TableReader {
   }
 
   [[noreturn]] void Missing(std::string_view key, std::string_view what) const {
-    Fail(key, fmt::format("required key is missing; expected {}", what));
+    Fail(key, fmt::format("required key is missing; expected {}{}", what, NearMiss(key)));
+  }
+
+  // The table's unknown keys that look like a typo of `key`, said beside a
+  // message about it: "; the table has `initial_displacment`: a typo?".
+  std::string NearMiss(std::string_view key) const {
+    std::vector<std::string> typos;
+    for (const std::string& unknown : UnknownKeys()) {
+      if (NearestWord(unknown, {std::string(key)})) typos.push_back("`" + unknown + "`");
+    }
+    if (typos.empty()) return {};
+    return fmt::format("; the table has {}: a typo?", fmt::join(typos, " and "));
+  }
+
+  // The table's unknown keys, each with the known key it is nearest to:
+  // "; `rebounds_` is not a key (did you mean \"rebounds\"?)". Said with a
+  // problem of the table as a whole that a mistyped key may explain.
+  std::string UnknownKeysNote() const {
+    std::string note;
+    for (const std::string& unknown : UnknownKeys()) {
+      if (const std::string hint = DidYouMean(unknown, known_); !hint.empty()) {
+        note += fmt::format("; `{}` is not a key{}", unknown, hint);
+      }
+    }
+    return note;
   }
 
   void Warn(std::string_view key, const std::string& message) const {
@@ -231,12 +256,21 @@ class TableReader {
   // Keys this table may have; any other key is most likely a typing mistake, so
   // the user hears about it, but a newer manifest still reads.
   void WarnUnknownKeys(std::initializer_list<std::string_view> known) const {
-    for (const auto& [key, node] : *table_) {
-      const std::string_view name = key.str();
-      if (std::find(known.begin(), known.end(), name) == known.end()) {
-        Warn(name, fmt::format("unknown key '{}' (ignored)", name));
-      }
+    known_.assign(known.begin(), known.end());
+    for (const std::string& name : UnknownKeys()) {
+      Warn(name, fmt::format("unknown key '{}' (ignored){}", name, DidYouMean(name, known_)));
     }
+  }
+
+  // The keys the table has that WarnUnknownKeys was not told of.
+  std::vector<std::string> UnknownKeys() const {
+    std::vector<std::string> unknown;
+    if (known_.empty()) return unknown;
+    for (const auto& [key, node] : *table_) {
+      const std::string name(key.str());
+      if (std::find(known_.begin(), known_.end(), name) == known_.end()) unknown.push_back(name);
+    }
+    return unknown;
   }
 
   std::optional<double> Number(std::string_view key, NumberRule rule) const {
@@ -516,6 +550,8 @@ class TableReader {
   const toml::table* table_;
   std::string path_;
   std::optional<long long> line_;
+  // The keys it may have, once WarnUnknownKeys has been told them.
+  mutable std::vector<std::string> known_;
 };
 
 // ---------------------------------------------------------------------------
@@ -1028,7 +1064,8 @@ Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
   if (!run.photo && !has_csv && !run.HasTypedRebounds()) {
     table.FailTable(
         "the run has nothing to reduce; expected a `photo`, traces with `csv` files, "
-        "or typed-in `rebounds`");
+        "or typed-in `rebounds`" +
+        table.UnknownKeysNote());
   }
   if (run.photo && run.traces.empty() && !run.HasTypedRebounds()) {
     table.Warn("photo",
@@ -1284,9 +1321,16 @@ SettingValue ParseSettingText(const std::string& text) {
   return text;
 }
 
-ManifestReadResult ReadManifest(const std::filesystem::path& session_folder) {
-  const fs::path manifest = session_folder / "session.toml";
+std::filesystem::path SessionFolderOf(const std::filesystem::path& session) {
   std::error_code error;
+  if (session.filename() != "session.toml" || !fs::is_regular_file(session, error)) return session;
+  return session.has_parent_path() ? session.parent_path() : fs::path(".");
+}
+
+ManifestReadResult ReadManifest(const std::filesystem::path& session) {
+  std::error_code error;
+  const fs::path session_folder = SessionFolderOf(session);
+  const fs::path manifest = session_folder / "session.toml";
   if (!fs::is_directory(session_folder, error)) {
     throw InputError(InputLocation{session_folder, "", std::nullopt},
                      "expected a session folder, found no folder there");

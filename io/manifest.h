@@ -20,11 +20,15 @@ struct ManifestReadResult {
   std::vector<ManifestWarning> warnings;  // unknown keys and other non-fatal findings
 };
 
-// Reads `session_folder/session.toml`. Throws InputError naming the file, the
-// key, the line where known, and what was expected. Paths in the manifest must
-// stay inside the folder (no absolute paths, no "..", no symbolic link leading
-// out); referenced files are checked to exist.
-ManifestReadResult ReadManifest(const std::filesystem::path& session_folder);
+// Reads `session/session.toml` (`session`: the session folder, or that
+// session.toml itself). Throws InputError naming the file, the key, the line
+// where known, and what was expected. Paths in the manifest must stay inside
+// the folder (no absolute paths, no "..", no symbolic link leading out);
+// referenced files are checked to exist.
+ManifestReadResult ReadManifest(const std::filesystem::path& session);
+
+// The session folder `session` names: itself, or the folder of a session.toml.
+std::filesystem::path SessionFolderOf(const std::filesystem::path& session);
 
 // Same, from manifest text (tests); `manifest_path` is used in messages and its
 // parent folder resolves relative paths.

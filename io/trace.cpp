@@ -52,7 +52,11 @@ Trace ReadTraceCsv(const std::filesystem::path& path) {
 
 Trace ParseTraceCsv(std::istream& in, const std::filesystem::path& path) {
   std::string line;
-  if (!std::getline(in, line) || Field(line, 0) != "time_s" || Field(line, 1) != "volts") {
+  if (!std::getline(in, line)) {
+    throw InputError({path, "header", 1},
+                     "the file is empty; expected the header \"time_s,volts\" and samples");
+  }
+  if (Field(line, 0) != "time_s" || Field(line, 1) != "volts") {
     throw InputError({path, "header", 1},
                      fmt::format("expected the header \"time_s,volts\", found \"{}\"", Trim(line)));
   }

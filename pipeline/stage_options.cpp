@@ -6,6 +6,7 @@
 
 #include "io/errors.h"
 #include "io/manifest.h"
+#include "io/spelling.h"
 
 namespace impactlab {
 namespace {
@@ -30,11 +31,15 @@ StageOptions WithSettings(StageOptions options, const StageSettings& settings) {
   for (const auto& [key, setting] : settings) {
     if (const auto problem = ApplySetting(options, key, setting.value)) {
       const std::string known = SettingKeys(options, StageOf(key));
-      throw InputError(setting.where,
-                       problem->problem == "no such setting"
-                           ? fmt::format("no such setting; the {} settings are: {}", StageOf(key),
-                                         known.empty() ? "(none: no such stage)" : known)
-                           : problem->problem);
+      std::vector<std::string> every;
+      ForEachSetting(options,
+                     [&](const std::string& k, const auto&, const char*) { every.push_back(k); });
+      throw InputError(
+          setting.where,
+          problem->problem == "no such setting"
+              ? fmt::format("no such setting{}; the {} settings are: {}", DidYouMean(key, every),
+                            StageOf(key), known.empty() ? "(none: no such stage)" : known)
+              : problem->problem);
     }
   }
   if (std::string why; !options.Check(&why)) {

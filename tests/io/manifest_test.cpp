@@ -562,6 +562,47 @@ TEST_CASE("manifest: unknown keys give warnings and do not stop reading") {
   CHECK(colour->message == "unknown key 'colour' (ignored)");
 }
 
+TEST_CASE("manifest: a mistyped key is answered with the key it was likely meant to be") {
+  SessionFolder folder;
+  const std::string text = kHeader + kTypedRun + "contact_tme = 1e-4\n" + R"toml(
+[[run]]
+id = "typo-x0"
+initial_displacment = 0.3
+rebounds = [0.2, 0.1]
+
+[[run]]
+id = "typo-rebounds"
+initial_displacement = 0.3
+rebounds_ = [0.2, 0.1]
+)toml";
+  folder.Write(text);
+  const ManifestReadResult result = folder.Read();
+  const auto warning =
+      std::find_if(result.warnings.begin(), result.warnings.end(),
+                   [](const auto& w) { return w.where.key == "run \"0.405\".contact_tme"; });
+  REQUIRE(warning != result.warnings.end());
+  CHECK(warning->message == "unknown key 'contact_tme' (ignored) (did you mean \"contact_time\"?)");
+  // The required key's absence is said with the near miss beside it, and the
+  // run that has only a mistyped `rebounds` is told which key it missed.
+  REQUIRE(result.session.rejected.size() == 2);
+  CHECK_THAT(result.session.rejected[0].Reason(),
+             Catch::Contains("required key is missing") &&
+                 Catch::Contains("the table has `initial_displacment`: a typo?"));
+  CHECK_THAT(result.session.rejected[1].Reason(),
+             Catch::Contains("nothing to reduce") &&
+                 Catch::Contains("`rebounds_` is not a key (did you mean \"rebounds\"?)"));
+}
+
+TEST_CASE("manifest: the session folder or its session.toml reads the same") {
+  const fs::path sample = fs::path(IMPACTLAB_SOURCE_DIR) / "sample_data/thesis-1969";
+  const Session by_folder = ReadManifest(sample).session;
+  const Session by_manifest = ReadManifest(sample / "session.toml").session;
+  CHECK(by_manifest.folder == by_folder.folder);
+  CHECK(by_manifest.runs.size() == by_folder.runs.size());
+  CHECK(SessionFolderOf(sample / "session.toml") == sample);
+  CHECK(SessionFolderOf(sample) == sample);
+}
+
 // ---------------------------------------------------------------------------
 // Bad manifests: each names the file, the key, the line, and what was expected.
 

@@ -104,8 +104,10 @@ TEST_CASE("stage_options: a setting is refused naming the manifest, its key and 
   };
   // A misspelt key: the stage's keys are listed.
   std::string why = refusal("[digitize.traces]\nmethd = \"gaussian\"\n");
-  CHECK_THAT(why, Catch::Contains("session.toml:4") && Catch::Contains("digitize.traces.methd") &&
-                      Catch::Contains("no such setting") && Catch::Contains("traces.method"));
+  CHECK_THAT(why,
+             Catch::Contains("session.toml:4") && Catch::Contains("digitize.traces.methd") &&
+                 Catch::Contains("no such setting (did you mean \"digitize.traces.method\"?)") &&
+                 Catch::Contains("traces.method"));
   // A word that is not one of the choices.
   why = refusal("[digitize]\ntraces.method = \"median\"\n");
   CHECK_THAT(why, Catch::Contains("session.toml:4") && Catch::Contains("centroid, gaussian"));
