@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Installs impactlab's dependencies from Debian (only those missing) and builds
-# it into ./build. Safe to run again. Usage: scripts/setup.sh [--no-build]
+# it into ./build. Safe to run again.
+# Usage: scripts/setup.sh [--cli | --no-build]
+#   (none)      build everything: the command, the tests and the benchmarks
+#   --cli       build only the command (build/cli/impactlab) and its libraries
+#   --no-build  install the dependencies only
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,7 +26,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
-if [ "${1:-}" != "--no-build" ]; then
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
-  cmake --build build -j2 >&2
-fi
+case "${1:-}" in
+  --no-build) exit 0 ;;
+  --cli) target=(--target impactlab) ;;
+  "") target=() ;;
+  *) echo "setup: unknown option $1 (expected --cli or --no-build)" >&2; exit 2 ;;
+esac
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+cmake --build build -j2 "${target[@]}" >&2
