@@ -239,33 +239,44 @@ std::string RenderHtmlReport(const SessionResult& r) {
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{0}</title>\n"
       "<style>{1}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
       EscapeHtml(r.title), kStyle);
+  // The pendulum's settings only where there is a pendulum (runs or calibrations).
+  const bool pendulum = !r.runs.empty() || !r.calibrations.empty();
   html += fmt::format(
-      "<p>Reduced by {} on {} from <code>{}</code>. Units {}; pendulum convention {}; "
-      "Kelvin-Voigt separation {}.</p>\n",
-      EscapeHtml(r.producer), EscapeHtml(r.created), EscapeHtml(r.session_folder),
-      UnitSystemName(r.units), ConventionName(r.convention), SeparationName(r.separation));
-  html += "<h2>Runs</h2>\n<ul>\n";
-  for (const RunResult& run : r.runs) {
-    html +=
-        fmt::format("<li><a href=\"#run-{0}\">{0}</a>: <span class=\"{1}\">{2}</span>{3}</li>\n",
-                    EscapeHtml(run.id), run.ok ? "ok" : "failed", EscapeHtml(run.Status()),
-                    run.reused ? " (reused)" : "");
+      "<p>Reduced by {} on {} from <code>{}</code>. Units {}{}.</p>\n", EscapeHtml(r.producer),
+      EscapeHtml(r.created), EscapeHtml(r.session_folder), UnitSystemName(r.units),
+      pendulum ? fmt::format("; pendulum convention {}; Kelvin-Voigt separation {}",
+                             ConventionName(r.convention), SeparationName(r.separation))
+               : std::string());
+  if (!r.runs.empty()) {
+    html += "<h2>Runs</h2>\n<ul>\n";
+    for (const RunResult& run : r.runs) {
+      html +=
+          fmt::format("<li><a href=\"#run-{0}\">{0}</a>: <span class=\"{1}\">{2}</span>{3}</li>\n",
+                      EscapeHtml(run.id), run.ok ? "ok" : "failed", EscapeHtml(run.Status()),
+                      run.reused ? " (reused)" : "");
+    }
+    html += "</ul>\n";
   }
-  html += "</ul>\n";
   for (const std::string& w : r.warnings)
     html += fmt::format("<p class=\"note\">warning: {}</p>\n", EscapeHtml(w));
 
-  html += "<h2>Tables</h2>\n";
-  for (const Table& t : BuildTables(r)) html += RenderTable(t, ReportFormat::kHtml);
-  html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
+  if (const std::vector<Table> tables = BuildTables(r); !tables.empty()) {
+    html += "<h2>Tables</h2>\n";
+    for (const Table& t : tables) html += RenderTable(t, ReportFormat::kHtml);
+  }
+  if (!r.runs.empty()) html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
   for (const LogResult& log : r.logs) {
     html +=
         fmt::format("<h2>Log {}</h2>\n<p>{}</p>\n", EscapeHtml(log.id), EscapeHtml(log.Status()));
     html += LogFigures(log);
   }
+  // Every run has its section, a failed one with its reason (the run list links here).
   for (const RunResult& run : r.runs) {
-    if (run.measured.xmax.empty()) continue;
     html += fmt::format("<h2 id=\"run-{0}\">Run {0}</h2>\n", EscapeHtml(run.id));
+    if (!run.ok) {
+      html += fmt::format("<p class=\"failed\">{}</p>\n", EscapeHtml(run.Status()));
+    }
+    if (run.measured.xmax.empty()) continue;
     html += RunFigure(run, u);
     if (!run.measured.calibrations.empty()) html += CalibrationFigure(run, u);
     for (const PhotoOverlay& o : run.measured.overlays) html += OverlayFigure(o);

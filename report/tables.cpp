@@ -15,17 +15,40 @@
 namespace impactlab {
 namespace {
 
-std::string Fixed(double v, int digits) { return fmt::format("{:.{}f}", v, digits); }
+Cell Fixed(double v, int digits) {
+  return Cell{fmt::format("{:.{}f}", v, digits), v, std::nullopt, digits};
+}
 // A deviation that rounds to zero prints as +0.0000, never -0.0000.
-std::string Signed(double v, int digits) {
-  const std::string text = fmt::format("{:+.{}f}", v, digits);
-  return text.find_first_not_of("+-0.") == std::string::npos ? "+" + text.substr(1) : text;
+Cell Signed(double v, int digits) {
+  std::string text = fmt::format("{:+.{}f}", v, digits);
+  if (text.find_first_not_of("+-0.") == std::string::npos) text = "+" + text.substr(1);
+  return Cell{text, v, std::nullopt, digits};
 }
-std::string WithSigma(const Estimate& e, int digits) {
+// Digits after the point that show a standard error to two significant
+// digits, and never fewer than `digits` (so no error reads "± 0.0000").
+int DecimalsFor(double sigma, int digits) {
+  if (!(sigma > 0.0) || !std::isfinite(sigma)) return digits;
+  const int shown = 1 - static_cast<int>(std::floor(std::log10(sigma)));
+  return std::clamp(std::max(shown, digits), 0, 15);
+}
+// At most four digits more than asked for: an error far below them (a
+// noiseless simulation's) is written in powers of ten instead.
+constexpr int kMoreDigits = 4;
+Cell WithSigma(const Estimate& e, int digits) {
   if (e.sigma == 0.0) return Fixed(e.value, digits);
-  return fmt::format("{:.{}f} ± {:.{}f}", e.value, digits, e.sigma, digits);
+  const int d = DecimalsFor(e.sigma, digits);
+  if (d > digits + kMoreDigits) {
+    const int shown = digits + kMoreDigits;
+    return Cell{fmt::format("{:.{}f} ± {:.2g}", e.value, shown, e.sigma), e.value, e.sigma, shown};
+  }
+  return Cell{fmt::format("{:.{}f} ± {:.{}f}", e.value, d, e.sigma, d), e.value, e.sigma, d};
 }
-std::string Sig(double v, int significant) { return fmt::format("{:.{}g}", v, significant); }
+Cell Sig(double v, int significant) {
+  return Cell{fmt::format("{:.{}g}", v, significant), v, std::nullopt, -1};
+}
+Cell Count(long long n) {
+  return Cell{fmt::format("{}", n), static_cast<double>(n), std::nullopt, 0};
+}
 
 Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
   Table t;
@@ -33,6 +56,7 @@ Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
   t.caption = "Deviation of theoretical response from experimental response (thesis Table 2)";
   t.columns = {"Run",
                "Rebound",
+               "Fit pair",
                fmt::format("Experimental Xmax ({})", u.length),
                fmt::format("Theoretical Xmax ({})", u.length),
                fmt::format("Deviation ({})", u.length),
@@ -44,14 +68,14 @@ Table DeviationTable(const SessionResult& r, const UnitLabels& u) {
     for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
       const bool used = static_cast<int>(n) == fit.rebounds_used[0] ||
                         static_cast<int>(n) == fit.rebounds_used[1];
-      t.rows.push_back({run.id, fmt::format("{}{}", n, used ? "*" : ""),
+      t.rows.push_back({run.id, Count(static_cast<long long>(n)), used ? "*" : "",
                         Fixed(run.measured.xmax[n], 4), Fixed(fit.predicted_xmax[n].value, 4),
                         Signed(run.fits.deviation[n], 4),
                         Fixed(std::abs(run.fits.deviation_pct_peak[n]), 1),
                         Fixed(std::abs(run.fits.deviation_pct_x0[n]), 1)});
     }
   }
-  t.notes = {"* rebound used to determine the Kelvin-Voigt parameters.",
+  t.notes = {"Fit pair *: the rebounds that determine the Kelvin-Voigt parameters.",
              "Deviation = theoretical - experimental; percentages are of its magnitude."};
   return t;
 }
@@ -118,32 +142,30 @@ const Estimate* FindParameter(const LeastSquaresSummary& fit, const std::string&
   return nullptr;
 }
 
-// A value with its standard error, "undetermined" where the data do not fix it.
-std::string Determined(const LeastSquaresSummary& fit, const std::string& name, int digits) {
+// A value with its standard error, "undetermined" where the data do not fix
+// it; `scale` converts it for display (1e6: s to us).
+Cell Determined(const LeastSquaresSummary& fit, const std::string& name, int digits,
+                double scale = 1.0) {
   const Estimate* e = FindParameter(fit, name);
   if (e == nullptr) return "-";
-  if (!std::isfinite(e->sigma)) return "undetermined";
-  return WithSigma(*e, digits);
+  const Estimate shown{e->value * scale, e->sigma * scale};
+  if (!std::isfinite(e->sigma)) return Cell{"undetermined", shown.value, shown.sigma, -1};
+  return WithSigma(shown, digits);
 }
 
 Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) {
   Table t;
   t.name = "kelvin_voigt_least_squares";
   t.caption = "Kelvin-Voigt by least squares over every rebound maximum of each run";
-  t.columns = {"Run",
-               "zeta",
-               "e",
-               fmt::format("K ({})", u.stiffness),
-               fmt::format("C ({})", u.damping),
-               "chi2 / dof",
-               "Status"};
+  t.columns = {
+      "Run",  "zeta", "e",     fmt::format("K ({})", u.stiffness), fmt::format("C ({})", u.damping),
+      "chi2", "dof",  "Status"};
   for (const RunResult& run : r.runs) {
     const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "kelvin_voigt_least_squares");
     if (fit == nullptr) continue;
     t.rows.push_back({run.id, Determined(*fit, "zeta", 5), Determined(*fit, "restitution", 4),
                       Determined(*fit, "stiffness", 0), Determined(*fit, "damping", 3),
-                      fmt::format("{:.3g} / {}", fit->chi2, fit->dof),
-                      fit->ok ? "ok" : fit->reason});
+                      Sig(fit->chi2, 3), Count(fit->dof), fit->ok ? "ok" : fit->reason});
   }
   t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37)."};
   return t;
@@ -158,12 +180,12 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
                fmt::format("K2 ({})", u.stiffness),
                fmt::format("C ({})", u.damping),
                "e",
-               "tau_c (s)",
+               "tau_c (us)",
                "Identifiability"};
   const auto row = [&](const std::string& name, const LeastSquaresSummary& fit) {
     t.rows.push_back({name, Determined(fit, "stiffness_1", 0), Determined(fit, "stiffness_2", 0),
                       Determined(fit, "damping", 3), Determined(fit, "restitution", 4),
-                      Determined(fit, "contact_time", 7),
+                      Determined(fit, "contact_time", 2, 1e6),
                       fit.identifiability.empty() ? (fit.ok ? fit.termination : fit.reason)
                                                   : fit.identifiability});
   };
@@ -188,7 +210,8 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
   t.columns = {"Model",
                "Parameters",
                "k",
-               "chi2 / dof",
+               "chi2",
+               "dof",
                "AIC",
                "BIC",
                "spread of ln e",
@@ -202,10 +225,10 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
                                 p.estimate.value, p.estimate.sigma);
     }
     if (parameters.empty()) parameters = "one ln e per run";
-    t.rows.push_back(
-        {m.model + (m.ok ? "" : " (failed)"), parameters, fmt::format("{}", m.parameter_count),
-         fmt::format("{:.4g} / {}", m.chi2, m.dof), Sig(m.aic, 5), Sig(m.bic, 5),
-         Sig(m.log_restitution_spread, 3), Sig(m.loo_rms_normalized, 4), Sig(m.loo_rms_length, 4)});
+    t.rows.push_back({m.model + (m.ok ? "" : " (failed)"), parameters, Count(m.parameter_count),
+                      Sig(m.chi2, 4), Count(m.dof), Sig(m.aic, 5), Sig(m.bic, 5),
+                      Sig(m.log_restitution_spread, 3), Sig(m.loo_rms_normalized, 4),
+                      Sig(m.loo_rms_length, 4)});
   }
   t.notes = {fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
                          c.best_by_leave_one_out, c.best_by_bic),
@@ -213,8 +236,8 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
   return t;
 }
 
-std::string OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
-  return e ? WithSigma(*e, digits) : "-";
+Cell OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
+  return e ? WithSigma(*e, digits) : Cell("-");
 }
 
 Table LogTable(const LogResult& log) {
@@ -224,9 +247,9 @@ Table LogTable(const LogResult& log) {
       "Log {}: dominant frequencies and damping, experiment against "
       "simulation",
       log.id);
-  t.columns = {"Channel",         "Experiment f (Hz)",       "Simulation f (Hz)",
-               "Difference (Hz)", "Difference (%)",          "Experiment zeta",
-               "Simulation zeta", "RMS difference (aligned)"};
+  t.columns = {"Channel",         "Experiment f (Hz)",        "Simulation f (Hz)",
+               "Difference (Hz)", "Difference (%)",           "Experiment zeta",
+               "Simulation zeta", "RMS difference (aligned)", "Units"};
   const auto channel_of = [&](const std::string& source,
                               const std::string& name) -> const LogChannelResult* {
     for (const LogSourceResult& s : log.sources) {
@@ -246,22 +269,23 @@ Table LogTable(const LogResult& log) {
                        [&](const LogComparisonRow& r) { return r.channel == c.channel; });
       const bool compared = row != log.comparison.end();
       t.rows.push_back({c.channel, OptionalWithSigma(c.dominant_frequency_hz, 4),
-                        sim ? OptionalWithSigma(sim->dominant_frequency_hz, 4) : "-",
-                        compared ? Signed(row->difference_hz, 3) : "-",
-                        compared ? Signed(row->difference_percent, 2) : "-",
+                        sim ? OptionalWithSigma(sim->dominant_frequency_hz, 4) : Cell("-"),
+                        compared ? Signed(row->difference_hz, 3) : Cell("-"),
+                        compared ? Signed(row->difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
-                        sim ? OptionalWithSigma(sim->damping_ratio, 4) : "-",
-                        compared ? fmt::format("{:.4g} {}", row->rms_difference, c.units) : "-"});
+                        sim ? OptionalWithSigma(sim->damping_ratio, 4) : Cell("-"),
+                        compared ? Sig(row->rms_difference, 4) : Cell("-"), c.units});
     }
   }
   for (const LogSourceResult& s : log.sources) {
-    t.notes.push_back(fmt::format(
-        "{} impact: {} ({})", s.source,
-        s.impact_time_s ? WithSigma(*s.impact_time_s, 5) + " s" : "not found", s.impact_method));
+    t.notes.push_back(
+        fmt::format("{} impact: {} ({})", s.source,
+                    s.impact_time_s ? WithSigma(*s.impact_time_s, 5).text + " s" : "not found",
+                    s.impact_method));
   }
   if (log.impact_offset_s) {
     t.notes.push_back(fmt::format("impact offset, simulation - experiment: {} s",
-                                  WithSigma(*log.impact_offset_s, 5)));
+                                  WithSigma(*log.impact_offset_s, 5).text));
   }
   return t;
 }
@@ -297,7 +321,7 @@ Table DampingLineTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
             {"b", Sig(line.b.value, 6), Sig(line.b.sigma, 3), "1"},
             {"correlation(a, b)", Fixed(line.correlation_ab, 4), "", "1"},
             {"rms residual", Sig(line.rms_residual, 4), "", u.damping},
-            {"runs", fmt::format("{}", line.points), "", ""}};
+            {"runs", Count(line.points), "", ""}};
   t.notes = {s.average_stiffness ? "C from the session's average K." : "C from each run's own K."};
   return t;
 }
@@ -315,13 +339,12 @@ Table PredictionTable(const RunPrediction& p, const UnitLabels& u) {
                "Deviation % peak",
                "Deviation % X0"};
   for (std::size_t i = 0; i < p.predicted.size(); ++i) {
-    t.rows.push_back({fmt::format("{}", p.start_rebound + static_cast<int>(i)),
-                      Fixed(p.predicted[i], 4), Fixed(p.calculated[i], 4),
-                      Signed(p.deviation[i], 4), Fixed(std::abs(p.pct_peak[i]), 1),
-                      Fixed(std::abs(p.pct_start[i]), 1)});
+    t.rows.push_back({Count(p.start_rebound + static_cast<long long>(i)), Fixed(p.predicted[i], 4),
+                      Fixed(p.calculated[i], 4), Signed(p.deviation[i], 4),
+                      Fixed(std::abs(p.pct_peak[i]), 1), Fixed(std::abs(p.pct_start[i]), 1)});
   }
   t.notes = {fmt::format("X0 here is the starting maximum, rebound {} = {} {}.", p.start_rebound,
-                         Fixed(p.start_xmax, 4), u.length)};
+                         Fixed(p.start_xmax, 4).text, u.length)};
   return t;
 }
 
@@ -335,11 +358,48 @@ std::string Join(const std::vector<std::string>& cells, const std::string& separ
   return out;
 }
 
+std::vector<std::string> Texts(const std::vector<Cell>& row) {
+  std::vector<std::string> texts;
+  for (const Cell& cell : row) texts.push_back(cell.text);
+  return texts;
+}
+
+// Which columns carry standard errors (CSV gives them a column of their own).
+std::vector<bool> ColumnsWithSigma(const Table& t) {
+  std::vector<bool> with(t.columns.size(), false);
+  for (const auto& row : t.rows) {
+    for (std::size_t c = 0; c < row.size() && c < with.size(); ++c) {
+      if (row[c].sigma) with[c] = true;
+    }
+  }
+  return with;
+}
+
+std::string FullPrecision(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return fmt::format("{}", v);  // the shortest text that reads back to v exactly
+}
+
+// A number for siunitx: \num{0.08448(12)}, its error in the last digits shown.
+std::string LatexNumber(const Cell& cell) {
+  if (!cell.value || !std::isfinite(*cell.value)) return EscapeLatex(cell.text);
+  if (cell.sigma && std::isfinite(*cell.sigma) && *cell.sigma > 0.0 && cell.decimals >= 0) {
+    const double last_digits = std::round(*cell.sigma * std::pow(10.0, cell.decimals));
+    if (last_digits >= 1.0) {
+      return fmt::format("\\num{{{:.{}f}({:.0f})}}", *cell.value, cell.decimals, last_digits);
+    }
+    return fmt::format("\\num{{{:.{}f} +- {:.2g}}}", *cell.value, cell.decimals, *cell.sigma);
+  }
+  if (cell.sigma && !std::isfinite(*cell.sigma)) return EscapeLatex(cell.text);
+  return fmt::format("\\num{{{}}}", cell.text);
+}
+
 }  // namespace
 
 std::vector<Table> BuildTables(const SessionResult& r) {
   const UnitLabels u = LabelsFor(r.units);
-  std::vector<Table> tables = {DeviationTable(r, u), ParameterTable(r, u)};
+  std::vector<Table> tables;
+  if (!r.runs.empty()) tables = {DeviationTable(r, u), ParameterTable(r, u)};
   const bool any_least_squares =
       std::any_of(r.runs.begin(), r.runs.end(),
                   [](const RunResult& run) { return !run.fits.least_squares.empty(); });
@@ -356,7 +416,36 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   for (const LogResult& log : r.logs) {
     if (log.ok) tables.push_back(LogTable(log));
   }
+  // A logs-only or calibration-only result has no rows for the runs' tables.
+  std::erase_if(tables, [](const Table& t) { return t.rows.empty(); });
   return tables;
+}
+
+std::vector<std::string> TidyColumns(const Table& t) {
+  const std::vector<bool> with_sigma = ColumnsWithSigma(t);
+  std::vector<std::string> columns;
+  for (std::size_t c = 0; c < t.columns.size(); ++c) {
+    columns.push_back(t.columns[c]);
+    if (with_sigma[c]) columns.push_back(t.columns[c] + " std_error");
+  }
+  return columns;
+}
+
+std::vector<std::vector<std::string>> TidyRows(const Table& t) {
+  const std::vector<bool> with_sigma = ColumnsWithSigma(t);
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& row : t.rows) {
+    std::vector<std::string> cells;
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      const Cell& cell = row[c];
+      cells.push_back(cell.value ? FullPrecision(*cell.value) : cell.text == "-" ? "" : cell.text);
+      if (c < with_sigma.size() && with_sigma[c]) {
+        cells.push_back(cell.sigma ? FullPrecision(*cell.sigma) : cell.value ? "0" : "");
+      }
+    }
+    rows.push_back(std::move(cells));
+  }
+  return rows;
 }
 
 std::optional<ReportFormat> ParseReportFormat(const std::string& name) {
@@ -371,8 +460,8 @@ std::string RenderTable(const Table& t, ReportFormat format) {
   std::string out;
   switch (format) {
     case ReportFormat::kCsv:
-      out += Join(t.columns, ",", EscapeCsv) + "\n";
-      for (const auto& row : t.rows) out += Join(row, ",", EscapeCsv) + "\n";
+      out += Join(TidyColumns(t), ",", EscapeCsv) + "\n";
+      for (const auto& row : TidyRows(t)) out += Join(row, ",", EscapeCsv) + "\n";
       return out;
     case ReportFormat::kMarkdown:
       out += fmt::format("### {}\n\n| {} |\n|", EscapeMarkdown(t.caption),
@@ -380,7 +469,7 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       for (std::size_t i = 0; i < t.columns.size(); ++i) out += i == 0 ? " :--- |" : " ---: |";
       out += "\n";
       for (const auto& row : t.rows) {
-        out += fmt::format("| {} |\n", Join(row, " | ", EscapeMarkdown));
+        out += fmt::format("| {} |\n", Join(Texts(row), " | ", EscapeMarkdown));
       }
       for (const auto& note : t.notes) out += fmt::format("\n{}\n", EscapeMarkdown(note));
       return out + "\n";
@@ -389,24 +478,30 @@ std::string RenderTable(const Table& t, ReportFormat format) {
           "<table>\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n<tbody>\n",
           EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
       for (const auto& row : t.rows) {
-        out += fmt::format("<tr><td>{}</td></tr>\n", Join(row, "</td><td>", EscapeHtml));
+        out += fmt::format("<tr><td>{}</td></tr>\n", Join(Texts(row), "</td><td>", EscapeHtml));
       }
       out += "</tbody>\n</table>\n";
       for (const auto& note : t.notes) {
         out += fmt::format("<p class=\"note\">{}</p>\n", EscapeHtml(note));
       }
       return out;
-    case ReportFormat::kLatex:
+    case ReportFormat::kLatex: {
+      // booktabs rules and siunitx numbers (the preamble needs both packages).
       out += fmt::format(
-          "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\begin{{tabular}}{{l{}}}"
-          "\n\\hline\n",
-          EscapeLatex(t.caption), std::string(t.columns.size() - 1, 'r'));
-      out += Join(t.columns, " & ", EscapeLatex) + " \\\\\n\\hline\n";
-      for (const auto& row : t.rows) out += Join(row, " & ", EscapeLatex) + " \\\\\n";
-      out += "\\hline\n\\end{tabular}\n";
+          "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\label{{tab:{}}}\n"
+          "\\begin{{tabular}}{{l{}}}\n\\toprule\n",
+          EscapeLatex(t.caption), t.name, std::string(t.columns.size() - 1, 'r'));
+      out += Join(t.columns, " & ", EscapeLatex) + " \\\\\n\\midrule\n";
+      for (const auto& row : t.rows) {
+        std::vector<std::string> cells;
+        for (const Cell& cell : row) cells.push_back(LatexNumber(cell));
+        out += Join(cells, " & ", nullptr) + " \\\\\n";
+      }
+      out += "\\bottomrule\n\\end{tabular}\n";
       for (const auto& note : t.notes)
         out += fmt::format("\n\\par\\footnotesize {}\n", EscapeLatex(note));
       return out + "\\end{table}\n\n";
+    }
   }
   return out;
 }
@@ -417,7 +512,10 @@ std::string RenderTables(const std::string& title, const std::vector<Table>& tab
   // The title is the user's: escaped like every other string (in LaTeX it is
   // a % comment, which a newline in it must not end).
   if (format == ReportFormat::kMarkdown) out += fmt::format("# {}\n\n", EscapeMarkdown(title));
-  if (format == ReportFormat::kLatex) out += fmt::format("% {}\n", EscapeLatex(title));
+  if (format == ReportFormat::kLatex) {
+    out += fmt::format("% {}\n% Needs \\usepackage{{booktabs}} and \\usepackage{{siunitx}}.\n",
+                       EscapeLatex(title));
+  }
   for (const Table& t : tables) {
     if (format == ReportFormat::kCsv) {
       out += fmt::format("{}\n{}\n", CsvComment(fmt::format("# {}: {}", t.name, t.caption)),

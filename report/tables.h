@@ -11,6 +11,23 @@
 
 namespace impactlab {
 
+// One cell: its text as a reader sees it ("0.05123 ± 0.00012"), and for a
+// number the value and standard error themselves, which CSV writes at full
+// precision in columns of their own and LaTeX through siunitx.
+struct Cell {
+  std::string text;
+  std::optional<double> value;  // a number
+  std::optional<double> sigma;  // its standard error (infinite: not determined)
+  int decimals = -1;            // the text's digits after the point (-1: not fixed)
+
+  Cell() = default;
+  Cell(std::string t) : text(std::move(t)) {}  // NOLINT: text cells read as strings
+  Cell(const char* t) : text(t) {}             // NOLINT
+  Cell(std::string t, std::optional<double> v, std::optional<double> s, int d)
+      : text(std::move(t)), value(v), sigma(s), decimals(d) {}
+  bool operator==(const Cell&) const = default;
+};
+
 // Cells, captions and notes hold plain text (some of it the user's: run and
 // log ids, channel names, failure messages); RenderTable escapes all of it
 // for its format (report/text_escape.h, report/html_escape.h).
@@ -18,9 +35,16 @@ struct Table {
   std::string name;     // file-name safe (FileSafeName), e.g. "table2_deviations"
   std::string caption;  // e.g. "Deviation of theoretical from experimental response (Table 2)"
   std::vector<std::string> columns;
-  std::vector<std::vector<std::string>> rows;
+  std::vector<std::vector<Cell>> rows;
   std::vector<std::string> notes;  // footnotes
 };
+
+// The table as CSV has it, tidy: a column whose numbers carry standard errors
+// is followed by "<column> std_error"; numbers at full precision (the
+// shortest text that reads back to the double exactly; an undetermined error
+// "inf"); no text in a number's place ("-" is an empty cell).
+std::vector<std::string> TidyColumns(const Table& table);
+std::vector<std::vector<std::string>> TidyRows(const Table& table);
 
 std::vector<Table> BuildTables(const SessionResult& result);
 
@@ -29,8 +53,10 @@ std::optional<ReportFormat> ParseReportFormat(
     const std::string& name);  // "md", "csv", "tex", "html"
 
 // One document with every table, under `title` (Markdown: a heading; LaTeX:
-// a % comment). CSV: each table as its own block, introduced by a
-// "# name: caption" comment line (CsvComment) and separated by a blank line.
+// a % comment, and the packages it needs: booktabs, siunitx). CSV: each table
+// as its own block, introduced by a "# name: caption" comment line
+// (CsvComment) and separated by a blank line; `report -f csv -o FOLDER`
+// writes one file per table instead.
 std::string RenderTables(const std::string& title, const std::vector<Table>& tables,
                          ReportFormat format);
 // One table alone (CSV files written one per table; an HTML <table> element).
