@@ -105,10 +105,15 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       // Progress on a terminal only: logs and pipes get the summary alone.
       const bool show_progress = !args->quiet && isatty(fileno(stderr)) != 0;
       if (show_progress) {
-        options.on_run_done = [](const RunResult& run, std::size_t done, std::size_t total) {
-          fmt::print(stderr, "\r\033[K[{}/{}] run {}: {}{}", done, total, run.id,
-                     run.ok ? "ok" : "failed", run.reused ? " (reused)" : "");
-          if (done == total) fmt::print(stderr, "\r\033[K");
+        // One line, rewritten: count, elapsed, an estimate of what is left, the last item.
+        options.on_progress = [start](const ReduceProgress& p) {
+          const double elapsed =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          const double left =
+              elapsed / static_cast<double>(p.done) * static_cast<double>(p.total - p.done);
+          fmt::print(stderr, "\r\033[K[{}/{}] {:.1f} s, ~{:.0f} s left: {} {}{}", p.done, p.total,
+                     elapsed, left, p.item, p.ok ? "ok" : "failed", p.reused ? " (reused)" : "");
+          if (p.done == p.total) fmt::print(stderr, "\r\033[K");
         };
       }
       SessionResult result = ReduceSession(manifest.session, options);

@@ -313,6 +313,26 @@ void KeepRejectedEntries(const Session& session, const ReduceOptions& options,
   }
 }
 
+// Counts the work done for ReduceOptions::on_progress, from any thread.
+class ProgressCounter {
+ public:
+  explicit ProgressCounter(const ReduceOptions& options) : report_(options.on_progress) {}
+  void Expect(std::size_t more) {
+    const std::lock_guard lock(mutex_);
+    total_ += more;
+  }
+  void Done(std::string item, bool ok, bool reused = false) {
+    if (!report_) return;
+    const std::lock_guard lock(mutex_);
+    report_({std::move(item), ok, reused, ++done_, total_});
+  }
+
+ private:
+  const std::function<void(const ReduceProgress&)>& report_;
+  std::mutex mutex_;
+  std::size_t done_ = 0, total_ = 0;
+};
+
 // Every run, calibration and log the manifest could read.
 SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions& options) {
   SessionResult result;
@@ -333,8 +353,10 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     return EntryStageOptions(session_options, entry, options.overrides);
   };
   std::mutex warnings_mutex;
+  ProgressCounter progress(options);
   // Logs are independent of the runs: each is analysed whatever else the session has.
   if (options.products == Products::kFit) {
+    progress.Expect(session.logs.size());
     for (const Log& log : session.logs) {
       try {
         const StageOptions log_options = entry_options(log.settings);
@@ -346,6 +368,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
         failed.reason = error.what();
         result.logs.push_back(std::move(failed));
       }
+      progress.Done("log " + log.id, result.logs.back().ok);
     }
   }
   if (session.runs.empty() && options.products != Products::kCalibration) return result;
@@ -362,6 +385,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   });
   if (options.products == Products::kCalibration) {
     std::vector<std::optional<CellCalibration>> done(session.calibrations.size());
+    progress.Expect(done.size());
     ForEachInParallel(done.size(), options.jobs, [&](std::size_t i) {
       const Calibration& c = session.calibrations[i];
       try {
@@ -371,6 +395,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
         std::lock_guard lock(warnings_mutex);
         result.warnings.push_back(error.what());
       }
+      progress.Done("calibration " + c.id, done[i].has_value());
     });
     for (auto& c : done) {
       if (c) result.calibrations.push_back(std::move(*c));
@@ -384,25 +409,23 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   // with its two calibrations is three photos.) Their errors reach the runs.
   const MeasurementPlan plan = PlanMeasurement(session, options);
   std::vector<RunResult> runs(session.runs.size());
-  std::mutex progress_mutex;
-  std::size_t finished = 0;
   const std::size_t ahead = plan.calibrations.size();
+  progress.Expect(ahead + runs.size());
   ForEachInParallel(ahead + runs.size(), options.jobs, [&](std::size_t task) {
     if (task < ahead) {
+      bool ok = true;
       try {
         calibrations.Get(plan.calibrations[task]);
       } catch (const std::exception&) {
-        // Kept in the cache; every run that names it reports it.
+        ok = false;  // kept in the cache; every run that names it reports it
       }
+      progress.Done("calibration " + plan.calibrations[task], ok);
       return;
     }
     const std::size_t i = task - ahead;
     runs[i] = ReduceRunOrFail(session.runs[i], session, pendulum, result.separation, calibrations,
                               options, session_options, plan.fingerprints[i]);
-    if (options.on_run_done) {
-      std::lock_guard lock(progress_mutex);
-      options.on_run_done(runs[i], ++finished, runs.size());
-    }
+    progress.Done("run " + runs[i].id, runs[i].ok, runs[i].reused);
   });
   result.runs = std::move(runs);
   for (const RunResult& run : result.runs) {

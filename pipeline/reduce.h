@@ -23,6 +23,14 @@ enum class Products {
   kFit,          // and the Kelvin-Voigt fits and the cross-run tables (everything)
 };
 
+// What `reduce` has done so far, for a progress display.
+struct ReduceProgress {
+  std::string item;  // "log case1", "calibration 0.713-right", "run 0.234"
+  bool ok = true;
+  bool reused = false;  // a run whose measurement came from the earlier results
+  std::size_t done = 0, total = 0;
+};
+
 struct ReduceOptions {
   // Overrides of the manifest's [reduction] settings (nullopt: the manifest's).
   std::optional<PendulumConvention> convention;
@@ -38,8 +46,10 @@ struct ReduceOptions {
   // An earlier results file of this session: a run whose fingerprint is
   // unchanged reuses its measurement from there instead of measuring again.
   const SessionResult* previous = nullptr;
-  // Called after each run, from the thread that reduced it (serialised).
-  std::function<void(const RunResult& run, std::size_t done, std::size_t total)> on_run_done;
+  // Called after each piece of work (a log, a calibration, a run), from the
+  // thread that did it (serialised). `total` may grow while the session's
+  // plan is made; it never falls.
+  std::function<void(const ReduceProgress& progress)> on_progress;
 };
 
 // Throws InputError for a setting of the manifest's stage tables or of

@@ -455,14 +455,18 @@ TEST_CASE("parallel: two jobs give exactly the results of one") {
   const Session session = TwoRunSession(dir.path());
   ReduceOptions two;
   two.jobs = 2;
-  std::size_t calls = 0;
-  two.on_run_done = [&](const RunResult&, std::size_t done, std::size_t total) {
-    ++calls;
-    CHECK(done <= total);
-  };
+  std::vector<ReduceProgress> reports;
+  two.on_progress = [&](const ReduceProgress& p) { reports.push_back(p); };
   const SessionResult serial = ReduceSession(session, {});
   const SessionResult parallel = ReduceSession(session, two);
-  CHECK(calls == 2);
+  // Each calibration and each run once, counted up to the total.
+  REQUIRE(reports.size() == session.calibrations.size() + 2);
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    CHECK(reports[k].done == k + 1);
+    CHECK(reports[k].total == reports.size());
+  }
+  CHECK(std::count_if(reports.begin(), reports.end(),
+                      [](const ReduceProgress& p) { return p.item.rfind("run ", 0) == 0; }) == 2);
   for (std::size_t i = 0; i < serial.runs.size(); ++i) {
     CHECK(parallel.runs[i].id == serial.runs[i].id);
     CHECK(parallel.runs[i].measured.xmax == serial.runs[i].measured.xmax);
