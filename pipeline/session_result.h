@@ -9,11 +9,11 @@
 
 #include "fit/kelvin_voigt_session.h"
 #include "fit/kelvin_voigt_two_point.h"
+#include "io/rgb_image.h"
 #include "io/session.h"
 #include "io/units.h"
 #include "model/pendulum.h"
 #include "options/settings.h"
-#include "io/rgb_image.h"
 #include "rebounds/bar_rebounds.h"
 
 namespace impactlab {
@@ -49,7 +49,7 @@ struct LeastSquaresSummary {
 struct PhotoOverlay {
   std::string photo;                // the file, relative to the session
   std::vector<unsigned char> jpeg;  // the overlay image, encoded
-  // The overlay at half that size, for the results file's HDF5 image (which
+  // The overlay at a quarter of its width, for the results file's HDF5 image (which
   // HDFView shows; it cannot decode a JPEG). Made while digitizing, on the
   // reduce's threads; not read back from a results file.
   RgbImage preview;

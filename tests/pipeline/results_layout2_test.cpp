@@ -12,9 +12,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/hdf5_extras.h"
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
-#include "io/hdf5_extras.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
 #include "tests/support/temp_dir.h"
@@ -208,18 +208,19 @@ TEST_CASE("results_layout2: a digitized photo's overlay is an HDF5 true-colour i
   const fs::path path = dir.path() / "r.h5";
   WriteResults(WithOverlay(jpeg), path);
   const std::string image = "/runs/photo/digitized/0/overlay";
-  CHECK(Dimensions(path, image) == std::vector<hsize_t>{45, 80, 3});  // half the JPEG's size
+  CHECK(Dimensions(path, image) ==
+        std::vector<hsize_t>{23, 40, 3});  // a quarter of the JPEG's width
   CHECK(ImageAttribute(path, image, "CLASS") == "IMAGE");
   CHECK(ImageAttribute(path, image, "IMAGE_VERSION") == "1.2");
   CHECK(ImageAttribute(path, image, "IMAGE_SUBCLASS") == "IMAGE_TRUECOLOR");
   CHECK(ImageAttribute(path, image, "INTERLACE_MODE") == "INTERLACE_PIXEL");
   CHECK(ImageAttribute(path, image, "DISPLAY_ORIGIN") == "UL");
-  // The pixels are the JPEG's at half its size, red first.
+  // The pixels are the JPEG's at a quarter of its width, red first.
   cv::Mat rgb;
-  cv::cvtColor(cv::imdecode(jpeg, cv::IMREAD_REDUCED_COLOR_2), rgb, cv::COLOR_BGR2RGB);
+  cv::cvtColor(cv::imdecode(jpeg, cv::IMREAD_REDUCED_COLOR_4), rgb, cv::COLOR_BGR2RGB);
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
   CHECK(f.ReadBytes(image) == std::vector<unsigned char>(rgb.data, rgb.data + rgb.total() * 3));
-  CHECK(rgb.at<cv::Vec3b>(22, 30)[0] > 200);  // the red stripe is red
+  CHECK(rgb.at<cv::Vec3b>(11, 15)[0] > 200);  // the red stripe is red
   // The JPEG stays for the report, and reads back as it was.
   CHECK(f.ReadBytes("/runs/photo/digitized/0/overlay_jpeg") == jpeg);
   REQUIRE(ReadResults(path).runs.at(0).measured.overlays.size() == 1);

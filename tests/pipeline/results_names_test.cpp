@@ -164,6 +164,8 @@ herr_t CollectAttribute(hid_t object, const char* attribute, const H5A_info_t*, 
     walk.names->emplace("<dataset>@" + name, where);
   } else if (scale && (name == "CLASS" || name == "NAME" || name == "REFERENCE_LIST")) {
     walk.names->emplace("<scale>@" + name, where);
+  } else if (walk.object.ends_with("/settings") && name == "stages") {
+    walk.names->emplace("<settings>@stages", where);
   } else if (walk.object == "/settings" || walk.object.ends_with("/settings")) {
     // One attribute per stage setting, keyed as docs/settings.md lists them.
     walk.names->emplace("<settings>@<key>", where);
