@@ -27,6 +27,7 @@ th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th:first-child, td:first-child { text-align: left; }
 .note { font-size: 0.85em; color: #555; margin: 0.2em 0; }
 .ok { color: #2a7; } .failed { color: #c33; }
+nav ul ul { font-size: 0.9em; } ul.summary li { margin: 0.3em 0; }
 figure { margin: 1em 0; } figcaption { font-size: 0.85em; color: #555; }
 )";
 
@@ -100,8 +101,10 @@ std::string RunFigure(const RunResult& run, const UnitLabels& u) {
     plot.series.push_back({"Kelvin-Voigt fit", run.fits.model_response.time_s,
                            run.fits.model_response.value, PlotSeries::Style::kLine, kOrange});
   }
-  plot.series.push_back({"measured maxima", run.measured.t_peak, run.measured.xmax,
-                         PlotSeries::Style::kMarkers, kRed});
+  if (run.PeakTimes().size() == run.measured.xmax.size()) {
+    plot.series.push_back(
+        {"measured maxima", run.PeakTimes(), run.measured.xmax, PlotSeries::Style::kMarkers, kRed});
+  }
   return Figure(plot, fmt::format("Measured and theoretical response of run {} (thesis Figures "
                                   "16-18); maxima from {}, times from the {}.",
                                   run.id, run.measured.source, run.PeakTimesSource()));
@@ -145,7 +148,7 @@ std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
   Plot contact;
   contact.title = "Contact time against initial displacement";
   contact.x_label = fmt::format("initial displacement X0 ({})", u.length);
-  contact.y_label = "contact time (us)";
+  contact.y_label = "contact time τc (µs)";
   PlotSeries points{"runs", {}, {}, PlotSeries::Style::kMarkers, kBlue};
   for (const RunResult& run : r.runs) {
     if (run.measured.contact_time && run.measured.contact_time_source != "session") {
@@ -162,13 +165,13 @@ std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
     const SessionKelvinVoigt& s = *r.kelvin_voigt;
     const DampingLine& line = *s.damping_line;
     Plot damping;
-    damping.title = "C against sqrt(xi)";
-    damping.x_label = "sqrt(xi), xi = restitution";
+    damping.title = "C against √ξ";
+    damping.x_label = "√ξ (ξ = the run's restitution e)";
     damping.y_label = fmt::format("C ({})", u.damping);
     damping.series.push_back(
         {"runs", s.sqrt_restitution, s.damping, PlotSeries::Style::kMarkers, kBlue});
     const auto [lo, hi] = std::minmax_element(s.sqrt_restitution.begin(), s.sqrt_restitution.end());
-    PlotSeries fit{fmt::format("C = {:.4g} (1 - {:.4g} sqrt(xi))", line.a.value, line.b.value),
+    PlotSeries fit{fmt::format("C = {:.4g} (1 − {:.4g} √ξ)", line.a.value, line.b.value),
                    {*lo, *hi},
                    {},
                    PlotSeries::Style::kLine,
@@ -231,6 +234,105 @@ std::string LogFigures(const LogResult& log) {
   return out;
 }
 
+// What a reader wants first: how many runs reduced, the session's headline
+// numbers with their uncertainties, the model comparison's verdict and each
+// log's comparison, in a few lines.
+std::string Summary(const SessionResult& r, const UnitLabels& u) {
+  std::vector<std::string> lines;
+  if (!r.runs.empty()) {
+    const auto failed =
+        std::count_if(r.runs.begin(), r.runs.end(), [](const RunResult& run) { return !run.ok; });
+    std::string failures;
+    for (const RunResult& run : r.runs) {
+      if (!run.ok) {
+        failures += fmt::format("{0}<a href=\"#run-{1}\">{1}</a>", failures.empty() ? ": " : ", ",
+                                EscapeHtml(run.id));
+      }
+    }
+    lines.push_back(
+        fmt::format("{} run(s): <span class=\"ok\">{} reduced</span>, "
+                    "<span class=\"{}\">{} failed</span>{}.",
+                    r.runs.size(), static_cast<long>(r.runs.size()) - failed,
+                    failed > 0 ? "failed" : "ok", failed, failures));
+  }
+  if (!r.calibrations.empty()) {
+    lines.push_back(fmt::format("{} photocell calibration(s).", r.calibrations.size()));
+  }
+  if (r.kelvin_voigt) {
+    const SessionKelvinVoigt& s = *r.kelvin_voigt;
+    double widest = 0.0;
+    for (double p : s.spread.pct_variation) widest = std::max(widest, p);
+    lines.push_back(fmt::format(
+        "Kelvin–Voigt stiffness over {} run(s): K avg = {:.6g} {} (the runs within {:.2g} %){}.",
+        s.run_ids.size(), s.spread.average, u.stiffness, widest,
+        s.average_stiffness ? "; every run's C is from K avg" : ""));
+    if (s.damping_line) {
+      const DampingLine& line = *s.damping_line;
+      lines.push_back(
+          fmt::format("Damping against √ξ (eq. 40): C = a (1 − b √ξ), a = {:.4g} ± "
+                      "{:.2g} {}, b = {:.4g} ± {:.2g}.",
+                      line.a.value, line.a.sigma, u.damping, line.b.value, line.b.sigma));
+    }
+  }
+  if (r.model_comparison) {
+    lines.push_back(fmt::format(
+        "Restitution models: best at predicting an unseen run <b>{}</b>; lowest BIC <b>{}</b>.",
+        EscapeHtml(r.model_comparison->best_by_leave_one_out),
+        EscapeHtml(r.model_comparison->best_by_bic)));
+  }
+  for (const LogResult& log : r.logs) {
+    if (!log.ok) {
+      lines.push_back(fmt::format("Log {}: <span class=\"failed\">{}</span>", EscapeHtml(log.id),
+                                  EscapeHtml(log.Status())));
+      continue;
+    }
+    std::string rows;
+    for (const LogComparisonRow& c : log.comparison) {
+      rows += fmt::format("{}{}: {:.5g} Hz measured, {:.5g} Hz simulated ({:+.2f} %)",
+                          rows.empty() ? "" : "; ", EscapeHtml(c.channel),
+                          c.experiment_frequency_hz.value, c.simulation_frequency_hz.value,
+                          c.difference_percent);
+    }
+    if (log.impact_offset_s) {
+      rows += fmt::format("; impact offset {:.4g} ± {:.2g} s", log.impact_offset_s->value,
+                          log.impact_offset_s->sigma);
+    }
+    lines.push_back(
+        fmt::format("Log {}: {}.", EscapeHtml(log.id), rows.empty() ? "analysed" : rows));
+  }
+  if (!r.warnings.empty()) {
+    lines.push_back(fmt::format("{} warning(s), listed below.", r.warnings.size()));
+  }
+  std::string out = "<h2 id=\"summary\">Summary</h2>\n<ul class=\"summary\">\n";
+  for (const std::string& line : lines) out += "<li>" + line + "</li>\n";
+  return out + "</ul>\n";
+}
+
+// Links to every section, in the page's order.
+std::string Contents(const SessionResult& r, const std::vector<Table>& tables) {
+  std::string out = "<nav><h2>Contents</h2>\n<ul>\n<li><a href=\"#summary\">Summary</a></li>\n";
+  if (!tables.empty()) {
+    out += "<li><a href=\"#tables\">Tables</a><ul>\n";
+    for (const Table& t : tables) {
+      out += fmt::format("<li><a href=\"#table-{}\">{}</a></li>\n", t.name, EscapeHtml(t.caption));
+    }
+    out += "</ul></li>\n";
+  }
+  if (!r.runs.empty()) out += "<li><a href=\"#across-runs\">Across runs</a></li>\n";
+  for (const LogResult& log : r.logs) {
+    out += fmt::format("<li><a href=\"#log-{0}\">Log {0}</a></li>\n", EscapeHtml(log.id));
+  }
+  if (!r.runs.empty()) {
+    out += "<li>Runs:";
+    for (const RunResult& run : r.runs) {
+      out += fmt::format(" <a href=\"#run-{0}\" class=\"{1}\">{0}</a>", EscapeHtml(run.id),
+                         run.ok ? "ok" : "failed");
+    }
+    out += "</li>\n";
+  }
+  return out + "</ul></nav>\n";
+}
+
 }  // namespace
 
 std::string RenderHtmlReport(const SessionResult& r) {
@@ -247,8 +349,10 @@ std::string RenderHtmlReport(const SessionResult& r) {
       pendulum ? fmt::format("; pendulum convention {}; Kelvin-Voigt separation {}",
                              ConventionName(r.convention), SeparationName(r.separation))
                : std::string());
+  const std::vector<Table> tables = BuildTables(r);
+  html += Contents(r, tables) + Summary(r, u);
   if (!r.runs.empty()) {
-    html += "<h2>Runs</h2>\n<ul>\n";
+    html += "<h3>Runs</h3>\n<ul>\n";
     for (const RunResult& run : r.runs) {
       html +=
           fmt::format("<li><a href=\"#run-{0}\">{0}</a>: <span class=\"{1}\">{2}</span>{3}</li>\n",
@@ -260,14 +364,16 @@ std::string RenderHtmlReport(const SessionResult& r) {
   for (const std::string& w : r.warnings)
     html += fmt::format("<p class=\"note\">warning: {}</p>\n", EscapeHtml(w));
 
-  if (const std::vector<Table> tables = BuildTables(r); !tables.empty()) {
-    html += "<h2>Tables</h2>\n";
+  if (!tables.empty()) {
+    html += "<h2 id=\"tables\">Tables</h2>\n";
     for (const Table& t : tables) html += RenderTable(t, ReportFormat::kHtml);
   }
-  if (!r.runs.empty()) html += "<h2>Across runs</h2>\n" + SessionFigures(r, u);
+  if (!r.runs.empty()) {
+    html += "<h2 id=\"across-runs\">Across runs</h2>\n" + SessionFigures(r, u);
+  }
   for (const LogResult& log : r.logs) {
-    html +=
-        fmt::format("<h2>Log {}</h2>\n<p>{}</p>\n", EscapeHtml(log.id), EscapeHtml(log.Status()));
+    html += fmt::format("<h2 id=\"log-{0}\">Log {0}</h2>\n<p>{1}</p>\n", EscapeHtml(log.id),
+                        EscapeHtml(log.Status()));
     html += LogFigures(log);
   }
   // Every run has its section, a failed one with its reason (the run list links here).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -182,12 +183,23 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
                "e",
                "tau_c (us)",
                "Identifiability"};
+  // One short sentence per fit; the advice the fits share said once, below;
+  // each fit's full account (which combinations, with their values) folded.
+  std::set<std::string> advice;
   const auto row = [&](const std::string& name, const LeastSquaresSummary& fit) {
+    std::string identifiability = fit.ok ? fit.termination : fit.reason;
+    if (fit.identifiable) {
+      identifiability = "K1, K2 and C determined";
+    } else if (!fit.identifiability.empty()) {
+      identifiability = fmt::format("{} of 3 combinations determined", fit.rank);
+      if (const auto last = fit.identifiability.rfind(". "); last != std::string::npos) {
+        advice.insert(fit.identifiability.substr(last + 2));
+      }
+      t.details.push_back(fmt::format("{}: {}", name, fit.identifiability));
+    }
     t.rows.push_back({name, Determined(fit, "stiffness_1", 0), Determined(fit, "stiffness_2", 0),
                       Determined(fit, "damping", 3), Determined(fit, "restitution", 4),
-                      Determined(fit, "contact_time", 2, 1e6),
-                      fit.identifiability.empty() ? (fit.ok ? fit.termination : fit.reason)
-                                                  : fit.identifiability});
+                      Determined(fit, "contact_time", 2, 1e6), identifiability});
   };
   for (const RunResult& run : r.runs) {
     if (const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "poynting_thomson")) {
@@ -198,8 +210,9 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
     row("all runs (joint)", *fit);
   }
   t.notes = {
-      "\"undetermined\": the data fix only the combinations named; K1, K2, C are not "
-      "reported as confident numbers there."};
+      "\"undetermined\": the data fix only some combinations of log K1, log K2 and log C; "
+      "K1, K2, C are not reported as confident numbers there."};
+  for (const std::string& a : advice) t.notes.push_back("What would determine them: " + a + ".");
   return t;
 }
 
@@ -475,14 +488,22 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       return out + "\n";
     case ReportFormat::kHtml:
       out += fmt::format(
-          "<table>\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n<tbody>\n",
-          EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
+          "<table id=\"table-{}\">\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n"
+          "<tbody>\n",
+          t.name, EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
       for (const auto& row : t.rows) {
         out += fmt::format("<tr><td>{}</td></tr>\n", Join(Texts(row), "</td><td>", EscapeHtml));
       }
       out += "</tbody>\n</table>\n";
       for (const auto& note : t.notes) {
         out += fmt::format("<p class=\"note\">{}</p>\n", EscapeHtml(note));
+      }
+      if (!t.details.empty()) {
+        out += "<details><summary>Details</summary>\n";
+        for (const auto& text : t.details) {
+          out += fmt::format("<p class=\"note\">{}</p>\n", EscapeHtml(text));
+        }
+        out += "</details>\n";
       }
       return out;
     case ReportFormat::kLatex: {

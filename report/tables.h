@@ -37,6 +37,10 @@ struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<Cell>> rows;
   std::vector<std::string> notes;  // footnotes
+  // Longer texts a reader may unfold: the HTML report folds them under the
+  // table (<details>); the text formats leave them out (the results file
+  // has them).
+  std::vector<std::string> details;
 };
 
 // The table as CSV has it, tidy: a column whose numbers carry standard errors

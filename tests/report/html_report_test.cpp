@@ -5,6 +5,7 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "report/svg_plot.h"
+#include "report/tables.h"
 
 namespace impactlab {
 namespace {
@@ -32,6 +33,37 @@ TEST_CASE("html_report: one self-contained page with every table and a figure pe
   std::size_t figures = 0;
   for (std::size_t p = 0; (p = html.find("<svg", p)) != std::string::npos; ++p) ++figures;
   CHECK(figures == 8 + 1);  // one per run, and C against sqrt(xi)
+}
+
+TEST_CASE("html_report: the page reads top-down: contents, a summary, then the details") {
+  SessionResult r = Thesis();
+  r.runs[2].ok = false;
+  r.runs[2].reason = "session.toml:40: run \"0.323\": the photo is unreadable";
+  const std::string html = RenderHtmlReport(r);
+  const auto at = [&](const std::string& text) {
+    const std::size_t p = html.find(text);
+    INFO(text);
+    CHECK(p != std::string::npos);
+    return p;
+  };
+  // Contents before the summary, the summary before the tables and the runs.
+  CHECK(at("<nav><h2>Contents</h2>") < at("<h2 id=\"summary\">Summary</h2>"));
+  CHECK(at("<h2 id=\"summary\">Summary</h2>") < at("<h2 id=\"tables\">Tables</h2>"));
+  CHECK(at("<h2 id=\"tables\">Tables</h2>") < at("<h2 id=\"run-0.115\">"));
+  // Every table is linked from the contents, by an id it has.
+  for (const Table& t : BuildTables(r)) {
+    at("href=\"#table-" + t.name + "\"");
+    at("<table id=\"table-" + t.name + "\">");
+  }
+  // The summary counts the failed run and links to its section, which says why.
+  at("8 run(s): <span class=\"ok\">7 reduced</span>");
+  at("1 failed</span>: <a href=\"#run-0.323\">0.323</a>");
+  CHECK(at("<h2 id=\"run-0.323\">") < at("the photo is unreadable</p>"));
+  at("K avg = ");
+  at("best at predicting an unseen run <b>");
+  // Poynting-Thomson: a short sentence per run, the full account folded away.
+  at("1 of 3 combinations determined");
+  CHECK(at("<details><summary>Details</summary>") > at("<table id=\"table-poynting_thomson\">"));
 }
 
 TEST_CASE("html_report: a digitized photo's overlay is embedded, not linked") {
