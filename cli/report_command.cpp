@@ -35,6 +35,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
     std::filesystem::path results;
     std::string format = "md";
     std::filesystem::path output;
+    std::filesystem::path figures;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("report", "Write the report tables of a results file");
@@ -47,6 +48,9 @@ void AddReportCommand(CLI::App& app, Action& action) {
                   "Output file, - for standard output (default: standard output; for html, the "
                   "results file's name with .html); with csv, an existing folder gets one file "
                   "per table");
+  cmd->add_option("--figures", args->figures,
+                  "Also write every figure of the HTML report as an SVG file into this existing "
+                  "folder (for papers)");
   cmd->callback([&action, args] {
     action = [args] {
       const ReportFormat format = *ParseReportFormat(args->format);
@@ -59,7 +63,16 @@ void AddReportCommand(CLI::App& app, Action& action) {
       const bool csv_folder = format == ReportFormat::kCsv && !args->output.empty() &&
                               std::filesystem::is_directory(args->output);
       if (!args->output.empty() && !csv_folder) CheckReportOutput(args->output, args->results);
+      if (!args->figures.empty() && !std::filesystem::is_directory(args->figures)) {
+        throw InputError({args->figures, "", std::nullopt},
+                         "--figures: expected an existing folder for the SVG files");
+      }
       const SessionResult result = ReadResults(args->results);
+      if (!args->figures.empty()) {
+        for (const auto& [name, svg] : RenderStaticFigures(result)) {
+          WriteText(args->figures / name, svg);
+        }
+      }
       const std::vector<Table> tables = BuildTables(result);
       if (csv_folder) {
         for (const Table& t : tables) {

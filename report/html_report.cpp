@@ -6,9 +6,11 @@
 #include <fmt/format.h>
 
 #include "calibration/photocell_calibration.h"
+#include "report/dygraph_plot.h"
 #include "report/html_escape.h"
 #include "report/svg_plot.h"
 #include "report/tables.h"
+#include "report/text_escape.h"
 
 namespace impactlab {
 namespace {
@@ -27,6 +29,8 @@ th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th:first-child, td:first-child { text-align: left; }
 .note { font-size: 0.85em; color: #555; margin: 0.2em 0; }
 .ok { color: #2a7; } .failed { color: #c33; }
+.plot { display: flex; gap: 1em; align-items: flex-start; }
+.graph { width: 760px; height: 340px; flex: none; } .legend { font-size: 0.8em; min-width: 14em; }
 nav ul ul { font-size: 0.9em; } ul.summary li { margin: 0.3em 0; }
 figure { margin: 1em 0; } figcaption { font-size: 0.85em; color: #555; }
 )";
@@ -82,84 +86,151 @@ std::string CalibrationOverlays(const std::vector<CellCalibration>& calibrations
   return "<details><summary>Calibration photos, digitized</summary>\n" + figures + "</details>\n";
 }
 
-std::string Figure(const Plot& plot, const std::string& caption) {
-  return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderSvg(plot),
-                     EscapeHtml(caption));
+// The page's figures: each drawn by dygraphs where it stands, and kept, by a
+// file-safe name, for the static export (`report --figures DIR`).
+class Figures {
+ public:
+  std::string Add(const Plot& plot, const std::string& caption) {
+    if (std::none_of(plot.series.begin(), plot.series.end(),
+                     [](const PlotSeries& s) { return !s.x.empty(); })) {
+      return "";  // nothing to draw (a typed-in run whose fit failed has no times)
+    }
+    const std::string id = fmt::format("figure-{}", plots_.size() + 1);
+    plots_.push_back({FileSafeName(fmt::format("{:02d}-{}", plots_.size() + 1, plot.title)), plot});
+    return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderDygraph(plot, id),
+                       EscapeHtml(caption));
+  }
+  const std::vector<std::pair<std::string, Plot>>& plots() const { return plots_; }
+
+ private:
+  std::vector<std::pair<std::string, Plot>> plots_;
+};
+
+// `model` (increasing times) at time t, by linear interpolation; NaN outside it.
+double Interpolated(const Curve& model, double t) {
+  const auto& x = model.time_s;
+  if (x.size() < 2 || t < x.front() || t > x.back()) return std::nan("");
+  const auto i = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), t) - x.begin());
+  if (i >= x.size()) return model.value.back();
+  const double f = (t - x[i - 1]) / (x[i] - x[i - 1]);
+  return model.value[i - 1] + f * (model.value[i] - model.value[i - 1]);
 }
 
-std::string RunFigure(const RunResult& run, const UnitLabels& u) {
+// Thesis Figures 16-18: the fit, the measured history drawn over it, the
+// maxima with their errors; beneath, what the fit leaves.
+std::string RunFigure(const RunResult& run, const UnitLabels& u, Figures& figures) {
+  const Curve& measured = run.measured.measured_displacement;
+  const Curve& model = run.fits.model_response;
   Plot plot;
   plot.title = fmt::format("Run {}: displacement", run.id);
   plot.x_label = "time since release (s)";
   plot.y_label = fmt::format("displacement X ({})", u.length);
-  if (!run.measured.measured_displacement.time_s.empty()) {
-    plot.series.push_back({"measured (average of bars)", run.measured.measured_displacement.time_s,
-                           run.measured.measured_displacement.value, PlotSeries::Style::kLine,
+  if (!model.time_s.empty()) {
+    plot.series.push_back(
+        {"Kelvin–Voigt fit", model.time_s, model.value, {}, PlotSeries::Style::kLine, kOrange});
+  }
+  if (!measured.time_s.empty()) {
+    plot.series.push_back({"measured (average of the bars)",
+                           measured.time_s,
+                           measured.value,
+                           {},
+                           PlotSeries::Style::kLine,
                            kBlue});
   }
-  if (!run.fits.model_response.time_s.empty()) {
-    plot.series.push_back({"Kelvin-Voigt fit", run.fits.model_response.time_s,
-                           run.fits.model_response.value, PlotSeries::Style::kLine, kOrange});
-  }
   if (run.PeakTimes().size() == run.measured.xmax.size()) {
-    plot.series.push_back(
-        {"measured maxima", run.PeakTimes(), run.measured.xmax, PlotSeries::Style::kMarkers, kRed});
+    plot.series.push_back({"measured maxima ± 1σ", run.PeakTimes(), run.measured.xmax,
+                           run.measured.xmax_sigma, PlotSeries::Style::kMarkers, kRed});
   }
-  return Figure(plot, fmt::format("Measured and theoretical response of run {} (thesis Figures "
-                                  "16-18); maxima from {}, times from the {}.",
-                                  run.id, run.measured.source, run.PeakTimesSource()));
+  std::string out = figures.Add(
+      plot, fmt::format("Measured and theoretical response of run {} (thesis Figures 16-18); "
+                        "maxima from {}, times from the {}.",
+                        run.id, run.measured.source, run.PeakTimesSource()));
+  if (!measured.time_s.empty() && model.time_s.size() >= 2) {
+    Plot residual;
+    residual.title = fmt::format("Run {}: measured − fitted", run.id);
+    residual.x_label = plot.x_label;
+    residual.y_label = fmt::format("residual ({})", u.length);
+    residual.height_px = 220;
+    PlotSeries r{"measured − Kelvin–Voigt fit", {}, {}, {}, PlotSeries::Style::kLine, kBlue};
+    for (std::size_t k = 0; k < measured.time_s.size(); ++k) {
+      const double m = Interpolated(model, measured.time_s[k]);
+      if (!std::isfinite(m)) continue;
+      r.x.push_back(measured.time_s[k]);
+      r.y.push_back(measured.value[k] - m);
+    }
+    residual.series.push_back(std::move(r));
+    out += figures.Add(residual, fmt::format("Run {}: the measured displacement less the fitted "
+                                             "model's, at the measured times.",
+                                             run.id));
+  }
+  return out;
 }
 
-std::string CalibrationFigure(const RunResult& run, const UnitLabels& u) {
+// Thesis Figures 13-14: each cell's points (thinned for display) and its
+// fitted curve on top, a colour per cell.
+std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures& figures) {
   Plot plot;
   plot.title = fmt::format("Run {}: photocell calibrations", run.id);
   plot.x_label = fmt::format("ideal pendulum displacement X ({})", u.length);
   plot.y_label = "photocell output (V)";
-  const char* colours[] = {kBlue, kGreen};
+  const char* points_colour[] = {"#8ab6e0", "#9fd49f"};
+  const char* curve_colour[] = {"#0b3c6b", "#145214"};
   std::string notes;
   for (std::size_t k = 0; k < run.measured.calibrations.size(); ++k) {
     const CellCalibration& c = run.measured.calibrations[k];
+    PlotSeries points{fmt::format("{} cell ({}): points", c.cell, c.calibration_id),
+                      {},
+                      {},
+                      {},
+                      PlotSeries::Style::kMarkers,
+                      points_colour[k % 2]};
+    const std::size_t stride = std::max<std::size_t>(1, c.points_x.size() / 150);
+    for (std::size_t i = 0; i < c.points_x.size(); i += stride) {
+      points.x.push_back(c.points_x[i]);
+      points.y.push_back(c.points_volts[i]);
+    }
     // The curve as fitted (its stored coefficients), evaluated for display.
     const PhotocellCurve stored(c.release_x, c.chebyshev, {}, 0.0);
     PlotSeries curve{fmt::format("{} cell: fitted curve (order {})", c.cell, c.order),
                      {},
                      {},
+                     {},
                      PlotSeries::Style::kLine,
-                     kOrange};
+                     curve_colour[k % 2]};
     for (int i = 0; i <= 200; ++i) {
       const double x = c.release_x * i / 200.0;
       curve.x.push_back(x);
       curve.y.push_back(stored.VoltsAt(x));
     }
-    plot.series.push_back({fmt::format("{} cell ({})", c.cell, c.calibration_id), c.points_x,
-                           c.points_volts, PlotSeries::Style::kMarkers, colours[k % 2]});
-    plot.series.push_back(curve);
+    plot.series.push_back(std::move(points));
+    plot.series.push_back(std::move(curve));
     notes += fmt::format("{} cell: {} samples, residual {:.3g} V rms ({:.3g} {} rms). ", c.cell,
                          c.samples_used, c.residual_rms_volts, c.residual_rms_length, u.length);
   }
-  return Figure(plot,
-                "Dynamic calibration (thesis Figures 13-14): the cell's voltage against the "
-                "free pendulum's displacement over the first swing. " +
-                    notes);
+  return figures.Add(plot,
+                     "Dynamic calibration (thesis Figures 13-14): the cell's voltage against the "
+                     "free pendulum's displacement over the first swing. " +
+                         notes);
 }
 
-std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
+std::string SessionFigures(const SessionResult& r, const UnitLabels& u, Figures& figures) {
   std::string out;
   Plot contact;
   contact.title = "Contact time against initial displacement";
   contact.x_label = fmt::format("initial displacement X0 ({})", u.length);
   contact.y_label = "contact time τc (µs)";
-  PlotSeries points{"runs", {}, {}, PlotSeries::Style::kMarkers, kBlue};
+  PlotSeries points{"runs ± 1σ", {}, {}, {}, PlotSeries::Style::kMarkers, kBlue};
   for (const RunResult& run : r.runs) {
-    if (run.measured.contact_time && run.measured.contact_time_source != "session") {
+    if (run.measured.contact_time) {
       points.x.push_back(run.initial_displacement);
       points.y.push_back(*run.measured.contact_time * 1e6);
+      points.sigma.push_back(run.measured.contact_time_sigma * 1e6);
     }
   }
   if (!points.x.empty()) {
     contact.series.push_back(points);
-    out +=
-        Figure(contact, "Measured contact time against initial displacement (thesis Figure 19).");
+    out += figures.Add(contact,
+                       "Measured contact time against initial displacement (thesis Figure 19).");
   }
   if (r.kelvin_voigt && r.kelvin_voigt->damping_line) {
     const SessionKelvinVoigt& s = *r.kelvin_voigt;
@@ -168,25 +239,26 @@ std::string SessionFigures(const SessionResult& r, const UnitLabels& u) {
     damping.title = "C against √ξ";
     damping.x_label = "√ξ (ξ = the run's restitution e)";
     damping.y_label = fmt::format("C ({})", u.damping);
-    damping.series.push_back(
-        {"runs", s.sqrt_restitution, s.damping, PlotSeries::Style::kMarkers, kBlue});
     const auto [lo, hi] = std::minmax_element(s.sqrt_restitution.begin(), s.sqrt_restitution.end());
     PlotSeries fit{fmt::format("C = {:.4g} (1 − {:.4g} √ξ)", line.a.value, line.b.value),
                    {*lo, *hi},
+                   {},
                    {},
                    PlotSeries::Style::kLine,
                    kOrange};
     for (double x : fit.x) fit.y.push_back(line.a.value * (1.0 - line.b.value * x));
     damping.series.push_back(fit);
-    out += Figure(damping,
-                  "Damping coefficient against the square root of the restitution, with "
-                  "its least-squares line (thesis Figure 20, eq. 40).");
+    damping.series.push_back({"runs ± 1σ", s.sqrt_restitution, s.damping, s.damping_sigma,
+                              PlotSeries::Style::kMarkers, kBlue});
+    out += figures.Add(damping,
+                       "Damping coefficient against the square root of the restitution, with "
+                       "its least-squares line (thesis Figure 20, eq. 40).");
   }
   return out;
 }
 
-// Per channel: the experiment's and the simulation's spectra overlaid.
-std::string LogFigures(const LogResult& log) {
+// Per channel: the experiment's and the simulation's histories and spectra.
+std::string LogFigures(const LogResult& log, Figures& figures) {
   std::string out;
   const char* colours[] = {kBlue, kOrange};
   const LogSourceResult* first = log.sources.empty() ? nullptr : &log.sources.front();
@@ -199,36 +271,39 @@ std::string LogFigures(const LogResult& log) {
     for (std::size_t k = 0; k < log.sources.size(); ++k) {
       for (const LogChannelResult& d : log.sources[k].channels) {
         if (d.channel == c.channel && !d.series_time_s.empty()) {
-          history.series.push_back({log.sources[k].source, d.series_time_s, d.series_value,
-                                    PlotSeries::Style::kLine, colours[k % 2]});
+          history.series.push_back({log.sources[k].source,
+                                    d.series_time_s,
+                                    d.series_value,
+                                    {},
+                                    PlotSeries::Style::kLine,
+                                    colours[k % 2]});
         }
       }
     }
     if (!history.series.empty()) {
-      out += Figure(history, fmt::format("{} of experiment and simulation on their own time "
-                                         "axes; the impact offset is in the table above.",
-                                         c.channel));
+      out += figures.Add(history, fmt::format("{} of experiment and simulation on their own "
+                                              "time axes; the impact offset is in the table "
+                                              "above.",
+                                              c.channel));
     }
     Plot plot;
     plot.title = fmt::format("Log {}: spectrum of {}", log.id, c.channel);
     plot.x_label = "frequency (Hz)";
-    plot.y_label = fmt::format("log10 PSD (({})^2/Hz)", c.units);
+    plot.y_label = fmt::format("log10 PSD (({})²/Hz)", c.units);
     for (std::size_t k = 0; k < log.sources.size(); ++k) {
       for (const LogChannelResult& d : log.sources[k].channels) {
         if (d.channel != c.channel || d.spectrum_psd.empty()) continue;
-        PlotSeries series{log.sources[k].source,
-                          d.spectrum_frequency_hz,
-                          {},
-                          PlotSeries::Style::kLine,
-                          colours[k % 2]};
+        PlotSeries series{log.sources[k].source,    d.spectrum_frequency_hz, {}, {},
+                          PlotSeries::Style::kLine, colours[k % 2]};
         for (double p : d.spectrum_psd) series.y.push_back(std::log10(std::max(p, 1e-300)));
         plot.series.push_back(std::move(series));
       }
     }
     if (!plot.series.empty()) {
-      out += Figure(plot, fmt::format("Post-impact spectra of {}, experiment and simulation "
-                                      "overlaid (the dominant peaks are in the table above).",
-                                      c.channel));
+      out += figures.Add(plot, fmt::format("Post-impact spectra of {}, experiment and "
+                                           "simulation overlaid (the dominant peaks are in the "
+                                           "table above).",
+                                           c.channel));
     }
   }
   return out;
@@ -333,14 +408,13 @@ std::string Contents(const SessionResult& r, const std::vector<Table>& tables) {
   return out + "</ul></nav>\n";
 }
 
-}  // namespace
-
-std::string RenderHtmlReport(const SessionResult& r) {
+// The page, its figures added to `figures` as they are placed.
+std::string BuildPage(const SessionResult& r, Figures& figures) {
   const UnitLabels u = LabelsFor(r.units);
   std::string html = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{0}</title>\n"
-      "<style>{1}</style>\n</head>\n<body>\n<h1>{0}</h1>\n",
-      EscapeHtml(r.title), kStyle);
+      "<style>{1}</style>\n{2}</head>\n<body>\n<h1>{0}</h1>\n",
+      EscapeHtml(r.title), kStyle, DygraphLibrary());
   // The pendulum's settings only where there is a pendulum (runs or calibrations).
   const bool pendulum = !r.runs.empty() || !r.calibrations.empty();
   html += fmt::format(
@@ -369,12 +443,12 @@ std::string RenderHtmlReport(const SessionResult& r) {
     for (const Table& t : tables) html += RenderTable(t, ReportFormat::kHtml);
   }
   if (!r.runs.empty()) {
-    html += "<h2 id=\"across-runs\">Across runs</h2>\n" + SessionFigures(r, u);
+    html += "<h2 id=\"across-runs\">Across runs</h2>\n" + SessionFigures(r, u, figures);
   }
   for (const LogResult& log : r.logs) {
     html += fmt::format("<h2 id=\"log-{0}\">Log {0}</h2>\n<p>{1}</p>\n", EscapeHtml(log.id),
                         EscapeHtml(log.Status()));
-    html += LogFigures(log);
+    html += LogFigures(log, figures);
   }
   // Every run has its section, a failed one with its reason (the run list links here).
   for (const RunResult& run : r.runs) {
@@ -383,12 +457,27 @@ std::string RenderHtmlReport(const SessionResult& r) {
       html += fmt::format("<p class=\"failed\">{}</p>\n", EscapeHtml(run.Status()));
     }
     if (run.measured.xmax.empty()) continue;
-    html += RunFigure(run, u);
-    if (!run.measured.calibrations.empty()) html += CalibrationFigure(run, u);
+    html += RunFigure(run, u, figures);
+    if (!run.measured.calibrations.empty()) html += CalibrationFigure(run, u, figures);
     for (const PhotoOverlay& o : run.measured.overlays) html += OverlayFigure(o);
     html += CalibrationOverlays(run.measured.calibrations);
   }
   return html + "</body>\n</html>\n";
+}
+
+}  // namespace
+
+std::string RenderHtmlReport(const SessionResult& r) {
+  Figures figures;
+  return BuildPage(r, figures);
+}
+
+std::vector<std::pair<std::string, std::string>> RenderStaticFigures(const SessionResult& r) {
+  Figures figures;
+  BuildPage(r, figures);
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [name, plot] : figures.plots()) out.emplace_back(name + ".svg", RenderSvg(plot));
+  return out;
 }
 
 }  // namespace impactlab

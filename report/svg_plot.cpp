@@ -49,10 +49,11 @@ std::string RenderSvg(const Plot& plot) {
   for (const PlotSeries& s : plot.series) {
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
       if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      const double sigma = i < s.sigma.size() && std::isfinite(s.sigma[i]) ? s.sigma[i] : 0.0;
       x_lo = std::min(x_lo, s.x[i]);
       x_hi = std::max(x_hi, s.x[i]);
-      y_lo = std::min(y_lo, s.y[i]);
-      y_hi = std::max(y_hi, s.y[i]);
+      y_lo = std::min(y_lo, s.y[i] - sigma);
+      y_hi = std::max(y_hi, s.y[i] + sigma);
     }
   }
   if (!std::isfinite(x_lo)) x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
@@ -61,13 +62,15 @@ std::string RenderSvg(const Plot& plot) {
   x_lo -= x_pad, x_hi += x_pad, y_lo -= y_pad, y_hi += y_pad;
   const Axis ax = NiceAxis(x_lo, x_hi), ay = NiceAxis(y_lo, y_hi);
   const double left = 70, right = 20, top = 34, bottom = 48;
+  const double legend_rows = static_cast<double>(plot.series.size());
+  const int height_px = plot.height_px + static_cast<int>(16.0 * legend_rows);
   const double w = plot.width_px - left - right, h = plot.height_px - top - bottom;
   const auto px = [&](double x) { return left + (x - ax.lo) / (ax.hi - ax.lo) * w; };
   const auto py = [&](double y) { return top + (ay.hi - y) / (ay.hi - ay.lo) * h; };
 
   std::string svg = fmt::format(
       R"svg(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {0} {1}" width="{0}" height="{1}" font-family="sans-serif" font-size="12">)svg",
-      plot.width_px, plot.height_px);
+      plot.width_px, height_px);
   svg += fmt::format(R"svg(<text x="{}" y="20" font-size="14" font-weight="bold">{}</text>)svg",
                      left, EscapeHtml(plot.title));
   // Grid and ticks.
@@ -114,6 +117,12 @@ std::string RenderSvg(const Plot& plot) {
           fmt::format(R"svg(<polyline points="{}" fill="none" stroke="{}" stroke-width="1.3"/>)svg",
                       points, s.colour);
     }
+    for (std::size_t i = 0; i < s.sigma.size() && i < s.x.size() && i < s.y.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || !(s.sigma[i] > 0.0)) continue;
+      svg += fmt::format(
+          R"svg(<line x1="{0:.1f}" y1="{1:.1f}" x2="{0:.1f}" y2="{2:.1f}" stroke="{3}"/>)svg",
+          px(s.x[i]), py(s.y[i] - s.sigma[i]), py(s.y[i] + s.sigma[i]), s.colour);
+    }
     if (markers) {
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
         if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
@@ -123,10 +132,10 @@ std::string RenderSvg(const Plot& plot) {
     }
   }
   svg += "</g>";
-  // Legend, top right.
-  double ly = top + 14;
+  // Legend, beneath the axis label.
+  double ly = plot.height_px + 4;
   for (const PlotSeries& s : plot.series) {
-    const double lx = left + w - 190;
+    const double lx = left;
     svg += fmt::format(R"svg(<rect x="{:.1f}" y="{:.1f}" width="14" height="4" fill="{}"/>)svg", lx,
                        ly - 6, s.colour);
     svg += fmt::format(R"svg(<text x="{:.1f}" y="{:.1f}">{}</text>)svg", lx + 20, ly,

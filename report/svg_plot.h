@@ -1,6 +1,6 @@
-// Small, dependency-free SVG line and scatter plots for the HTML report: the
-// page must open offline, so plots are inline SVG rather than a JavaScript
-// library from the network.
+// Small, dependency-free SVG line and scatter plots: the static figures of
+// `report --figures DIR`, for papers. The HTML report draws the same Plots
+// interactively (report/dygraph_plot.h).
 #pragma once
 
 #include <string>
@@ -11,6 +11,7 @@ namespace impactlab {
 struct PlotSeries {
   std::string name;  // legend entry
   std::vector<double> x, y;
+  std::vector<double> sigma;  // one standard error per point, drawn as a bar (empty: none)
   enum class Style { kLine, kMarkers, kLineAndMarkers } style = Style::kLine;
   std::string colour = "#1f77b4";
 };
@@ -22,7 +23,8 @@ struct Plot {
   int width_px = 720, height_px = 360;
 };
 
-// The plot as an <svg> element with axes, "nice" ticks, grid and legend.
+// The plot as an <svg> element with axes, "nice" ticks, grid, error bars and
+// the legend beneath the frame (never over the data).
 std::string RenderSvg(const Plot& plot);
 
 }  // namespace impactlab

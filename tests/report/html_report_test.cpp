@@ -18,21 +18,48 @@ SessionResult Thesis() {
 TEST_CASE("html_report: one self-contained page with every table and a figure per run") {
   const std::string html = RenderHtmlReport(Thesis());
   CHECK_THAT(html, Catch::StartsWith("<!DOCTYPE html>"));
-  // Nothing is fetched: the only URL is the SVG namespace.
-  std::string without_ns = html;
-  for (std::size_t p; (p = without_ns.find("http://www.w3.org/2000/svg")) != std::string::npos;) {
-    without_ns.erase(p, 26);
+  // Nothing is fetched: no script, style sheet or image comes from elsewhere;
+  // dygraphs is inlined, once.
+  for (const char* outside : {"<script src", "<link", "src=\"http", "href=\"http", "url(http"}) {
+    INFO(outside);
+    CHECK(html.find(outside) == std::string::npos);
   }
-  CHECK(without_ns.find("http") == std::string::npos);
-  CHECK(without_ns.find("<script") == std::string::npos);
+  CHECK_THAT(html, Catch::Contains("Dygraph"));
+  const auto count = [&](const std::string& text) {
+    std::size_t n = 0;
+    for (std::size_t p = 0; (p = html.find(text, p)) != std::string::npos; ++p) ++n;
+    return n;
+  };
+  CHECK(count("<script>") - count("<script>new Dygraph(") == 1);
   for (const char* caption : {"thesis Table 2", "thesis Table 3", "thesis eq. 40", "thesis Table 4",
                               "thesis Figure 20"}) {
     INFO(caption);
     CHECK_THAT(html, Catch::Contains(caption));
   }
-  std::size_t figures = 0;
-  for (std::size_t p = 0; (p = html.find("<svg", p)) != std::string::npos; ++p) ++figures;
-  CHECK(figures == 8 + 1);  // one per run, and C against sqrt(xi)
+  // Every figure is drawn from its own data: one per run, and C against sqrt(xi).
+  std::size_t figures = 0, empty = 0;
+  for (std::size_t p = 0; (p = html.find("new Dygraph(", p)) != std::string::npos; ++p) {
+    ++figures;
+    empty += html.compare(html.find(',', p) + 1, 3, "[],") == 0 ? 1 : 0;
+  }
+  CHECK(figures == 8 + 1);
+  CHECK(empty == 0);
+  // The maxima carry their error bars, at one sigma.
+  CHECK_THAT(html, Catch::Contains("errorBars:true,sigma:1"));
+}
+
+TEST_CASE("html_report: every figure also exists as a static SVG for papers") {
+  const SessionResult r = Thesis();
+  const auto figures = RenderStaticFigures(r);
+  REQUIRE(figures.size() == 8 + 1);
+  for (const auto& [name, svg] : figures) {
+    INFO(name);
+    CHECK_THAT(name, Catch::EndsWith(".svg"));
+    CHECK(name.find('/') == std::string::npos);
+    CHECK_THAT(svg, Catch::StartsWith("<svg") && Catch::EndsWith("</svg>"));
+  }
+  // The maxima's error bars are drawn in the SVG too (a vertical line per maximum).
+  CHECK_THAT(figures[0].second, Catch::Contains("<line x1=\""));
 }
 
 TEST_CASE("html_report: the page reads top-down: contents, a summary, then the details") {
