@@ -1,11 +1,15 @@
+#include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 
 #include "cli/commands.h"
 #include "io/atomic_file.h"
 #include "io/errors.h"
+#include "io/spelling.h"
 #include "pipeline/results_file.h"
 #include "report/html_report.h"
 #include "report/tables.h"
@@ -36,6 +40,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
     std::string format = "md";
     std::filesystem::path output;
     std::filesystem::path figures;
+    std::vector<std::string> tables;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("report", "Write the report tables of a results file");
@@ -48,6 +53,8 @@ void AddReportCommand(CLI::App& app, Action& action) {
                   "Output file, - for standard output (default: standard output; for html, the "
                   "results file's name with .html); with csv, an existing folder gets one file "
                   "per table");
+  cmd->add_option("--table", args->tables,
+                  "Only this table (by name, e.g. table2_deviations; may be repeated)");
   cmd->add_option("--figures", args->figures,
                   "Also write every figure of the HTML report as an SVG file into this existing "
                   "folder (for papers)");
@@ -73,7 +80,21 @@ void AddReportCommand(CLI::App& app, Action& action) {
           WriteText(args->figures / name, svg);
         }
       }
-      const std::vector<Table> tables = BuildTables(result);
+      std::vector<Table> tables = BuildTables(result);
+      if (!args->tables.empty()) {
+        std::vector<std::string> names;
+        for (const Table& t : tables) names.push_back(t.name);
+        for (const std::string& wanted : args->tables) {
+          if (std::find(names.begin(), names.end(), wanted) == names.end()) {
+            throw std::invalid_argument(fmt::format(
+                "--table {}: no such table in {}{}; its tables are: {}", wanted,
+                args->results.string(), DidYouMean(wanted, names), fmt::join(names, ", ")));
+          }
+        }
+        std::erase_if(tables, [&](const Table& t) {
+          return std::find(args->tables.begin(), args->tables.end(), t.name) == args->tables.end();
+        });
+      }
       if (csv_folder) {
         for (const Table& t : tables) {
           WriteText(args->output / (t.name + ".csv"), RenderTable(t, format));
