@@ -150,7 +150,14 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
                       kMaxModelRebounds));
     }
     const auto start = std::chrono::steady_clock::now();
-    out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
+    try {
+      out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
+    } catch (const std::logic_error& error) {  // invalid_argument, domain_error
+      // The run was measured: its measurement stays, with why it cannot be fitted.
+      out.reason =
+          fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
+      return out;
+    }
     out.seconds.fit =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const KelvinVoigtTwoPointFit& fit = *out.fits.kelvin_voigt;
@@ -173,6 +180,14 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
   try {
     return ReduceRun(run, session, pendulum, separation, calibrations, options, session_options,
                      fingerprint);
+  } catch (const IncompleteMeasurement& error) {
+    RunResult failed;
+    failed.id = run.id;
+    failed.initial_displacement = run.initial_displacement;
+    failed.first_rebound = run.first_rebound;
+    failed.reason = error.what();
+    failed.measured = error.partial();  // its overlays and calibrations, for the report
+    return failed;
   } catch (const std::exception& error) {
     RunResult failed;
     failed.id = run.id;

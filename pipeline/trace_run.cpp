@@ -181,10 +181,14 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   return cell;
 }
 
-MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
-                                 const StageOptions& options, CalibrationCache& calibrations) {
+namespace {
+
+// Measures the run into `result` step by step, so that what was measured
+// before a failure (the photo's overlay, the calibrations) stays there.
+void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulum,
+                 const StageOptions& options, CalibrationCache& calibrations,
+                 MeasuredTraceRun& result) {
   const TraceSpanLimits& limits = options.rebound_extraction.limits;
-  MeasuredTraceRun result;
   RunMeasurement& out = result.measured;
   StageSeconds& seconds = result.seconds;
   out.source = run.photo ? "photo" : "csv";
@@ -329,6 +333,28 @@ MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const P
           {contact->second.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
           e.what());
     }
+  }
+}
+
+}  // namespace
+
+IncompleteMeasurement::IncompleteMeasurement(std::string reason, RunMeasurement partial)
+    : std::runtime_error(std::move(reason)), partial_(std::move(partial)) {}
+
+MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
+                                 const StageOptions& options, CalibrationCache& calibrations) {
+  MeasuredTraceRun result;
+  try {
+    MeasureInto(run, session, pendulum, options, calibrations, result);
+  } catch (const std::exception& error) {
+    const RunMeasurement& partial = result.measured;
+    if (partial.overlays.empty() && partial.calibrations.empty()) throw;
+    // An InputError names its own file and key; anything else gets the run's.
+    throw IncompleteMeasurement(
+        dynamic_cast<const InputError*>(&error) != nullptr
+            ? error.what()
+            : fmt::format("{}: {}: {}", session.manifest.string(), RunKey(run), error.what()),
+        result.measured);
   }
   return result;
 }

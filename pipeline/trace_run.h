@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "calibration/photocell_calibration.h"
@@ -65,8 +66,22 @@ struct MeasuredTraceRun {
   StageSeconds seconds;
 };
 
+// A run whose measurement failed part way: its reason (file, key), and what
+// was measured before (the digitized photo's overlay, the calibrations),
+// which the results file and the report keep beside the reason.
+class IncompleteMeasurement : public std::runtime_error {
+ public:
+  IncompleteMeasurement(std::string reason, RunMeasurement partial);
+  const RunMeasurement& partial() const { return partial_; }
+
+ private:
+  RunMeasurement partial_;
+};
+
 // The run's calibrations, rebounds and contact pulse, measured with the
-// run's `options`. Throws InputError or std::exception with the reason.
+// run's `options`. Throws IncompleteMeasurement when the run fails after its
+// photo was digitized or a calibration was used, else InputError or
+// std::exception with the reason.
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations);
 

@@ -456,9 +456,9 @@ std::string BuildPage(const SessionResult& r, Figures& figures) {
     if (!run.ok) {
       html += fmt::format("<p class=\"failed\">{}</p>\n", EscapeHtml(run.Status()));
     }
-    if (run.measured.xmax.empty()) continue;
-    html += RunFigure(run, u, figures);
+    if (!run.measured.xmax.empty()) html += RunFigure(run, u, figures);
     if (!run.measured.calibrations.empty()) html += CalibrationFigure(run, u, figures);
+    // A failed run's photo too: it is the one the user must look at.
     for (const PhotoOverlay& o : run.measured.overlays) html += OverlayFigure(o);
     html += CalibrationOverlays(run.measured.calibrations);
   }

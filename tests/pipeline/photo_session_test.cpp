@@ -141,6 +141,37 @@ TEST_CASE("photo_session: a broken photo fails its own run, naming the file, and
   CHECK(ok >= 2);
 }
 
+TEST_CASE(
+    "photo_session: a run that fails after its photo was digitized keeps the photo's overlay") {
+  testing::TempDir dir;
+  GenerateQuick(dir.path() / "s", PhotoStyle::kClean, 4, false);
+  const Session session = ReadManifest(dir.path() / "s").session;
+  const Run& victim = *std::find_if(session.runs.begin(), session.runs.end(),
+                                    [](const Run& r) { return r.photo.has_value(); });
+  // Its right cell's calibration photo cut short: the run's own photo is
+  // digitized first, then the calibration fails.
+  const auto& calibration =
+      *std::find_if(session.calibrations.begin(), session.calibrations.end(),
+                    [&](const Calibration& c) { return c.id == victim.calibration.at("right"); });
+  std::ofstream(*calibration.photo, std::ios::binary | std::ios::trunc) << "not a photo";
+  const SessionResult result = ReduceSession(session, {});
+  const RunResult& failed = *result.FindRun(victim.id);
+  REQUIRE_FALSE(failed.ok);
+  CHECK_THAT(failed.reason, Catch::Contains(calibration.photo->filename().string()));
+  // The run's own photo, digitized, stays with the reason: in the results
+  // file and on the report's page.
+  REQUIRE(failed.measured.overlays.size() == 1);
+  CHECK(failed.measured.overlays[0].jpeg.size() > 1000);
+  WriteResults(result, dir.path() / "r.h5");
+  const SessionResult read = ReadResults(dir.path() / "r.h5");
+  REQUIRE(read.FindRun(victim.id)->measured.overlays.size() == 1);
+  const std::string html = RenderHtmlReport(read);
+  const std::size_t section = html.find("<h2 id=\"run-" + victim.id + "\">");
+  REQUIRE(section != std::string::npos);
+  CHECK(html.find(read.FindRun(victim.id)->measured.overlays[0].photo, section) !=
+        std::string::npos);
+}
+
 TEST_CASE("photo_session: every photo's overlay, calibrations' too, reaches the HTML report") {
   testing::TempDir dir;
   GenerateQuick(dir.path() / "s", PhotoStyle::kPhone, 4, false);
