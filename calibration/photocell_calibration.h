@@ -63,8 +63,9 @@ class PhotocellCurve {
   double volts_min() const { return volts_min_; }
   double volts_max() const { return volts_max_; }
   int order() const { return static_cast<int>(chebyshev_.size()) - 1; }
-  const std::vector<double>& chebyshev() const { return chebyshev_; }  // in u = 2X/x_max - 1
-  bool falling() const { return falling_; }                            // V falls as X grows
+  const std::vector<double>& chebyshev() const { return chebyshev_; }    // in u = 2X/x_max - 1
+  const std::vector<double>& covariance() const { return covariance_; }  // row-major, V^2
+  bool falling() const { return falling_; }                              // V falls as X grows
 
  private:
   double x_max_ = 0.0;

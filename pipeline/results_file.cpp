@@ -252,6 +252,9 @@ void WriteCalibration(Out& out, const std::string& g, const CellCalibration& c) 
   WriteSettings(out, g + "/settings", c.settings);
   f.WriteScalar(g + "/release_x", c.release_x, out.u.length);
   f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
+  if (const std::size_t n = c.chebyshev.size(); c.chebyshev_covariance.size() == n * n && n > 0) {
+    out.x.WriteMatrix(g + "/chebyshev_covariance", n, n, c.chebyshev_covariance, "V^2");
+  }
   f.WriteScalar(g + "/residual_rms_volts", c.residual_rms_volts, "V");
   f.WriteScalar(g + "/residual_rms_length", c.residual_rms_length, out.u.length);
   f.WriteScalar(g + "/volts_min", c.volts_min, "V");
@@ -270,6 +273,7 @@ CellCalibration ReadCalibration(const In& in, const std::string& g, const std::s
   c.settings = ReadSettings(in, g + "/settings");
   c.release_x = f.ReadScalar(g + "/release_x");
   c.chebyshev = f.ReadVector(g + "/chebyshev");
+  c.chebyshev_covariance = ReadVectorIfPresent(f, g + "/chebyshev_covariance");  // n x n
   c.order = static_cast<int>(c.chebyshev.size()) - 1;
   c.residual_rms_volts = f.ReadScalar(g + "/residual_rms_volts");
   c.residual_rms_length = f.ReadScalar(g + "/residual_rms_length");

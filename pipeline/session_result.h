@@ -74,10 +74,11 @@ struct Curve {
 // A photocell calibration as used by a run (Figures 13-14).
 struct CellCalibration {
   std::string calibration_id;
-  std::string cell;               // "right" or "left"
-  double release_x = 0.0;         // X0 of the calibration swing
-  int order = 0;                  // of the Chebyshev series V(X)
-  std::vector<double> chebyshev;  // in u = 2X/X0 - 1, V
+  std::string cell;                          // "right" or "left"
+  double release_x = 0.0;                    // X0 of the calibration swing
+  int order = 0;                             // of the Chebyshev series V(X)
+  std::vector<double> chebyshev;             // in u = 2X/X0 - 1, V
+  std::vector<double> chebyshev_covariance;  // (order+1)^2, row-major, V^2 (empty: not known)
   double residual_rms_volts = 0.0, residual_rms_length = 0.0;
   int samples_used = 0;
   double volts_min = 0.0, volts_max = 0.0;

@@ -189,9 +189,13 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures
       points.x.push_back(c.points_x[i]);
       points.y.push_back(c.points_volts[i]);
     }
-    // The curve as fitted (its stored coefficients), evaluated for display.
-    const PhotocellCurve stored(c.release_x, c.chebyshev, {}, 0.0);
-    PlotSeries curve{fmt::format("{} cell: fitted curve (order {})", c.cell, c.order),
+    // The curve as fitted (its stored coefficients), evaluated for display,
+    // with its one-sigma band in volts where the covariance is known.
+    const std::size_t n = c.chebyshev.size();
+    const bool band = c.chebyshev_covariance.size() == n * n && n > 0;
+    const PhotocellCurve stored(c.release_x, c.chebyshev,
+                                band ? c.chebyshev_covariance : std::vector<double>{}, 0.0);
+    PlotSeries curve{fmt::format("{} cell: fitted curve (order {}) ± 1σ", c.cell, c.order),
                      {},
                      {},
                      {},
@@ -201,6 +205,7 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures
       const double x = c.release_x * i / 200.0;
       curve.x.push_back(x);
       curve.y.push_back(stored.VoltsAt(x));
+      if (band) curve.sigma.push_back(stored.DisplacementSigmaAt(x) * std::abs(stored.SlopeAt(x)));
     }
     plot.series.push_back(std::move(points));
     plot.series.push_back(std::move(curve));
