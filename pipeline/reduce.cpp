@@ -154,8 +154,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
       out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
     } catch (const std::logic_error& error) {  // invalid_argument, domain_error
       // The run was measured: its measurement stays, with why it cannot be fitted.
-      out.reason =
-          fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
+      out.reason = RunFailureReason(error, session, run);
       return out;
     }
     out.seconds.fit =
@@ -180,24 +179,17 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
   try {
     return ReduceRun(run, session, pendulum, separation, calibrations, options, session_options,
                      fingerprint);
-  } catch (const IncompleteMeasurement& error) {
-    RunResult failed;
-    failed.id = run.id;
-    failed.initial_displacement = run.initial_displacement;
-    failed.first_rebound = run.first_rebound;
-    failed.reason = error.what();
-    failed.measured = error.partial();  // its overlays and calibrations, for the report
-    return failed;
   } catch (const std::exception& error) {
     RunResult failed;
     failed.id = run.id;
     failed.initial_displacement = run.initial_displacement;
     failed.first_rebound = run.first_rebound;
-    // An InputError names its own file and key; anything else gets the run's.
-    failed.reason =
-        dynamic_cast<const InputError*>(&error) != nullptr
-            ? error.what()
-            : fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, error.what());
+    failed.reason = RunFailureReason(error, session, run);
+    // What was measured before the failure (the photo's overlay, the
+    // calibrations), for the report.
+    if (const auto* incomplete = dynamic_cast<const IncompleteMeasurement*>(&error)) {
+      failed.measured = incomplete->partial();
+    }
     return failed;
   }
 }

@@ -339,6 +339,13 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
 
 }  // namespace
 
+std::string RunFailureReason(const std::exception& error, const Session& session, const Run& run) {
+  const bool said = dynamic_cast<const InputError*>(&error) != nullptr ||
+                    dynamic_cast<const IncompleteMeasurement*>(&error) != nullptr;
+  return said ? error.what()
+              : fmt::format("{}: {}: {}", session.manifest.string(), RunKey(run), error.what());
+}
+
 IncompleteMeasurement::IncompleteMeasurement(std::string reason, RunMeasurement partial)
     : std::runtime_error(std::move(reason)), partial_(std::move(partial)) {}
 
@@ -350,12 +357,7 @@ MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const P
   } catch (const std::exception& error) {
     const RunMeasurement& partial = result.measured;
     if (partial.overlays.empty() && partial.calibrations.empty()) throw;
-    // An InputError names its own file and key; anything else gets the run's.
-    throw IncompleteMeasurement(
-        dynamic_cast<const InputError*>(&error) != nullptr
-            ? error.what()
-            : fmt::format("{}: {}: {}", session.manifest.string(), RunKey(run), error.what()),
-        result.measured);
+    throw IncompleteMeasurement(RunFailureReason(error, session, run), result.measured);
   }
   return result;
 }

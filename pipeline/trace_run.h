@@ -66,6 +66,11 @@ struct MeasuredTraceRun {
   StageSeconds seconds;
 };
 
+// Why a run failed, as its results say it: an InputError (and an
+// IncompleteMeasurement) names its own file and key; anything else is said
+// with the manifest and the run's key.
+std::string RunFailureReason(const std::exception& error, const Session& session, const Run& run);
+
 // A run whose measurement failed part way: its reason (file, key), and what
 // was measured before (the digitized photo's overlay, the calibrations),
 // which the results file and the report keep beside the reason.
