@@ -1,0 +1,116 @@
+#include "model/contact_integration.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include <boost/math/tools/roots.hpp>
+// odeint's steppers copy members before they are first written (harmless: they
+// are scratch space); GCC warns about it at every instantiation.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
+#pragma GCC diagnostic pop
+#include <fmt/format.h>
+
+namespace impactlab {
+namespace {
+
+namespace odeint = boost::numeric::odeint;
+using State = std::array<double, 2>;  // u, w
+using Stepper = odeint::runge_kutta_fehlberg78<State>;
+
+struct System {
+  const ScaledForce& force;
+  void operator()(const State& x, State& dxdt, double /*t*/) const {
+    dxdt[0] = x[1];
+    dxdt[1] = -force(x[0], x[1]);
+  }
+};
+
+// One uncontrolled step of length h from x (h no longer than the accepted
+// step it refines, so its error is no larger).
+State StepFrom(const System& system, const State& x, double t, double h) {
+  Stepper stepper;
+  State out = x;
+  if (h > 0.0) stepper.do_step(system, out, t, h);
+  return out;
+}
+
+// The h in [0, step] where g(state after h) = 0, given a sign change over the step.
+template <typename Event>
+double LocateEvent(const System& system, const State& x, double t, double step, Event g) {
+  auto phi = [&](double h) { return g(StepFrom(system, x, t, h)); };
+  double a = 0.0, b = step;
+  double fa = phi(a), fb = phi(b);
+  if (fa == 0.0) return a;
+  if (fb == 0.0 || fa * fb > 0.0) return b;
+  std::uintmax_t iterations = 100;
+  const auto bracket = boost::math::tools::toms748_solve(
+      phi, a, b, fa, fb, boost::math::tools::eps_tolerance<double>(52), iterations);
+  return 0.5 * (bracket.first + bracket.second);
+}
+
+}  // namespace
+
+ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separation,
+                                   const ScaledIntegrationOptions& options) {
+  const System system{force};
+  auto controlled = odeint::make_controlled(options.tolerance, options.tolerance, Stepper());
+  auto ended = [&](const State& x) {
+    return separation == Separation::kKinematic ? x[0] : force(x[0], x[1]);
+  };
+  State x{0.0, 1.0};
+  double t = 0.0;
+  double dt = 1e-3;
+  ScaledImpact out;
+  bool past_peak = false;
+  // Under force separation the force may start at 0 (a law with no damping
+  // at zero compression): the event is armed once the force is positive.
+  bool armed = separation == Separation::kKinematic || ended(x) > 0.0;
+  while (t < options.max_time) {
+    const State before = x;
+    const double t_before = t;
+    if (controlled.try_step(system, x, t, dt) != odeint::success) continue;
+    ++out.steps;
+    const double step = t - t_before;
+    if (!past_peak && x[1] <= 0.0) {
+      const double h =
+          LocateEvent(system, before, t_before, step, [](const State& s) { return s[1]; });
+      out.peak_time = t_before + h;
+      out.peak_compression = StepFrom(system, before, t_before, h)[0];
+      past_peak = true;
+    }
+    if (!armed) {
+      armed = ended(x) > 0.0;
+      continue;
+    }
+    if (past_peak && ended(x) <= 0.0) {
+      const double h = LocateEvent(system, before, t_before, step, ended);
+      const State end = StepFrom(system, before, t_before, h);
+      out.contact_time = t_before + h;
+      out.exit_rate = end[1];
+      out.exit_compression = separation == Separation::kKinematic ? 0.0 : end[0];
+      return out;
+    }
+  }
+  throw NoSeparationError(
+      fmt::format("the contact had not ended after {} scaled time units ({} steps)",
+                  options.max_time, out.steps));
+}
+
+ScaledState ScaledStateAt(const ScaledForce& force, double time,
+                          const ScaledIntegrationOptions& options) {
+  if (!(time > 0.0)) return {0.0, 1.0};
+  const System system{force};
+  auto controlled = odeint::make_controlled(options.tolerance, options.tolerance, Stepper());
+  State x{0.0, 1.0};
+  odeint::integrate_adaptive(controlled, system, x, 0.0, time, std::fmin(1e-3, time));
+  return {x[0], x[1]};
+}
+
+}  // namespace impactlab

@@ -1,0 +1,54 @@
+// Event-located integration of one impact in scaled variables, for the laws
+// without a closed-form contact time (Hertz with a linear damper) and as the
+// independent check of the ones with (Hertz, Hunt-Crossley).
+//
+// Scaled by a length x* and the time x*/v0 (each law says which), the
+// compression u and its rate w obey
+//   u' = w,   w' = -f(u, w),   u(0) = 0, w(0) = 1,
+// f the scaled contact force. The contact ends at the first time after the
+// start where u returns to 0 (kinematic) or f does (force). A Runge-Kutta-
+// Fehlberg 7(8) pair with step control at 1e-13 carries the state; an event
+// inside an accepted step is found by a bracketed root search (TOMS 748) on
+// single steps of the same method from the step's start, so the event
+// inherits the integration's accuracy rather than an interpolant's.
+#pragma once
+
+#include <functional>
+
+#include "model/contact.h"
+
+namespace impactlab {
+
+// The scaled force f(u, w). Must be defined for small negative u (the last
+// step may overshoot the contact's end): odd extensions such as
+// sign(u) |u|^n are the usual choice.
+using ScaledForce = std::function<double(double compression, double rate)>;
+
+struct ScaledImpact {
+  double contact_time = 0.0;      // s_c, scaled
+  double exit_rate = 0.0;         // w at the end (negative); e = -exit_rate
+  double exit_compression = 0.0;  // u at the end (0 under kinematic separation)
+  double peak_compression = 0.0;  // max u
+  double peak_time = 0.0;         // s at max u
+  int steps = 0;                  // accepted steps, for benchmarks
+};
+
+struct ScaledIntegrationOptions {
+  double tolerance = 1e-13;  // absolute and relative, per step
+  double max_time = 1e4;     // scaled; beyond it the contact is said not to end
+};
+
+// Throws NoSeparationError when the contact has not ended by max_time.
+ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separation,
+                                   const ScaledIntegrationOptions& options = {});
+
+// u(s) and w(s) at scaled time s >= 0 (no event: the caller knows s is inside
+// the contact).
+struct ScaledState {
+  double compression = 0.0;
+  double rate = 0.0;
+};
+ScaledState ScaledStateAt(const ScaledForce& force, double time,
+                          const ScaledIntegrationOptions& options = {});
+
+}  // namespace impactlab
