@@ -5,6 +5,7 @@
 
 #include <ceres/version.h>
 #include <fmt/format.h>
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include "fit/least_squares_internal.h"
 
@@ -225,5 +226,15 @@ std::vector<double> MaximumSigmas(const std::vector<double>& xmax,
 
 }  // namespace fit_internal
 std::string CeresVersion() { return CERES_VERSION_STRING; }
+
+ScatterCheck CheckScatter(double chi2, int dof) {
+  ScatterCheck out;
+  if (dof <= 0 || !std::isfinite(chi2) || chi2 < 0.0) return out;
+  out.birge_ratio = std::sqrt(chi2 / dof);
+  out.p_value = boost::math::cdf(
+      boost::math::complement(boost::math::chi_squared_distribution<double>(dof), chi2));
+  out.excess = out.p_value < 1e-3 && out.birge_ratio > 1.0;
+  return out;
+}
 
 }  // namespace impactlab

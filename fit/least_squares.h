@@ -96,6 +96,22 @@ struct Identifiability {
   std::string message;  // the verdict in words (which combination is undetermined)
 };
 
+// Whether the scatter about a fit is what the stated sigmas promise: chi^2
+// against its distribution with `dof` degrees of freedom. Far above it the
+// sigmas understate the scatter, and the standard errors scaled by the Birge
+// ratio sqrt(chi^2/dof) are the honest ones (docs/fitting.md, "Honest
+// uncertainty"). Scaled only when the excess is significant (p < 1e-3), so
+// that a fit whose sigmas are right keeps its stated errors and their coverage.
+struct ScatterCheck {
+  double birge_ratio = 1.0;  // sqrt(chi^2/dof); 1 when dof <= 0
+  double p_value = 1.0;      // P(chi^2_dof >= chi^2)
+  bool excess = false;       // p < 1e-3
+  // The factor the stated standard errors are multiplied by: the Birge ratio
+  // when the excess is significant, else 1.
+  double Scale() const { return excess ? birge_ratio : 1.0; }
+};
+ScatterCheck CheckScatter(double chi2, int dof);
+
 // The Ceres Solver the fits were built with, e.g. "2.1.0".
 std::string CeresVersion();
 

@@ -1,0 +1,511 @@
+#include "fit/contact_law_fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <boost/math/special_functions/beta.hpp>
+
+#include "fit/least_squares_internal.h"
+#include "model/hunt_crossley_terms.h"
+#include "model/kelvin_voigt.h"
+#include "model/power_law_contact.h"
+
+namespace impactlab {
+namespace {
+
+template <typename T>
+double ValueOf(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return x;
+  } else {
+    return x.a;
+  }
+}
+
+// A(v) in T: the pendulum's amplitude and its slope at the value, so a Jet
+// carries dA/dv. False past the horizontal.
+template <typename T>
+bool Amplitude(const Pendulum& pendulum, const T& speed, T* out) {
+  const double v = ValueOf(speed);
+  if (!(v > 0.0) || !std::isfinite(v)) return false;
+  try {
+    const fit_internal::AmplitudeSlope a = fit_internal::AmplitudeAndSlope(pendulum, v);
+    *out = T(a.amplitude) + T(a.slope) * (speed - T(v));
+  } catch (const std::domain_error&) {
+    return false;
+  }
+  return true;
+}
+
+// One run, prepared: its read maxima by session rebound number.
+struct PreparedRun {
+  const LawRun* run = nullptr;
+  std::vector<int> rebounds;  // read maxima
+  std::vector<double> x, sigma;
+  int last = 0;                // last read rebound
+  bool has_contact = false;    // its own contact time, used
+  double release_speed = 0.0;  // speed into the release's impact (contact_rebound -1)
+};
+
+// The law with its parameter layout: theta = [damping term][ln stiffness][n],
+// each present when the law has it and the data fix it.
+struct LawModel {
+  ContactLawKind kind = ContactLawKind::kHuntCrossley;
+  Separation separation = Separation::kKinematic;
+  double exponent = 1.5;
+  bool fit_stiffness = false;
+  double hertz_time = 0.0;  // Hertz: 2 B(1/(n+1), 1/2)/(n+1) at the fixed n
+
+  bool HasDamping() const { return kind != ContactLawKind::kHertz; }
+  bool FitsExponent() const {
+    return kind == ContactLawKind::kHuntCrossleyExponent && fit_stiffness;
+  }
+  int Size() const {
+    return (HasDamping() ? 1 : 0) + (fit_stiffness ? 1 : 0) + (FitsExponent() ? 1 : 0);
+  }
+  int StiffnessIndex() const { return HasDamping() ? 1 : 0; }
+
+  template <typename T>
+  bool Restitution(const T* theta, const T& speed, T* e) const {
+    using std::acos;
+    using std::exp;
+    using std::sqrt;
+    switch (kind) {
+      case ContactLawKind::kHertz:
+        *e = T(1.0);
+        return true;
+      case ContactLawKind::kKelvinVoigt: {
+        const T zeta = exp(theta[0]);
+        if (!(ValueOf(zeta) < 1.0)) return false;
+        const T root = sqrt(T(1.0) - zeta * zeta);
+        *e = separation == Separation::kKinematic ? exp(-T(M_PI) * zeta / root)
+                                                  : exp(T(-2.0) * zeta * acos(zeta) / root);
+        return true;
+      }
+      case ContactLawKind::kHuntCrossley:
+      case ContactLawKind::kHuntCrossleyExponent:
+        *e = hunt_crossley::RestitutionOf(exp(theta[0]) * speed);
+        return true;
+    }
+    return false;
+  }
+
+  template <typename T>
+  bool ContactTime(const T* theta, const T& speed, double mass, T* tau) const {
+    using std::acos;
+    using std::exp;
+    using std::log;
+    using std::pow;
+    using std::sqrt;
+    const T log_k = theta[StiffnessIndex()];
+    if (kind == ContactLawKind::kKelvinVoigt) {
+      const T zeta = exp(theta[0]);
+      if (!(ValueOf(zeta) < 1.0)) return false;
+      const T wn = exp(T(0.5) * log_k) / T(std::sqrt(mass));
+      const T root = sqrt(T(1.0) - zeta * zeta);
+      *tau = separation == Separation::kKinematic ? T(M_PI) / (wn * root)
+                                                  : T(2.0) * acos(zeta) / (root * wn);
+      return true;
+    }
+    const T n = FitsExponent() ? theta[StiffnessIndex() + 1] : T(exponent);
+    const T one(1.0);
+    // x* = ((n+1) M v^2 / (2k))^(1/(n+1)), t* = x*/v.
+    const T x_star = exp((log((n + one) * T(0.5 * mass) * speed * speed) - log_k) / (n + one));
+    if (kind == ContactLawKind::kHertz) {
+      *tau = x_star / speed * T(hertz_time);
+      return true;
+    }
+    const T eps = exp(theta[0]) * speed;
+    const hunt_crossley::Exit exit = hunt_crossley::ExitOf(ValueOf(eps));
+    if (!(exit.gap > 0.0)) return false;
+    const T e = hunt_crossley::RestitutionOf(eps);
+    const T gap = T(exit.gap) - (eps * e - T(ValueOf(eps) * exit.restitution));
+    const auto s = hunt_crossley::ContactTimes(n, eps, e, gap);
+    *tau = x_star / speed * (s.compression + s.restitution);
+    return true;
+  }
+};
+
+// A run's whitened residuals: its maxima, then its contact time (if used).
+struct RunResiduals {
+  const PreparedRun* run;
+  const LawModel* law;
+
+  int Count() const { return static_cast<int>(run->x.size()) + (run->has_contact ? 1 : 0); }
+
+  template <typename T>
+  bool operator()(T const* const* parameters, T* residuals) const {
+    using std::exp;
+    const T* theta = law->Size() > 0 ? parameters[1] : nullptr;
+    const LawRun& r = *run->run;
+    T contact(0.0);
+    const auto contact_at = [&](const T& v) {
+      T tau;
+      if (!law->ContactTime(theta, v, r.mass, &tau)) return false;
+      contact = (tau - T(*r.measured.contact_time)) / T(r.measured.contact_time_sigma);
+      return true;
+    };
+    if (run->has_contact && r.contact_rebound < 0 && !contact_at(T(run->release_speed))) {
+      return false;
+    }
+    T v = exp(parameters[0][0]);
+    std::size_t k = 0;
+    for (int n = 0; n <= run->last; ++n) {
+      if (k < run->rebounds.size() && run->rebounds[k] == n) {
+        T a;
+        if (!Amplitude(r.pendulum, v, &a)) return false;
+        residuals[k] = (a - T(run->x[k])) / T(run->sigma[k]);
+        ++k;
+      }
+      if (run->has_contact && n == r.contact_rebound && !contact_at(v)) return false;
+      if (n < run->last) {
+        T e;
+        if (!law->Restitution(theta, v, &e)) return false;
+        v = v * e;
+      }
+    }
+    if (run->has_contact) residuals[k] = contact;
+    return true;
+  }
+};
+
+PreparedRun Prepare(const LawRun& run, bool use_contact_times) {
+  if (!(run.mass > 0.0) || !(run.initial_displacement > 0.0)) {
+    throw std::invalid_argument(fmt::format("run '{}': mass and X0 must be > 0", run.name));
+  }
+  PreparedRun p;
+  p.run = &run;
+  const auto& m = run.measured;
+  for (std::size_t i = 0; i < m.xmax.size(); ++i) {
+    if (std::isnan(m.xmax[i])) continue;
+    const double s = i < m.xmax_sigma.size() ? m.xmax_sigma[i] : 0.0;
+    if (!(s > 0.0) || !(m.xmax[i] > 0.0)) {
+      throw std::invalid_argument(
+          fmt::format("run '{}': maximum {} needs a value and a sigma > 0", run.name, i));
+    }
+    p.rebounds.push_back(static_cast<int>(i));
+    p.x.push_back(m.xmax[i]);
+    p.sigma.push_back(s);
+  }
+  if (p.rebounds.size() < 2) {
+    throw std::invalid_argument(fmt::format("run '{}': fewer than two read maxima", run.name));
+  }
+  p.last = p.rebounds.back();
+  p.has_contact = use_contact_times && m.contact_time && m.contact_time_sigma > 0.0 &&
+                  run.contact_rebound >= -1 && run.contact_rebound <= p.last;
+  p.release_speed = SpeedFromAmplitude(run.pendulum, run.initial_displacement);
+  return p;
+}
+
+// The speed into the run's measured impact, from its measurements (for
+// starting values and for predicting a held-out run's contact time).
+double ContactSpeedEstimate(const PreparedRun& p, double log_e) {
+  if (p.run->contact_rebound < 0) return p.release_speed;
+  const double v0 = SpeedFromAmplitude(p.run->pendulum, p.x.front());
+  return v0 * std::exp(log_e * (p.run->contact_rebound - p.rebounds.front()));
+}
+
+std::string Sentence(const LawModel& law, const std::vector<PreparedRun>& runs,
+                     const Identifiability& id) {
+  int contacts = 0;
+  std::set<double> speeds;
+  for (const PreparedRun& p : runs) {
+    if (!p.has_contact) continue;
+    ++contacts;
+    speeds.insert(std::round(ContactSpeedEstimate(p, 0.0) * 1e6) / 1e6);
+  }
+  std::string k_part;
+  const char* k_name = law.kind == ContactLawKind::kKelvinVoigt ? "K" : "k";
+  if (law.fit_stiffness) {
+    k_part = fmt::format("{} from {} contact time{} at {} speed{}", k_name, contacts,
+                         contacts == 1 ? "" : "s", speeds.size(), speeds.size() == 1 ? "" : "s");
+  } else {
+    k_part =
+        fmt::format("{} not determined (no run has its own contact time with a sigma)", k_name);
+  }
+  std::string s;
+  switch (law.kind) {
+    case ContactLawKind::kKelvinVoigt:
+      s = "zeta from the maxima' decay; " + k_part;
+      break;
+    case ContactLawKind::kHertz:
+      s = "no dissipation to fit (e = 1); " + k_part;
+      break;
+    case ContactLawKind::kHuntCrossley:
+      s = fmt::format("chi from how e changes with impact speed; {}; n fixed at {}", k_part,
+                      law.exponent);
+      break;
+    case ContactLawKind::kHuntCrossleyExponent:
+      s = fmt::format("chi from how e changes with impact speed; {}; {}", k_part,
+                      law.FitsExponent()
+                          ? (speeds.size() >= 2 ? "n from how tau_c changes with speed"
+                                                : "n weakly fixed: contact times at one speed")
+                          : "n not determined without contact times");
+      break;
+  }
+  if (!id.identifiable && !id.message.empty()) s += "; " + id.message;
+  return s + ".";
+}
+
+struct Solved {
+  ContactLawFit fit;
+  LawModel law;
+  std::vector<double> theta;
+  std::vector<double> w;
+};
+
+Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
+             const ContactLawFitOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  Solved out;
+  ContactLawFit& fit = out.fit;
+  fit.law = ContactLawName(kind);
+
+  LawModel& law = out.law;
+  law.kind = kind;
+  law.separation = options.separation;
+  law.exponent = options.exponent;
+  law.fit_stiffness =
+      std::any_of(runs.begin(), runs.end(), [](const PreparedRun& p) { return p.has_contact; });
+  {
+    const double a = 1.0 / (law.exponent + 1.0);
+    law.hertz_time = 2.0 * a * boost::math::beta(a, 0.5);
+  }
+
+  // Starting values: the runs' mean two-point ln e and mean contact time.
+  double q = 0.0, speed = 0.0, tau = 0.0, mass = 0.0;
+  int contacts = 0;
+  for (const PreparedRun& p : runs) {
+    const Pendulum& pendulum = p.run->pendulum;
+    const double va = SpeedFromAmplitude(pendulum, p.x.front());
+    const double vb = SpeedFromAmplitude(pendulum, p.x.back());
+    q += std::log(vb / va) / (p.rebounds.back() - p.rebounds.front()) / runs.size();
+    speed += va / runs.size();
+    mass += p.run->mass / runs.size();
+    if (p.has_contact) {
+      tau += *p.run->measured.contact_time;
+      ++contacts;
+    }
+  }
+  q = std::min(q, -1e-3);
+  if (contacts > 0) tau /= contacts;
+  std::vector<double>& theta = out.theta;
+  theta.assign(static_cast<std::size_t>(law.Size()), 0.0);
+  std::vector<std::string> names;
+  if (kind == ContactLawKind::kKelvinVoigt) {
+    const double zeta = DampingRatioFromLogRestitution(q, options.separation);
+    theta[0] = std::log(zeta);
+    names.push_back("log zeta");
+    if (law.fit_stiffness) {
+      theta[1] = std::log(StiffnessFromContactTime(mass, tau, zeta, options.separation));
+      names.push_back("log K");
+    }
+  } else {
+    if (law.HasDamping()) {
+      const double chi = DampingFactorFor(std::exp(q), speed, DampingFactorConvention::kExact);
+      theta[0] = std::log(std::max(chi, 1e-12 / speed));
+      names.push_back("log chi");
+    }
+    if (law.fit_stiffness) {
+      // Hertz: tau = c_n x*/v, so x* = tau v / c_n and k = (n+1) M v^2 / (2 x*^(n+1)).
+      const double n = law.exponent;
+      const double x_star = tau * speed / law.hertz_time;
+      theta[static_cast<std::size_t>(law.StiffnessIndex())] =
+          std::log(0.5 * (n + 1.0) * mass * speed * speed) - (n + 1.0) * std::log(x_star);
+      names.push_back("log k");
+      if (law.FitsExponent()) {
+        theta.back() = n;
+        names.push_back("n");
+      }
+    }
+  }
+
+  std::vector<double>& w = out.w;
+  for (const PreparedRun& p : runs) {
+    w.push_back(std::log(SpeedFromAmplitude(p.run->pendulum, p.x.front())) -
+                p.rebounds.front() * q);
+  }
+
+  ceres::Problem problem;
+  std::vector<RunResiduals> functors;
+  functors.reserve(runs.size());
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    functors.push_back({&runs[i], &law});
+    auto* cost =
+        new ceres::DynamicAutoDiffCostFunction<RunResiduals, 4>(new RunResiduals(functors.back()));
+    cost->AddParameterBlock(1);
+    std::vector<double*> blocks{&w[i]};
+    if (law.Size() > 0) {
+      cost->AddParameterBlock(law.Size());
+      blocks.push_back(theta.data());
+    }
+    cost->SetNumResiduals(functors.back().Count());
+    problem.AddResidualBlock(cost, nullptr, blocks);
+    fit.maxima += static_cast<int>(runs[i].x.size());
+    fit.contact_times += runs[i].has_contact ? 1 : 0;
+  }
+  if (law.FitsExponent()) {
+    problem.SetParameterLowerBound(theta.data(), law.Size() - 1, 0.5);
+    problem.SetParameterUpperBound(theta.data(), law.Size() - 1, 5.0);
+  }
+  fit.parameter_count = law.Size() + static_cast<int>(runs.size());
+  fit.dof = fit.maxima + fit.contact_times - fit.parameter_count;
+
+  fit_internal::Solve(problem, options.solver, &fit.status);
+  const auto finish = [&] {
+    fit.status.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  };
+  if (!fit.status.usable) {
+    fit.reason = "the solver failed: " + fit.status.message;
+    return finish();
+  }
+
+  // chi^2 split between maxima and contact times.
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::vector<double> r(static_cast<std::size_t>(functors[i].Count()));
+    const double* blocks[2] = {&w[i], theta.data()};
+    if (!functors[i](blocks, r.data())) continue;
+    for (std::size_t k = 0; k < runs[i].x.size(); ++k) fit.chi2_maxima += r[k] * r[k];
+    if (runs[i].has_contact) fit.chi2_contact += r.back() * r.back();
+  }
+  fit.chi2 = fit.chi2_maxima + fit.chi2_contact;
+  const double data = fit.maxima + fit.contact_times;
+  fit.aic = fit.chi2 + 2.0 * fit.parameter_count;
+  fit.bic = fit.chi2 + fit.parameter_count * std::log(data);
+  fit.scatter = CheckScatter(fit.chi2, fit.dof);
+
+  std::vector<double*> blocks;
+  if (law.Size() > 0) blocks.push_back(theta.data());
+  for (double& wi : w) blocks.push_back(&wi);
+  Eigen::VectorXd residuals;
+  const Eigen::MatrixXd jacobian = fit_internal::Jacobian(problem, blocks, &residuals);
+  Identifiability id;
+  id.identifiable = true;
+  if (law.Size() > 0) {
+    id = fit_internal::Analyse(jacobian, law.Size(), names, options.min_relative_singular_value);
+  }
+  fit.identifiability = Sentence(law, runs, id);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  if (law.Size() > 0 && !id.identifiable) {
+    fit.reason = "not identifiable: " + id.message;
+    return finish();
+  }
+  if (s.size() < jacobian.cols() || !(s[s.size() - 1] > 0.0)) {
+    fit.reason = "the Jacobian is singular";
+    return finish();
+  }
+  const Eigen::MatrixXd v = svd.matrixV();
+  const Eigen::MatrixXd cov = v * s.cwiseInverse().cwiseAbs2().asDiagonal() * v.transpose();
+  const auto p = static_cast<Eigen::Index>(law.Size());
+  if (p > 0) fit.covariance = fit_internal::MakeCovariance(names, cov.topLeftCorner(p, p), false);
+  for (Eigen::Index i = 0; i < p; ++i) {
+    const double value = theta[static_cast<std::size_t>(i)];
+    const double sd = std::sqrt(cov(i, i));
+    const std::string& name = names[static_cast<std::size_t>(i)];
+    if (name == "n") {
+      fit.parameters.push_back({"exponent", "1", {value, sd}});
+      continue;
+    }
+    const Estimate e{std::exp(value), std::exp(value) * sd};
+    if (name == "log zeta") fit.parameters.push_back({"damping_ratio", "1", e});
+    if (name == "log K") fit.parameters.push_back({"stiffness", "stiffness", e});
+    if (name == "log chi") fit.parameters.push_back({"damping_factor", "inverse_speed", e});
+    if (name == "log k") fit.parameters.push_back({"hertz_stiffness", "hertz_stiffness", e});
+  }
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const auto wi = p + static_cast<Eigen::Index>(i);
+    fit.run_rebound0_speed.push_back({std::exp(w[i]), std::exp(w[i]) * std::sqrt(cov(wi, wi))});
+  }
+  fit.ok = true;
+  return finish();
+}
+
+// Predicts the held-out run's later maxima from its measured first one.
+void PredictHeldOut(const LawModel& law, const std::vector<double>& theta, const PreparedRun& p,
+                    double* ss_norm, double* ss_length, int* count, bool* ok) {
+  const Pendulum& pendulum = p.run->pendulum;
+  double v = SpeedFromAmplitude(pendulum, p.x.front());
+  std::size_t k = 1;
+  for (int n = p.rebounds.front(); n < p.last && k < p.x.size(); ++n) {
+    double e = 1.0;
+    if (!law.Restitution(theta.data(), v, &e)) {
+      *ok = false;
+      return;
+    }
+    v *= e;
+    if (p.rebounds[k] != n + 1) continue;
+    double a = 0.0;
+    if (!Amplitude(pendulum, v, &a)) {
+      *ok = false;
+      return;
+    }
+    const double d = a - p.x[k];
+    *ss_norm += (d / p.sigma[k]) * (d / p.sigma[k]);
+    *ss_length += d * d;
+    ++*count;
+    ++k;
+  }
+}
+
+}  // namespace
+
+const char* ContactLawName(ContactLawKind kind) {
+  switch (kind) {
+    case ContactLawKind::kKelvinVoigt:
+      return "kelvin-voigt";
+    case ContactLawKind::kHertz:
+      return "hertz";
+    case ContactLawKind::kHuntCrossley:
+      return "hunt-crossley";
+    case ContactLawKind::kHuntCrossleyExponent:
+      return "hunt-crossley-n";
+  }
+  return "";
+}
+
+ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
+                            const ContactLawFitOptions& options) {
+  if (runs.size() < 2) {
+    throw std::invalid_argument(
+        fmt::format("a contact law needs two runs or more, got {}", runs.size()));
+  }
+  std::vector<PreparedRun> prepared;
+  for (const LawRun& run : runs) prepared.push_back(Prepare(run, options.use_contact_times));
+  Solved solved = Solve(kind, prepared, options);
+  ContactLawFit& fit = solved.fit;
+  if (!fit.ok || prepared.size() < 3) return fit;
+
+  // Leave one run out: the law refitted on the others predicts it.
+  double ss_norm = 0.0, ss_length = 0.0;
+  int count = 0;
+  bool ok = true;
+  for (std::size_t h = 0; h < prepared.size(); ++h) {
+    std::vector<PreparedRun> training;
+    for (std::size_t i = 0; i < prepared.size(); ++i) {
+      if (i != h) training.push_back(prepared[i]);
+    }
+    const Solved refit = Solve(kind, training, options);
+    if (!refit.fit.ok) {
+      ok = false;
+      continue;
+    }
+    PredictHeldOut(refit.law, refit.theta, prepared[h], &ss_norm, &ss_length, &count, &ok);
+  }
+  fit.loo_ok = ok && count > 0;
+  fit.loo_maxima = count;
+  if (count > 0) {
+    fit.loo_rms_normalized = std::sqrt(ss_norm / count);
+    fit.loo_rms_length = std::sqrt(ss_length / count);
+  }
+  return fit;
+}
+
+}  // namespace impactlab

@@ -1,0 +1,95 @@
+// Contact laws fitted across a session's runs: maxima at the several impact
+// speeds of every run, and the runs' measured contact times (docs/fitting.md,
+// "Contact laws across runs").
+//
+// Run r's rebound 0 swings through equilibrium at v_{r,0} = exp(w_r) (a
+// nuisance parameter, as in the joint fits); each impact keeps the fraction
+// e(v) of the speed it meets, v_{r,n+1} = e(v_{r,n}) v_{r,n}, and the maxima are
+// X_{r,n} = A_r(v_{r,n}). A run's measured contact time belongs to the impact
+// at v_{r,c} (c = its `contact_rebound`; -1: the release's impact, at the
+// known speed of the release from X0). Residuals are whitened by the
+// measurements' sigmas; derivatives are exact (ceres::Jet through the laws'
+// closed forms and the Hunt-Crossley quadrature, whose restitution enters by
+// the implicit-function theorem); parameters are fitted as logarithms.
+//
+// The laws and what fixes their parameters:
+//   kelvin-voigt     e and tau_c the same at every speed: zeta from the maxima,
+//                    K from the contact times (K = M (pi/tau_c)^2/(1 - zeta^2), kinematic)
+//   hertz            elastic (e = 1): the maxima cannot decay; k from the contact times
+//   hunt-crossley    e = e(chi v) from the maxima alone; k from the contact times; n = 3/2
+//   hunt-crossley-n  n free as well: tau_c ~ v^(-(n-1)/(n+1)) needs contact times
+//                    at two or more speeds
+// A parameter the data cannot fix is left out of the fit and named in the
+// `identifiability` sentence.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fit/kelvin_voigt_two_point.h"
+#include "fit/least_squares.h"
+#include "model/contact.h"
+#include "model/pendulum.h"
+
+namespace impactlab {
+
+enum class ContactLawKind { kKelvinVoigt, kHertz, kHuntCrossley, kHuntCrossleyExponent };
+const char* ContactLawName(ContactLawKind kind);  // "kelvin-voigt", "hertz", ...
+
+struct LawRun {
+  std::string name;
+  Pendulum pendulum;
+  double mass = 0.0;                  // M of the impacting body, mass units
+  double initial_displacement = 0.0;  // X0
+  // Maxima in session numbering with sigmas > 0 (NaN = unread); the contact
+  // time with its sigma when the run has its own (sigma > 0), else none.
+  ReboundMeasurements measured;
+  int contact_rebound = 0;  // the contact time's impact follows this rebound (-1: the release)
+};
+
+struct ContactLawFitOptions {
+  Separation separation = Separation::kKinematic;  // Kelvin-Voigt's convention
+  double exponent = 1.5;                           // n where it is not fitted
+  bool use_contact_times = true;                   // false: the maxima alone
+  SolverControl solver;
+  double min_relative_singular_value = 1e-8;
+};
+
+struct ContactLawFit {
+  std::string law;  // ContactLawName
+  bool ok = false;
+  std::string reason;           // why not, when !ok
+  std::string identifiability;  // one sentence: which data fix which parameter
+  FitStatus status;
+
+  // The law's parameters with their stated standard errors (from the
+  // measurements' sigmas) and, in `scatter`, the Birge ratio that scales them.
+  std::vector<NamedEstimate> parameters;
+  ParameterCovariance covariance;  // of the fitted logarithms (and n)
+  ScatterCheck scatter;
+  std::vector<Estimate> run_rebound0_speed;  // fitted v_{r,0}
+
+  int maxima = 0;
+  int contact_times = 0;
+  int parameter_count = 0;  // law parameters fitted + one nuisance per run
+  int dof = 0;
+  double chi2_maxima = 0.0;
+  double chi2_contact = 0.0;
+  double chi2 = 0.0;
+  double aic = 0.0;  // chi2 + 2 k
+  double bic = 0.0;  // chi2 + k ln N
+
+  // Leave-one-run-out: refit without the run, predict its maxima from its
+  // measured rebound 0 (and its contact time); RMS of (predicted - measured)/sigma.
+  bool loo_ok = false;
+  double loo_rms_normalized = 0.0;
+  double loo_rms_length = 0.0;
+  int loo_maxima = 0;
+};
+
+// Throws std::invalid_argument for fewer than two runs, a run without two
+// read maxima, a maximum without sigma > 0, a non-positive mass or X0.
+ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
+                            const ContactLawFitOptions& options);
+
+}  // namespace impactlab

@@ -1,0 +1,136 @@
+// Contact laws fitted across runs recover the law a session was drawn from,
+// within their stated uncertainty, and the comparison prefers it.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "fit/contact_law_fit.h"
+#include "model/kelvin_voigt.h"
+#include "model/power_law_contact.h"
+#include "synth/law_session.h"
+
+namespace impactlab {
+namespace {
+
+const Pendulum kPendulum{22.0, 385.644};
+const double kMass = 2.23 / 385.644;  // lbf s^2/in
+
+std::vector<LawRun> AsLawRuns(const std::vector<LawSessionRun>& drawn) {
+  std::vector<LawRun> runs;
+  for (const LawSessionRun& d : drawn) {
+    LawRun r;
+    r.name = std::to_string(d.initial_displacement);
+    r.pendulum = kPendulum;
+    r.mass = kMass;
+    r.initial_displacement = d.initial_displacement;
+    r.measured.xmax = d.xmax;
+    r.measured.xmax_sigma = d.xmax_sigma;
+    if (d.contact_time_sigma > 0.0) {
+      r.measured.contact_time = d.contact_time;
+      r.measured.contact_time_sigma = d.contact_time_sigma;
+    }
+    r.contact_rebound = d.contact_rebound;
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+const NamedEstimate& Parameter(const ContactLawFit& fit, const std::string& name) {
+  for (const NamedEstimate& p : fit.parameters) {
+    if (p.name == name) return p;
+  }
+  FAIL("no parameter " << name << " in " << fit.law);
+  return fit.parameters.front();
+}
+
+double Pull(const NamedEstimate& p, double truth) {
+  return (p.estimate.value - truth) / p.estimate.sigma;
+}
+
+// A steel-like Hunt-Crossley contact: tau_c ~ 350 us at 1 in/s, e ~ 0.8.
+const HuntCrossley kTruth{kMass, 4.7e7, 1.5, 0.3};
+
+}  // namespace
+
+TEST_CASE("Hunt-Crossley across runs recovers chi and k within their sigmas", "[contact_law]") {
+  LawSessionOptions options;
+  options.xmax_sigma = 2e-4;
+  options.seed = 7;
+  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, {});
+  REQUIRE(fit.ok);
+  INFO(fit.identifiability);
+  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kTruth.damping_factor)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(fit, "hertz_stiffness"), kTruth.stiffness)) < 4.0);
+  CHECK(fit.maxima == 30);
+  CHECK(fit.contact_times == 6);
+  CHECK(fit.dof == 36 - 8);
+  CHECK(fit.chi2 / fit.dof < 2.5);
+  CHECK_FALSE(fit.scatter.excess);
+  CHECK(fit.identifiability.find("k from 6 contact times at 6 speeds") != std::string::npos);
+  CHECK(fit.loo_ok);
+  CHECK(fit.loo_rms_normalized < 3.0);
+}
+
+TEST_CASE("Without contact times only chi is fitted, and the sentence says why k is not",
+          "[contact_law]") {
+  LawSessionOptions options;
+  options.contact_time_sigma = 0.0;
+  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, {});
+  REQUIRE(fit.ok);
+  CHECK(fit.parameters.size() == 1);
+  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kTruth.damping_factor)) < 4.0);
+  CHECK(fit.identifiability.find("k not determined") != std::string::npos);
+}
+
+TEST_CASE("Hunt-Crossley with a free exponent recovers n from contact times at several speeds",
+          "[contact_law]") {
+  LawSessionOptions options;
+  options.contact_time_sigma = 0.5e-6;
+  options.seed = 11;
+  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossleyExponent, runs, {});
+  REQUIRE(fit.ok);
+  CHECK(std::abs(Pull(Parameter(fit, "exponent"), 1.5)) < 4.0);
+  CHECK(Parameter(fit, "exponent").estimate.sigma < 0.5);
+}
+
+TEST_CASE("Kelvin-Voigt across runs recovers zeta and K; the elastic Hertz law is rejected",
+          "[contact_law]") {
+  const KelvinVoigt truth = KelvinVoigtFromRates(kMass, {std::sqrt(4.6e5 / kMass), 0.07});
+  LawSessionOptions options;
+  options.seed = 3;
+  const auto runs = AsLawRuns(
+      DrawLawSession(kPendulum, KelvinVoigtContactLaw(truth, Separation::kKinematic), options));
+  const ContactLawFit kv = FitContactLaw(ContactLawKind::kKelvinVoigt, runs, {});
+  REQUIRE(kv.ok);
+  CHECK(std::abs(Pull(Parameter(kv, "damping_ratio"), 0.07)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(kv, "stiffness"), truth.stiffness)) < 4.0);
+  const ContactLawFit hertz = FitContactLaw(ContactLawKind::kHertz, runs, {});
+  REQUIRE(hertz.ok);
+  CHECK(hertz.scatter.excess);
+  CHECK(hertz.bic > kv.bic + 100.0);
+}
+
+TEST_CASE("On Hunt-Crossley data with strong speed dependence the comparison prefers it",
+          "[contact_law]") {
+  HuntCrossley strong = kTruth;
+  strong.damping_factor = 1.5;  // e from ~0.6 to ~0.9 over the runs' speeds
+  LawSessionOptions options;
+  options.xmax_sigma = 2e-4;
+  options.seed = 5;
+  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(strong), options));
+  const ContactLawFit hc = FitContactLaw(ContactLawKind::kHuntCrossley, runs, {});
+  const ContactLawFit kv = FitContactLaw(ContactLawKind::kKelvinVoigt, runs, {});
+  REQUIRE(hc.ok);
+  REQUIRE(kv.ok);
+  CHECK(hc.bic + 10.0 < kv.bic);
+  CHECK(hc.loo_rms_normalized < kv.loo_rms_normalized);
+  CHECK(kv.scatter.excess);
+  CHECK(kv.scatter.Scale() > 1.0);
+}
+
+}  // namespace impactlab
