@@ -481,7 +481,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
   for (const LawRun& run : runs) prepared.push_back(Prepare(run, options.use_contact_times));
   Solved solved = Solve(kind, prepared, options);
   ContactLawFit& fit = solved.fit;
-  if (!fit.ok || prepared.size() < 3) return fit;
+  if (!fit.ok || !options.leave_one_out || prepared.size() < 3) return fit;
 
   // Leave one run out: the law refitted on the others predicts it.
   double ss_norm = 0.0, ss_length = 0.0;

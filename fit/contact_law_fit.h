@@ -51,6 +51,7 @@ struct ContactLawFitOptions {
   Separation separation = Separation::kKinematic;  // Kelvin-Voigt's convention
   double exponent = 1.5;                           // n where it is not fitted
   bool use_contact_times = true;                   // false: the maxima alone
+  bool leave_one_out = true;                       // also refit without each run
   SolverControl solver;
   double min_relative_singular_value = 1e-8;
 };

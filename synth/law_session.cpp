@@ -19,7 +19,7 @@ std::vector<LawSessionRun> DrawLawSession(const Pendulum& pendulum, const Contac
     for (int i = 0; i < options.maxima; ++i) {
       const double x = seq.xmax[static_cast<std::size_t>(options.first_rebound + i)];
       run.true_xmax.push_back(x);
-      run.xmax.push_back(x + options.xmax_sigma * normal(rng));
+      run.xmax.push_back(x + options.error_scale * options.xmax_sigma * normal(rng));
       run.xmax_sigma.push_back(options.xmax_sigma);
     }
     // Impact N (from 1) follows thesis rebound N - 1, session rebound N - 1 - first_rebound.
@@ -27,7 +27,8 @@ std::vector<LawSessionRun> DrawLawSession(const Pendulum& pendulum, const Contac
     if (options.contact_time_sigma > 0.0) {
       const double speed = seq.impact_speed[static_cast<std::size_t>(options.contact_impact - 1)];
       run.true_contact_time = law.Respond(speed).contact_time;
-      run.contact_time = run.true_contact_time + options.contact_time_sigma * normal(rng);
+      run.contact_time =
+          run.true_contact_time + options.error_scale * options.contact_time_sigma * normal(rng);
       run.contact_time_sigma = options.contact_time_sigma;
     }
     runs.push_back(std::move(run));

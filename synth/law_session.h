@@ -20,6 +20,9 @@ struct LawSessionOptions {
   int contact_impact = 2;            // the impact whose contact time each run measures (from 1)
   double xmax_sigma = 5e-4;          // length units
   double contact_time_sigma = 2e-6;  // s; 0 = no contact times
+  // The reading errors drawn are this times the stated sigmas: > 1 draws a
+  // session whose sigmas understate its scatter (the Birge scaling's test).
+  double error_scale = 1.0;
   std::uint64_t seed = 1;
 };
 
