@@ -471,8 +471,18 @@ const char* ContactLawName(ContactLawKind kind) {
   return "";
 }
 
+bool ContactLawFitOptions::Check(std::string* why) const {
+  if (!(exponent > 0.0 && exponent <= 10.0)) {
+    *why = fmt::format("exponent must be in (0, 10], got {}", exponent);
+    return false;
+  }
+  return solver.Check(why) &&
+         fit_internal::CheckRelativeSingularValue(min_relative_singular_value, why);
+}
+
 ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
                             const ContactLawFitOptions& options) {
+  if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   if (runs.size() < 2) {
     throw std::invalid_argument(
         fmt::format("a contact law needs two runs or more, got {}", runs.size()));

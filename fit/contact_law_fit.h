@@ -54,6 +54,17 @@ struct ContactLawFitOptions {
   bool leave_one_out = true;                       // also refit without each run
   SolverControl solver;
   double min_relative_singular_value = 1e-8;
+
+  // The settings: the separation is the session's; what data to use is the pipeline's.
+  template <typename Self, typename Visit>
+  static void VisitSettings(Self& self, Visit&& visit) {
+    visit("exponent", self.exponent, "n of the Hertz and Hunt-Crossley laws where not fitted");
+    visit("leave_one_out", self.leave_one_out, "also refit without each run and predict it");
+    visit("solver", self.solver, "");
+    visit("min_relative_singular_value", self.min_relative_singular_value,
+          "directions below this are not determined");
+  }
+  bool Check(std::string* why) const;
 };
 
 struct ContactLawFit {

@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "fit/contact_law_fit.h"
 #include "fit/joint_fits.h"
 #include "fit/kelvin_voigt_least_squares.h"
 #include "fit/poynting_thomson_least_squares.h"
+#include "model/power_law_contact.h"
 
 namespace impactlab {
 namespace {
@@ -147,17 +149,203 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
   }
 }
 
-std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const FitOptions& fit,
-                                             const std::vector<RunResult>& runs, std::string* why) {
-  std::vector<JointRun> joint;
+namespace {
+
+bool AllWeighted(const RunMeasurement& m) {
+  return !m.xmax_sigma.empty() &&
+         std::all_of(m.xmax_sigma.begin(), m.xmax_sigma.end(), [](double s) { return s > 0.0; });
+}
+
+// The runs the cross-run models use: reduced, two maxima or more, every one
+// with an uncertainty.
+std::vector<const RunResult*> ComparableRuns(const std::vector<RunResult>& runs) {
+  std::vector<const RunResult*> out;
   for (const RunResult& run : runs) {
-    const RunMeasurement& m = run.measured;
-    const bool weighted =
-        std::all_of(m.xmax_sigma.begin(), m.xmax_sigma.end(), [](double s) { return s > 0.0; });
-    if (run.ok && m.xmax.size() >= 2 && !m.xmax_sigma.empty() && weighted) {
-      joint.push_back(
-          {run.id, pendulum, {m.xmax, m.xmax_sigma, std::nullopt, 0.0}, run.initial_displacement});
+    if (run.ok && run.measured.xmax.size() >= 2 && AllWeighted(run.measured)) out.push_back(&run);
+  }
+  return out;
+}
+
+std::vector<LawRun> LawRunsOf(const LawInputs& in, const std::vector<const RunResult*>& runs) {
+  std::vector<LawRun> out;
+  for (const RunResult* run : runs) {
+    LawRun r;
+    r.name = run->id;
+    r.pendulum = in.pendulum;
+    r.mass = in.mass;
+    r.initial_displacement = run->initial_displacement;
+    r.measured.xmax = run->measured.xmax;
+    r.measured.xmax_sigma = run->measured.xmax_sigma;
+    const auto rebound = in.contact_rebounds.find(run->id);
+    if (run->measured.contact_time && run->measured.contact_time_sigma > 0.0 &&
+        rebound != in.contact_rebounds.end()) {
+      r.measured.contact_time = run->measured.contact_time;
+      r.measured.contact_time_sigma = run->measured.contact_time_sigma;
+      r.contact_rebound = rebound->second;
     }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// A contact law's prediction of the maxima as a comparison row.
+ModelComparisonRow RowOf(const ContactLawFit& fit, const std::vector<LawRun>& runs) {
+  ModelComparisonRow row;
+  row.model = fit.law;
+  row.ok = fit.ok;
+  row.reason = fit.reason;
+  row.parameters = fit.parameters;
+  row.maxima = fit.maxima;
+  row.parameter_count = fit.parameter_count;
+  row.dof = fit.dof;
+  row.chi2 = fit.chi2;
+  row.aic = fit.aic;
+  row.bic = fit.bic;
+  row.loo_rms_normalized = fit.loo_rms_normalized;
+  row.loo_rms_length = fit.loo_rms_length;
+  // The spread of the law's ln e over the runs' rebound-0 speeds.
+  if (fit.ok && fit.law == "hunt-crossley" && !fit.parameters.empty()) {
+    const double chi = fit.parameters.front().estimate.value;
+    std::vector<double> q;
+    for (std::size_t i = 0; i < runs.size() && i < fit.run_rebound0_speed.size(); ++i) {
+      q.push_back(std::log(HuntCrossleyRestitution(chi * fit.run_rebound0_speed[i].value)));
+    }
+    double mean = 0.0, ss = 0.0;
+    for (double x : q) mean += x / static_cast<double>(q.size());
+    for (double x : q) ss += (x - mean) * (x - mean);
+    row.log_restitution_spread = q.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(q.size()));
+  }
+  return row;
+}
+
+const ModelComparisonRow* Row(const ModelComparison& c, const std::string& model) {
+  for (const ModelComparisonRow& m : c.models) {
+    if (m.model == model && m.ok) return &m;
+  }
+  return nullptr;
+}
+
+const NamedEstimate* ParameterOf(const ModelComparisonRow& m, const std::string& name) {
+  for (const NamedEstimate& p : m.parameters) {
+    if (p.name == name) return &p;
+  }
+  return nullptr;
+}
+
+// The best by BIC and by leave-one-out, and every model's verdict. When the
+// most general model (the most parameters) still shows excess scatter, the
+// stated sigmas understate the reading errors: every chi^2 is divided by that
+// model's chi^2/dof before the BIC is formed (the sigmas scaled by its Birge
+// ratio, as an F-test would), so that understated errors do not turn small
+// differences into rejections. Verdicts on the BIC difference from the best
+// (Kass and Raftery): < 2 comparable, < 10 disfavoured, else rejected.
+void Judge(ModelComparison& c) {
+  const ModelComparisonRow* general = nullptr;
+  const ModelComparisonRow* best_loo = nullptr;
+  for (const ModelComparisonRow& m : c.models) {
+    if (!m.ok) continue;
+    if (!general || m.parameter_count > general->parameter_count) general = &m;
+    if (!best_loo || m.loo_rms_normalized < best_loo->loo_rms_normalized) best_loo = &m;
+  }
+  c.best_by_leave_one_out = best_loo ? best_loo->model : "";
+  if (!general) return;
+  const ScatterCheck scatter = CheckScatter(general->chi2, general->dof);
+  const double scale = scatter.Scale() * scatter.Scale();
+  const auto bic = [&](const ModelComparisonRow& m) {
+    return m.chi2 / scale +
+           m.parameter_count * std::log(static_cast<double>(std::max(1, m.maxima)));
+  };
+  const ModelComparisonRow* best = nullptr;
+  for (const ModelComparisonRow& m : c.models) {
+    if (m.ok && (!best || bic(m) < bic(*best))) best = &m;
+  }
+  c.best_by_bic = best->model;
+  for (ModelComparisonRow& m : c.models) {
+    if (!m.ok) {
+      m.verdict = "failed";
+      continue;
+    }
+    const double delta = bic(m) - bic(*best);
+    const char* word = delta < 2.0 ? "comparable" : delta < 10.0 ? "disfavoured" : "rejected";
+    m.verdict = &m == best ? "best" : fmt::format("{} (dBIC = {:.3g})", word, delta);
+  }
+  if (scatter.excess) {
+    c.evidence.push_back(fmt::format(
+        "The most general model, {}, leaves chi2/dof = {:.3g}: the maxima' stated uncertainties "
+        "understate their scatter by a factor {:.3g}, so the verdicts and the best by BIC use "
+        "every chi2 divided by {:.3g}.",
+        general->model, general->chi2 / general->dof, scatter.birge_ratio, scale));
+  }
+}
+
+// What the speed dependence of e says about the laws: the data's slope of
+// ln e against impact speed (linear-in-speed, its sigma scaled by its Birge
+// ratio) against the slope Hunt-Crossley needs at these speeds.
+void Evidence(ModelComparison& c, const std::vector<const RunResult*>& runs,
+              const Pendulum& pendulum) {
+  const ModelComparisonRow* linear = Row(c, "linear-in-speed");
+  const ModelComparisonRow* hc = Row(c, "hunt-crossley");
+  const ModelComparisonRow* hertz = Row(c, "hertz");
+  if (linear) {
+    const NamedEstimate* b = ParameterOf(*linear, "b");
+    if (b) {
+      const double sigma = b->estimate.sigma * CheckScatter(linear->chi2, linear->dof).Scale();
+      const double z = b->estimate.value / sigma;
+      std::string sentence =
+          fmt::format("ln e changes with impact speed by b = {:.3g} ± {:.2g} per unit speed ({}).",
+                      b->estimate.value, sigma,
+                      std::abs(z) < 2.0 ? "flat within 2 sigma"
+                      : z < 0           ? "e falls as speed rises"
+                                        : "e rises with speed");
+      if (hc) {
+        const NamedEstimate* chi = ParameterOf(*hc, "damping_factor");
+        double mean_speed = 0.0;
+        for (const RunResult* r : runs) {
+          mean_speed += SpeedFromAmplitude(pendulum, r->measured.xmax.front()) / runs.size();
+        }
+        if (chi && mean_speed > 0.0) {
+          // d ln e/dv = chi (de/deps)/e, de/deps = (gap/((1 + eps) e) - e)/eps.
+          const double eps = chi->estimate.value * mean_speed;
+          const double e = HuntCrossleyRestitution(eps);
+          const double gap = 1.0 - eps * e;
+          const double needed = chi->estimate.value * ((gap / ((1.0 + eps) * e) - e) / eps) / e;
+          const double apart = std::abs(b->estimate.value - needed) / sigma;
+          sentence += fmt::format(
+              " Hunt-Crossley, whose e -> 1 as v -> 0, needs {:.3g} at the runs' mean speed "
+              "{:.3g}: {}.",
+              needed, mean_speed,
+              apart > 3.0
+                  ? fmt::format("{:.2g} sigma from the data's slope, which contradicts it", apart)
+                  : fmt::format("within {:.2g} sigma of the data's slope", apart));
+        }
+      }
+      c.evidence.push_back(sentence);
+    }
+  }
+  if (hertz) {
+    c.evidence.push_back(fmt::format(
+        "The elastic Hertz law keeps e = 1: the maxima' decay {} it ({}).",
+        hertz->verdict.rfind("rejected", 0) == 0 ? "rejects" : "does not reject", hertz->verdict));
+  }
+  if (Row(c, "common")) {
+    c.evidence.push_back(
+        "Every linear law (Kelvin-Voigt, Poynting-Thomson) keeps e the same at every speed: its "
+        "prediction of the maxima is the \"common\" model.");
+  }
+}
+
+}  // namespace
+
+std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitOptions& fit,
+                                             const std::vector<RunResult>& runs, std::string* why) {
+  const std::vector<const RunResult*> comparable = ComparableRuns(runs);
+  std::vector<JointRun> joint;
+  for (const RunResult* run : comparable) {
+    const RunMeasurement& m = run->measured;
+    joint.push_back({run->id,
+                     inputs.pendulum,
+                     {m.xmax, m.xmax_sigma, std::nullopt, 0.0},
+                     run->initial_displacement});
   }
   if (joint.size() < 3) {
     *why = fmt::format(
@@ -170,8 +358,6 @@ std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const Fit
     const SessionModelComparison c = CompareRestitutionModels(joint, fit.restitution_models);
     ModelComparison out;
     out.run_ids = c.run_names;
-    out.best_by_leave_one_out = c.best_by_leave_one_out;
-    out.best_by_bic = c.best_by_bic;
     for (const JointModelFit& m : c.models) {
       ModelComparisonRow row;
       row.model = m.name;
@@ -189,11 +375,56 @@ std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const Fit
       row.loo_rms_length = m.leave_one_out.rms_length;
       out.models.push_back(std::move(row));
     }
+    // The laws' predictions of the same maxima (no contact times: the same data).
+    const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
+    ContactLawFitOptions options = fit.contact_laws;
+    options.separation = inputs.separation;
+    options.use_contact_times = false;
+    for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
+      try {
+        out.models.push_back(RowOf(FitContactLaw(kind, law_runs, options), law_runs));
+      } catch (const std::exception& e) {
+        ModelComparisonRow row;
+        row.model = ContactLawName(kind);
+        row.reason = e.what();
+        out.models.push_back(std::move(row));
+      }
+    }
+    Judge(out);
+    Evidence(out, comparable, inputs.pendulum);
     return out;
   } catch (const std::exception& e) {
     *why = fmt::format("model comparison skipped: {}", e.what());
     return std::nullopt;
   }
+}
+
+std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOptions& fit,
+                                          const std::vector<RunResult>& runs, std::string* why) {
+  const std::vector<const RunResult*> comparable = ComparableRuns(runs);
+  if (comparable.size() < 2) {
+    *why = fmt::format(
+        "contact laws skipped: they need two runs whose maxima all carry an uncertainty, found {}",
+        comparable.size());
+    return {};
+  }
+  const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
+  ContactLawFitOptions options = fit.contact_laws;
+  options.separation = inputs.separation;
+  std::vector<ContactLawFit> out;
+  for (ContactLawKind kind :
+       {ContactLawKind::kKelvinVoigt, ContactLawKind::kHertz, ContactLawKind::kHuntCrossley,
+        ContactLawKind::kHuntCrossleyExponent}) {
+    try {
+      out.push_back(FitContactLaw(kind, law_runs, options));
+    } catch (const std::exception& e) {
+      ContactLawFit failed;
+      failed.law = ContactLawName(kind);
+      failed.reason = e.what();
+      out.push_back(std::move(failed));
+    }
+  }
+  return out;
 }
 
 }  // namespace impactlab

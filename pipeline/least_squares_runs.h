@@ -3,6 +3,8 @@
 // over the session's runs, summarised for the results file.
 #pragma once
 
+#include <map>
+#include <string>
 #include <vector>
 
 #include "fit/fit_options.h"
@@ -23,9 +25,27 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
                                                    Separation separation, const FitOptions& fit,
                                                    const std::vector<RunResult>& runs);
 
-// The restitution models compared over the runs whose maxima all carry an
-// uncertainty (at least three runs); nullopt otherwise, with `why`.
-std::optional<ModelComparison> CompareModels(const Pendulum& pendulum, const FitOptions& fit,
+// What the contact-law fits need of the session beyond the runs' results.
+struct LawInputs {
+  Pendulum pendulum;
+  double mass = 0.0;
+  Separation separation = Separation::kKinematic;
+  // Per run id: the session rebound its measured contact time's impact follows
+  // (-1: the release's impact). Runs absent: their contact time is not used.
+  std::map<std::string, int> contact_rebounds;
+};
+
+// The restitution models, and the contact laws' predictions of the maxima
+// (Hunt-Crossley, elastic Hertz; a linear law's is "common"), compared over
+// the runs whose maxima all carry an uncertainty (at least three runs), with
+// each model's verdict against the best and the evidence in sentences;
+// nullopt otherwise, with `why`.
+std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitOptions& fit,
                                              const std::vector<RunResult>& runs, std::string* why);
+
+// The contact laws fitted across those runs, maxima and own contact times
+// together. Empty (with `why`) when fewer than two runs qualify.
+std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOptions& fit,
+                                          const std::vector<RunResult>& runs, std::string* why);
 
 }  // namespace impactlab

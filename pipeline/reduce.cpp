@@ -22,6 +22,22 @@
 namespace impactlab {
 namespace {
 
+// Which session rebound each run's measured contact time follows: its contact
+// trace's `impact` (counted from the first impact, which follows the release),
+// else the impact after rebound 0. Impact N follows rebound N - 1 counted from
+// the first impact, i.e. session rebound N - 1 - first_rebound.
+std::map<std::string, int> ContactRebounds(const Session& session) {
+  std::map<std::string, int> out;
+  for (const Run& run : session.runs) {
+    const auto contact = run.traces.find("contact");
+    const int impact = contact != run.traces.end() && contact->second.impact
+                           ? *contact->second.impact
+                           : run.first_rebound + 1;
+    out[run.id] = impact - 1 - run.first_rebound;
+  }
+  return out;
+}
+
 std::string NowIso8601() {
   const auto now = std::chrono::system_clock::now();
   return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}",
@@ -446,9 +462,13 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
 
   result.joint_fits = FitSessionJointly(pendulum, session.apparatus->mass, result.separation,
                                         session_options.fit, result.runs);
+  const LawInputs law_inputs{pendulum, session.apparatus->mass, result.separation,
+                             ContactRebounds(session)};
   std::string why;
-  result.model_comparison = CompareModels(pendulum, session_options.fit, result.runs, &why);
+  result.model_comparison = CompareModels(law_inputs, session_options.fit, result.runs, &why);
   if (!result.model_comparison) result.warnings.push_back(why);
+  result.contact_laws = FitContactLaws(law_inputs, session_options.fit, result.runs, &why);
+  if (result.contact_laws.empty()) result.warnings.push_back(why);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
 

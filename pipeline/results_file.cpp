@@ -293,6 +293,7 @@ std::string UnitsOf(const std::string& kind, const UnitLabels& u) {
   if (kind == "damping") return u.damping;
   if (kind == "speed") return u.speed;
   if (kind == "inverse_speed") return "s/" + u.length;
+  if (kind == "hertz_stiffness") return u.force + "/" + u.length + "^n";
   return kind;  // "1", "s"
 }
 
@@ -415,10 +416,13 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
   f.SetAttribute(g, "best_by_leave_one_out", c.best_by_leave_one_out);
   f.SetAttribute(g, "best_by_bic", c.best_by_bic);
   f.WriteStrings(g + "/run_ids", c.run_ids);
+  f.WriteStrings(g + "/evidence", c.evidence);
   for (const ModelComparisonRow& m : c.models) {
     const std::string h = g + "/" + m.model;
     f.CreateGroup(h);
     f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.reason);
+    f.SetAttribute(h, "verdict", m.verdict);
+    if (!m.ok && m.parameters.empty() && m.maxima == 0) continue;  // it did not run
     f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
     f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
     f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
@@ -438,6 +442,7 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
   c.best_by_leave_one_out = f.ReadStringAttribute(g, "best_by_leave_one_out");
   c.best_by_bic = f.ReadStringAttribute(g, "best_by_bic");
   c.run_ids = f.ReadStrings(g + "/run_ids");
+  if (f.Exists(g + "/evidence")) c.evidence = f.ReadStrings(g + "/evidence");
   for (const std::string& model : f.Children(g)) {
     const std::string h = g + "/" + model;
     if (!f.IsGroup(h)) continue;
@@ -446,6 +451,11 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     const std::string status = f.ReadStringAttribute(h, "status");
     m.ok = status == "ok";
     if (!m.ok) m.reason = ReasonOf(status);
+    if (f.HasAttribute(h, "verdict")) m.verdict = f.ReadStringAttribute(h, "verdict");
+    if (!f.Exists(h + "/chi2")) {
+      c.models.push_back(std::move(m));
+      continue;
+    }
     m.maxima = static_cast<int>(f.ReadIntegerAttribute(h, "maxima"));
     m.parameter_count = static_cast<int>(f.ReadIntegerAttribute(h, "parameter_count"));
     m.dof = static_cast<int>(f.ReadIntegerAttribute(h, "dof"));
@@ -459,6 +469,67 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     c.models.push_back(std::move(m));
   }
   return c;
+}
+
+// A contact law fitted across the runs (fit/contact_law_fit.h): its estimates
+// with their stated and Birge-scaled standard errors, the chi^2 split, the
+// criteria and the identifiability sentence.
+void WriteContactLaw(Out& out, const ContactLawFit& fit) {
+  Hdf5File& f = out.f;
+  const std::string g = "/session/contact_laws/" + fit.law;
+  f.CreateGroup(g);
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
+  if (fit.parameters.empty() && fit.maxima == 0) return;  // it did not run
+  f.SetAttribute(g, "identifiability", fit.identifiability);
+  f.SetAttribute(g, "maxima", static_cast<long long>(fit.maxima));
+  f.SetAttribute(g, "contact_times", static_cast<long long>(fit.contact_times));
+  f.SetAttribute(g, "parameter_count", static_cast<long long>(fit.parameter_count));
+  f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
+  f.SetAttribute(g, "excess_scatter", static_cast<long long>(fit.scatter.excess));
+  WriteNamedEstimates(out, g, fit.parameters);
+  for (const NamedEstimate& p : fit.parameters) {
+    f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
+                  UnitsOf(p.units, out.u));
+  }
+  f.WriteScalar(g + "/chi2", fit.chi2, "1");
+  f.WriteScalar(g + "/chi2_maxima", fit.chi2_maxima, "1");
+  f.WriteScalar(g + "/chi2_contact", fit.chi2_contact, "1");
+  f.WriteScalar(g + "/aic", fit.aic, "1");
+  f.WriteScalar(g + "/bic", fit.bic, "1");
+  f.WriteScalar(g + "/birge_ratio", fit.scatter.birge_ratio, "1");
+  f.WriteScalar(g + "/chi2_p_value", fit.scatter.p_value, "1");
+  f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
+  f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
+  f.WriteScalar(g + "/seconds", fit.status.seconds, "s");
+}
+
+ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
+  const std::string g = "/session/contact_laws/" + law;
+  ContactLawFit fit;
+  fit.law = law;
+  const std::string status = f.ReadStringAttribute(g, "status");
+  fit.ok = status == "ok";
+  if (!fit.ok) fit.reason = ReasonOf(status);
+  if (!f.Exists(g + "/chi2")) return fit;
+  fit.identifiability = f.ReadStringAttribute(g, "identifiability");
+  fit.maxima = static_cast<int>(f.ReadIntegerAttribute(g, "maxima"));
+  fit.contact_times = static_cast<int>(f.ReadIntegerAttribute(g, "contact_times"));
+  fit.parameter_count = static_cast<int>(f.ReadIntegerAttribute(g, "parameter_count"));
+  fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
+  fit.parameters = ReadNamedEstimates(f, g);
+  fit.chi2 = f.ReadScalar(g + "/chi2");
+  fit.chi2_maxima = f.ReadScalar(g + "/chi2_maxima");
+  fit.chi2_contact = f.ReadScalar(g + "/chi2_contact");
+  fit.aic = f.ReadScalar(g + "/aic");
+  fit.bic = f.ReadScalar(g + "/bic");
+  fit.scatter.birge_ratio = f.ReadScalar(g + "/birge_ratio");
+  fit.scatter.p_value = f.ReadScalar(g + "/chi2_p_value");
+  fit.scatter.excess = f.ReadIntegerAttribute(g, "excess_scatter") != 0;
+  fit.loo_rms_normalized = f.ReadScalar(g + "/leave_one_out_rms_normalized");
+  fit.loo_rms_length = f.ReadScalar(g + "/leave_one_out_rms");
+  fit.loo_ok = fit.ok;
+  fit.status.seconds = f.ReadScalar(g + "/seconds");
+  return fit;
 }
 
 void WriteOptionalEstimate(Hdf5File& f, const std::string& name, const std::optional<Estimate>& e,
@@ -790,6 +861,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     WriteLeastSquares(out, "/session/joint_fits/" + fit.model, fit, "");
   }
   if (r.model_comparison) WriteModelComparison(out, *r.model_comparison);
+  for (const ContactLawFit& fit : r.contact_laws) WriteContactLaw(out, fit);
   for (const LogResult& log : r.logs) WriteLog(out, log);
   for (const RunPrediction& p : r.predictions) WritePrediction(out, p);
 }
@@ -1013,6 +1085,9 @@ SessionResult ReadResults(const std::filesystem::path& path) {
   for (const std::string& id : ChildrenIfPresent(f, "/logs")) r.logs.push_back(ReadLog(in, id));
   for (const std::string& model : ChildrenIfPresent(f, "/session/joint_fits")) {
     r.joint_fits.push_back(ReadLeastSquares(in, "/session/joint_fits/" + model, model));
+  }
+  for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
+    r.contact_laws.push_back(ReadContactLaw(f, law));
   }
   for (const std::string& name : ChildrenIfPresent(f, "/predictions")) {
     r.predictions.push_back(ReadPrediction(f, name));

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/contact_law_fit.h"
 #include "fit/kelvin_voigt_session.h"
 #include "fit/kelvin_voigt_two_point.h"
 #include "io/rgb_image.h"
@@ -233,6 +234,9 @@ struct ModelComparisonRow {
   double log_restitution_spread = 0.0;  // weighted std of the runs' ln e
   double loo_rms_normalized = 0.0;      // leave-one-run-out, RMS (predicted - measured)/sigma
   double loo_rms_length = 0.0;          // the same in length units
+  // How the model fares against the best (lowest BIC): "best", "comparable",
+  // "disfavoured" or "rejected" with its BIC difference (Kass-Raftery's 2, 10).
+  std::string verdict;
 };
 
 struct ModelComparison {
@@ -240,6 +244,9 @@ struct ModelComparison {
   std::vector<ModelComparisonRow> models;
   std::string best_by_leave_one_out;
   std::string best_by_bic;
+  // The reading: sentences on what the data support and reject, with the
+  // evidence (e.g. how ln e changes with speed against what a law needs).
+  std::vector<std::string> evidence;
 };
 
 struct SessionResult {
@@ -258,6 +265,9 @@ struct SessionResult {
   std::optional<SessionKelvinVoigt> kelvin_voigt;
   std::vector<LeastSquaresSummary> joint_fits;  // one parameter set for all runs
   std::optional<ModelComparison> model_comparison;
+  // The contact laws fitted across the runs, maxima and contact times together
+  // (fit/contact_law_fit.h): Kelvin-Voigt, Hertz, Hunt-Crossley (n = 3/2 and free).
+  std::vector<ContactLawFit> contact_laws;
   std::vector<RunPrediction> predictions;
   std::vector<LogResult> logs;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings

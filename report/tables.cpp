@@ -216,10 +216,21 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
   return t;
 }
 
+// A parameter as "name = value ± stated", with "(± scaled)" when the fit's
+// scatter exceeds what its sigmas promise.
+std::string ParameterText(const NamedEstimate& p, double scale) {
+  std::string text =
+      fmt::format("{} = {:.5g} ± {:.2g}", p.name, p.estimate.value, p.estimate.sigma);
+  if (scale > 1.0) text += fmt::format(" (± {:.2g} scaled)", p.estimate.sigma * scale);
+  return text;
+}
+
 Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
   Table t;
   t.name = "model_comparison";
-  t.caption = "Restitution models fitted jointly over the runs, compared (leave-one-run-out)";
+  t.caption =
+      "Restitution models and contact laws fitted jointly to the runs' maxima, compared "
+      "(leave-one-run-out)";
   t.columns = {"Model",
                "Parameters",
                "k",
@@ -229,23 +240,63 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
                "BIC",
                "spread of ln e",
                "LOO rms / sigma",
-               fmt::format("LOO rms ({})", u.length)};
+               fmt::format("LOO rms ({})", u.length),
+               "Verdict"};
   for (const ModelComparisonRow& m : c.models) {
     std::string parameters;
+    const double scale = CheckScatter(m.chi2, m.dof).Scale();
     for (const NamedEstimate& p : m.parameters) {
       if (p.name.rfind("log_restitution_", 0) == 0) continue;  // per-run values: too many
-      parameters += fmt::format("{}{} = {:.5g} ± {:.2g}", parameters.empty() ? "" : "; ", p.name,
-                                p.estimate.value, p.estimate.sigma);
+      parameters += (parameters.empty() ? "" : "; ") + ParameterText(p, scale);
     }
-    if (parameters.empty()) parameters = "one ln e per run";
-    t.rows.push_back({m.model + (m.ok ? "" : " (failed)"), parameters, Count(m.parameter_count),
-                      Sig(m.chi2, 4), Count(m.dof), Sig(m.aic, 5), Sig(m.bic, 5),
-                      Sig(m.log_restitution_spread, 3), Sig(m.loo_rms_normalized, 4),
-                      Sig(m.loo_rms_length, 4)});
+    if (parameters.empty()) parameters = m.model == "per-run" ? "one ln e per run" : "-";
+    if (!m.ok) {
+      t.rows.push_back(
+          {m.model + " (failed)", m.reason, "-", "-", "-", "-", "-", "-", "-", "-", "failed"});
+      continue;
+    }
+    t.rows.push_back({m.model, parameters, Count(m.parameter_count), Sig(m.chi2, 4), Count(m.dof),
+                      Sig(m.aic, 5), Sig(m.bic, 5), Sig(m.log_restitution_spread, 3),
+                      Sig(m.loo_rms_normalized, 4), Sig(m.loo_rms_length, 4), m.verdict});
   }
   t.notes = {fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
                          c.best_by_leave_one_out, c.best_by_bic),
-             "chi2 / dof far above 1 means the stated uncertainties understate the scatter."};
+             "chi2 / dof far above 1 means the stated uncertainties understate the scatter; "
+             "\"scaled\" standard errors are multiplied by sqrt(chi2/dof) (Birge) where that "
+             "excess is significant (p < 0.001)."};
+  for (const std::string& e : c.evidence) t.notes.push_back(e);
+  return t;
+}
+
+Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& u) {
+  Table t;
+  t.name = "contact_laws";
+  t.caption = "Contact laws fitted across the runs: maxima and the runs' own contact times";
+  t.columns = {"Law", "Parameters",  "k",   "chi2 maxima",     "chi2 contact",
+               "dof", "Birge ratio", "BIC", "LOO rms / sigma", "What the data fix"};
+  for (const ContactLawFit& fit : laws) {
+    if (!fit.ok && fit.maxima == 0) {
+      t.rows.push_back({fit.law + " (failed)", fit.reason, "-", "-", "-", "-", "-", "-", "-", "-"});
+      continue;
+    }
+    std::string parameters;
+    for (const NamedEstimate& p : fit.parameters) {
+      NamedEstimate shown = p;
+      if (p.units == "hertz_stiffness") shown.name += fmt::format(" ({}/{}^n)", u.force, u.length);
+      if (p.units == "stiffness") shown.name += fmt::format(" ({})", u.stiffness);
+      if (p.units == "inverse_speed") shown.name += fmt::format(" (s/{})", u.length);
+      parameters += (parameters.empty() ? "" : "; ") + ParameterText(shown, fit.scatter.Scale());
+    }
+    if (parameters.empty()) parameters = "-";
+    t.rows.push_back({fit.law + (fit.ok ? "" : " (failed)"), parameters, Count(fit.parameter_count),
+                      Sig(fit.chi2_maxima, 4), Sig(fit.chi2_contact, 4), Count(fit.dof),
+                      Sig(fit.scatter.birge_ratio, 3), Sig(fit.bic, 5),
+                      Sig(fit.loo_rms_normalized, 4), fit.ok ? fit.identifiability : fit.reason});
+  }
+  t.notes = {
+      "Each law predicts every impact's e and contact time from its speed; a run's "
+      "maxima follow impact by impact. Birge ratio sqrt(chi2/dof); \"scaled\": the "
+      "standard errors times it where chi2 is significantly high (p < 0.001)."};
   return t;
 }
 
@@ -425,6 +476,7 @@ std::vector<Table> BuildTables(const SessionResult& r) {
     if (r.kelvin_voigt->damping_line) tables.push_back(DampingLineTable(*r.kelvin_voigt, u));
   }
   if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
+  if (!r.contact_laws.empty()) tables.push_back(ContactLawTable(r.contact_laws, u));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
   for (const LogResult& log : r.logs) {
     if (log.ok) tables.push_back(LogTable(log));

@@ -93,6 +93,7 @@ std::string GeneraliseComponent(const std::string& parent, const std::string& c,
     return "<cell>";
   }
   if (parent == "/session/model_comparison" && v.models.contains(c)) return "<model>";
+  if (parent == "/session/contact_laws") return "<law>";
   if (parent == "/session/model_comparison/<model>") return GeneraliseRunSuffix(c, v);
   return c;
 }
