@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 #include <boost/math/tools/toms748_solve.hpp>
+#include <boost/multiprecision/cpp_bin_float.hpp>
+#include <boost/multiprecision/cpp_int.hpp>
 
 namespace impactlab {
 namespace {
@@ -48,8 +50,235 @@ void CheckSpeed(double v) {
   }
 }
 
-// The functionals of the state the searches look at.
-enum class Quantity { kU, kV, kForce };
+// The functionals of the state the searches look at; kEnvelopeSlope is
+// x1' + P x1, exp(-P tau) times the slope of g = exp(P tau) x1.
+enum class Quantity { kU, kV, kForce, kEnvelopeSlope };
+
+// ---------------------------------------------------------------------------
+// The regime, decided from the given doubles, not from computed roots.
+//
+// Near a double root the computed roots carry errors ~sqrt(eps), near the
+// triple root ~eps^(1/3): far more than the distance to the boundary (input
+// doubles 1e-12 from the triple root can be 1e-39 from it in the relative
+// discriminant), so the sign of omega^2 they give follows rounding. Every
+// input double is exact, and so is the discriminant of a cubic whose
+// coefficients are sums and products of them, evaluated in integer
+// arithmetic: its sign is the regime.
+
+enum class Regime { kComplexPair, kThreeReal, kDoubleRoot, kTripleRoot };
+
+// The doubles the regime is decided from. For a model, p(s) times C M,
+//   C M s^3 + K2 M s^2 + (K1 + K2) C s + K1 K2;
+// for rates taken as given (the PoyntingThomsonRates overloads), B's own
+// characteristic cubic in units of wn,
+//   s^3 + beta s^2 + (kappa1 + kappa2) s + beta kappa1.
+// RatesOf rounds, so within ~eps of a boundary a model and its rates may be on
+// different sides: a model is classified from M, K1, K2, C.
+struct ExactInputs {
+  bool from_model = false;
+  double mass = 0.0, stiffness1 = 0.0, stiffness2 = 0.0, damping = 0.0;  // the model
+  double kappa1 = 0.0, kappa2 = 0.0, beta = 0.0;                         // the rates
+};
+ExactInputs ExactOf(const PoyntingThomson& m) {
+  ExactInputs in;
+  in.from_model = true;
+  in.mass = m.mass;
+  in.stiffness1 = m.stiffness1;
+  in.stiffness2 = m.stiffness2;
+  in.damping = m.damping;
+  return in;
+}
+ExactInputs ExactOf(const PoyntingThomsonRates& r) {
+  ExactInputs in;
+  in.kappa1 = r.kappa1;
+  in.kappa2 = r.kappa2;
+  in.beta = r.beta;
+  return in;
+}
+
+// m 2^e, exact: products and sums of doubles without rounding (the integers
+// grow to a few hundred bits, or to a few thousand for wildly different
+// exponents, which only costs time).
+struct Dyadic {
+  boost::multiprecision::cpp_int m;
+  int e = 0;
+};
+Dyadic ToDyadic(double x) {
+  int e = 0;
+  const double f = std::frexp(x, &e);  // x = f 2^e, 1/2 <= |f| < 1: f 2^53 is an integer
+  return {boost::multiprecision::cpp_int(static_cast<std::int64_t>(std::ldexp(f, 53))), e - 53};
+}
+Dyadic operator*(const Dyadic& x, const Dyadic& y) { return {x.m * y.m, x.e + y.e}; }
+Dyadic operator*(int k, const Dyadic& x) { return {k * x.m, x.e}; }
+Dyadic operator+(const Dyadic& x, const Dyadic& y) {
+  if (x.e <= y.e) return {x.m + (y.m << (y.e - x.e)), x.e};
+  return {(x.m << (x.e - y.e)) + y.m, y.e};
+}
+Dyadic operator-(const Dyadic& x, const Dyadic& y) { return x + (-1) * y; }
+
+// The sign of the discriminant of a s^3 + b s^2 + c s + d, exactly:
+// 18abcd - 4b^3 d + b^2 c^2 - 4ac^3 - 27a^2 d^2, > 0 for three distinct real
+// roots, < 0 for a complex pair, 0 for a multiple root (triple when also
+// b^2 = 3ac).
+Regime ExactRegime(const ExactInputs& in) {
+  Dyadic a, b, c, d;
+  if (in.from_model) {
+    const Dyadic m = ToDyadic(in.mass), k1 = ToDyadic(in.stiffness1), k2 = ToDyadic(in.stiffness2),
+                 damping = ToDyadic(in.damping);
+    a = damping * m;
+    b = k2 * m;
+    c = (k1 + k2) * damping;
+    d = k1 * k2;
+  } else {
+    a = ToDyadic(1.0);
+    b = ToDyadic(in.beta);
+    c = ToDyadic(in.kappa1) + ToDyadic(in.kappa2);
+    d = b * ToDyadic(in.kappa1);
+  }
+  const Dyadic bc = b * c, ad = a * d;
+  const Dyadic disc =
+      18 * (ad * bc) - 4 * (b * b * b * d) + bc * bc - 4 * (a * c * c * c) - 27 * (ad * ad);
+  if (disc.m > 0) return Regime::kThreeReal;
+  if (disc.m < 0) return Regime::kComplexPair;
+  return (b * b - 3 * (a * c)).m == 0 ? Regime::kTripleRoot : Regime::kDoubleRoot;
+}
+
+// The roots in the form the evaluation uses (units of wn): r the real root
+// farthest from the others, the other two -P +- sqrt(-omega^2), a = 2P,
+// b = P^2 + omega^2, q_r = Q(r) = (r + P)^2 + omega^2.
+struct Spectrum {
+  double r = 0.0, a = 0.0, b = 0.0, p = 0.0, omega2 = 0.0, q_r = 0.0;
+};
+
+using Wide = boost::multiprecision::number<
+    boost::multiprecision::cpp_bin_float<256, boost::multiprecision::digit_base_2>,
+    boost::multiprecision::et_off>;
+
+// The spectrum in 256-bit arithmetic from the exact inputs (in units of `wn`,
+// the double natural frequency the evaluation scales time by), with the regime
+// given, along the double-precision route (below) but without its rounding:
+//  - r: the cubic shifted to t^3 + p t + q. For p > 0 its one real root has
+//    p'(t) = 3t^2 + p >= p; for p < 0 the root with the sign of -q and
+//    |t| >= sqrt(-p) has p'(t) >= -2p and is the one farthest from the other
+//    two: simple and well separated on the scale sqrt|p| of the cluster, even
+//    next to the triple root. A double-precision closed form for it, then
+//    Newton; then Newton on p itself where r = t - c2/3 cancelled (a real
+//    root far slower than c2/3, as at the Maxwell end of the lower branch).
+//  - the pair from the identities exact at a root, a = (c2 c1 - c0)/(r^2 + c1)
+//    and b = -c0/r (c2 c1 - c0 = beta kappa2, formed without cancellation),
+//    omega^2 = b - a^2/4, exactly 0 at a double or triple root.
+// Accurate to ~2^-256 over the distance to the boundary, so omega^2 has the
+// regime's sign except within ~1e-70 of it; a complex pair there gets the
+// least positive normal double (tau_c ~ 1e154/wn).
+Spectrum WideSpectrum(const ExactInputs& in, Regime regime, double wn) {
+  Wide c2, c1, c0, arm;  // s^3 + c2 s^2 + c1 s + c0 in units of wn, arm = c2 c1 - c0
+  if (in.from_model) {
+    const Wide k2 = in.stiffness2, w = wn, mass_w2 = Wide(in.mass) * w * w;
+    c2 = k2 / (Wide(in.damping) * w);
+    c1 = (Wide(in.stiffness1) + k2) / mass_w2;  // 1 to rounding of wn
+    c0 = c2 * Wide(in.stiffness1) / mass_w2;
+    arm = c2 * k2 / mass_w2;
+  } else {
+    c2 = in.beta;
+    c1 = Wide(in.kappa1) + Wide(in.kappa2);
+    c0 = c2 * Wide(in.kappa1);
+    arm = c2 * Wide(in.kappa2);
+  }
+  const Wide shift = c2 / 3;  // s = t - c2/3
+  Wide r = -shift;            // the triple root
+  if (regime != Regime::kTripleRoot) {
+    const Wide p = c1 - c2 * shift;
+    const Wide q = c0 - shift * c1 + 2 * shift * shift * shift;
+    // In units of 2^k ~ the cluster's size (an exact scaling), so that the
+    // double-precision estimate neither overflows nor underflows.
+    int exponent_p = 0, exponent_q = 0;
+    frexp(p, &exponent_p);
+    frexp(q, &exponent_q);
+    const int k = std::max(exponent_p / 2, exponent_q / 3);
+    const Wide ps = ldexp(p, -2 * k), qs = ldexp(q, -3 * k);
+    // With t = m y, m = sqrt(|p|/3): y^3 + 3 sgn(p) y = c, c = -q/m^3, whose
+    // root is 2 sinh(asinh(c/2)/3) for p > 0, and for p < 0 has the sign of c
+    // and modulus 2 cos(acos(|c|/2)/3) or 2 cosh(acosh(|c|/2)/3).
+    const double pd = static_cast<double>(ps), qd = static_cast<double>(qs);
+    double t0 = -std::cbrt(qd);
+    if (pd != 0.0) {
+      const double m = std::sqrt(std::abs(pd) / 3.0), c = -qd / (m * m * m);
+      const double half = std::abs(c) / 2.0, sign_c = c < 0.0 ? -1.0 : 1.0;
+      const double y = pd > 0.0      ? 2.0 * std::sinh(std::asinh(c / 2.0) / 3.0)
+                       : half <= 1.0 ? sign_c * 2.0 * std::cos(std::acos(half) / 3.0)
+                                     : sign_c * 2.0 * std::cosh(std::acosh(half) / 3.0);
+      if (std::isfinite(m * y)) t0 = m * y;
+    }
+    Wide t = t0;
+    for (int i = 0; i < 8; ++i) {  // 53 -> 106 -> 212 -> 256 bits
+      const Wide slope = 3 * t * t + ps;
+      if (slope == 0) break;
+      const Wide step = ((t * t + ps) * t + qs) / slope;
+      t -= step;
+      if (abs(step) <= ldexp(abs(t), -250)) break;
+    }
+    r = ldexp(t, k) - shift;
+    if (abs(r) < ldexp(shift, -32)) {  // 32+ bits lost: polish on p while |p(r)| drops
+      const auto cubic = [&](const Wide& x) { return ((x + c2) * x + c1) * x + c0; };
+      Wide residual = abs(cubic(r));
+      for (int i = 0; i < 8 && residual > 0; ++i) {
+        const Wide next = r - cubic(r) / ((3 * r + 2 * c2) * r + c1);
+        const Wide next_residual = abs(cubic(next));
+        if (!(next_residual < residual)) break;
+        r = next;
+        residual = next_residual;
+      }
+    }
+  }
+  const Wide a = arm / (r * r + c1), b = -c0 / r, pair = a / 2;
+  const bool multiple = regime == Regime::kDoubleRoot || regime == Regime::kTripleRoot;
+  const Wide omega2 = multiple ? Wide(0) : Wide(b - pair * pair);
+  Spectrum s;
+  s.r = static_cast<double>(r);
+  s.a = static_cast<double>(a);
+  s.b = static_cast<double>(b);
+  s.p = static_cast<double>(pair);
+  s.omega2 = static_cast<double>(omega2);
+  s.q_r = static_cast<double>((r + pair) * (r + pair) + omega2);  // (r - s2)(r - s3)
+  if (regime == Regime::kComplexPair) {
+    s.omega2 = std::max(s.omega2, std::numeric_limits<double>::min());
+  } else {
+    s.omega2 = std::min(s.omega2, 0.0);
+  }
+  return s;
+}
+
+// The discriminant of p(s) = s^3 + beta s^2 + k s + beta kappa1 over the sum
+// of its terms' magnitudes, in double. Every term is scaled by the same power
+// of two, so that the largest is ~1 whatever the magnitudes (beta from 1e-300
+// to 1e300): nothing overflows, what underflows is below eps of the sum, and
+// the rounding is that of the plain products, ~16 eps of the sum.
+double RelativeDiscriminant(double beta, double k, double kappa1) {
+  int e2 = 0, e1 = 0, e_kappa = 0;
+  const double m2 = std::frexp(beta, &e2), m1 = std::frexp(k, &e1);
+  const double m0 = m2 * std::frexp(kappa1, &e_kappa);  // c0 = beta kappa1: cannot underflow
+  const int e0 = e2 + e_kappa;
+  struct Term {
+    double coefficient;
+    int n2, n1, n0;  // powers of c2, c1, c0
+  };
+  constexpr std::array<Term, 5> kTerms = {
+      {{18, 1, 1, 1}, {-4, 3, 0, 1}, {1, 2, 2, 0}, {-4, 0, 3, 0}, {-27, 0, 0, 2}}};
+  const auto exponent = [&](const Term& t) { return t.n2 * e2 + t.n1 * e1 + t.n0 * e0; };
+  int top = exponent(kTerms[0]);
+  for (const Term& t : kTerms) top = std::max(top, exponent(t));
+  double disc = 0.0, size = 0.0;
+  for (const Term& t : kTerms) {
+    double v = t.coefficient;
+    for (int i = 0; i < t.n2; ++i) v *= m2;
+    for (int i = 0; i < t.n1; ++i) v *= m1;
+    for (int i = 0; i < t.n0; ++i) v *= m0;
+    v = std::ldexp(v, exponent(t) - top);
+    disc += v;
+    size += std::abs(v);
+  }
+  return disc / size;
+}
 
 // The scaled system z' = B z, z = [u, v, d], z(0) = [0, 1, 0], evaluated by
 // the exact Cayley-Hamilton (Newton divided-difference) form of the matrix
@@ -93,7 +322,8 @@ enum class Quantity { kU, kV, kForce };
 // nothing underflows however long contact lasts.
 class ScaledSystem {
  public:
-  explicit ScaledSystem(const PoyntingThomsonRates& rates)
+  // `exact` is where the regime is decided from: the model, or these rates.
+  ScaledSystem(const PoyntingThomsonRates& rates, const ExactInputs& exact)
       : kappa1_(rates.kappa1), kappa2_(rates.kappa2), beta_(rates.beta) {
     const double k = kappa1_ + kappa2_;  // 1 to rounding; kept for consistency with B
     Mat3 b_matrix;
@@ -109,14 +339,40 @@ class ScaledSystem {
     b_ = -beta_ * kappa1_ / r_;
     p_ = 0.5 * a_;
     omega2_ = b_ - p_ * p_;
-    const double real_spread = omega2_ < 0.0 ? std::sqrt(-omega2_) : 0.0;
+    double real_spread = omega2_ < 0.0 ? std::sqrt(-omega2_) : 0.0;
     // Q(r) = (r + P)^2 + omega^2 = (r - s2)(r - s3), without cancellation.
     q_r_ = omega2_ >= 0.0 ? (r_ + p_) * (r_ + p_) + omega2_
                           : (r_ + p_ - real_spread) * (r_ + p_ + real_spread);
+    // The regime. The discriminant of p in double, from the rates and relative
+    // to its terms' magnitudes, is within ~16 eps of the exact one (the
+    // model's or the rates'; each rate is within 5 ulps of the model's):
+    // beyond kAmbiguous its sign is certain and, when omega^2 agrees, the
+    // double-precision roots stand (away from the boundaries nothing changes).
+    // Closer, omega^2 would carry a relative error above ~1e-4, or the wrong
+    // sign: the regime is then decided exactly (~2 us) and the roots
+    // recomputed in 256 bits (~12 us), against ~3-5 us for a whole response
+    // otherwise.
+    const double disc = RelativeDiscriminant(beta_, k, kappa1_);
+    constexpr double kAmbiguous = 1e-12;
+    if (disc < -kAmbiguous && omega2_ > 0.0) {
+      regime_ = Regime::kComplexPair;
+    } else if (disc > kAmbiguous && omega2_ < 0.0) {
+      regime_ = Regime::kThreeReal;
+    } else {
+      regime_ = ExactRegime(exact);
+      const Spectrum wide = WideSpectrum(exact, regime_, rates.natural_frequency);
+      r_ = wide.r;
+      a_ = wide.a;
+      b_ = wide.b;
+      p_ = wide.p;
+      omega2_ = wide.omega2;
+      q_r_ = wide.q_r;
+      real_spread = omega2_ < 0.0 ? std::sqrt(-omega2_) : 0.0;
+    }
     // Slowest decay rate of the pair: P - sqrt(-omega^2) = b/(P + sqrt(-omega^2)).
     const double pair_slow = omega2_ >= 0.0 ? p_ : b_ / (p_ + real_spread);
     mu_ = std::max(0.0, std::min(-r_, pair_slow));
-    complex_pair_ = omega2_ > 0.0;
+    complex_pair_ = regime_ == Regime::kComplexPair;
     omega_ = complex_pair_ ? std::sqrt(omega2_) : 0.0;
     pair_is_slowest_ = complex_pair_ && p_ <= -r_;
   }
@@ -167,6 +423,8 @@ class ScaledSystem {
         return z.v;
       case Quantity::kForce:
         return Force(z);
+      case Quantity::kEnvelopeSlope:
+        return z.v + p_ * z.u;
     }
     return 0.0;
   }
@@ -179,6 +437,8 @@ class ScaledSystem {
         return -Force(z) + mu_ * z.v;
       case Quantity::kForce:
         return (kappa1_ + kappa2_) * z.v - kappa2_ * beta_ * z.d + mu_ * Force(z);
+      case Quantity::kEnvelopeSlope:
+        return -Force(z) + p_ * z.v + mu_ * (z.v + p_ * z.u);
     }
     return 0.0;
   }
@@ -191,6 +451,7 @@ class ScaledSystem {
   double pair_decay() const { return p_; }
   double real_root() const { return r_; }
   double omega2() const { return omega2_; }
+  Regime regime() const { return regime_; }
 
  private:
   // The real eigenvalue, or of three real ones the one farthest from the others.
@@ -278,6 +539,7 @@ class ScaledSystem {
   double kappa1_, kappa2_, beta_;
   double r_ = 0.0, a_ = 0.0, b_ = 0.0, p_ = 0.0, omega2_ = 0.0, q_r_ = 0.0;
   double mu_ = 0.0, omega_ = 0.0;
+  Regime regime_ = Regime::kComplexPair;
   bool complex_pair_ = false;
   bool pair_is_slowest_ = false;
 };
@@ -342,18 +604,44 @@ struct ScaledResponse {
       r.kappa1, r.beta, why));
 }
 
+// Without a complex pair x1 never returns to 0: a sum of three decaying
+// exponentials (polynomials times exponentials at a multiple root) has at most
+// two zeros counted with multiplicity, one is at t = 0, and it ends positive.
+void RequireComplexPair(const ScaledSystem& sys, const PoyntingThomsonRates& r) {
+  switch (sys.regime()) {
+    case Regime::kComplexPair:
+      return;
+    case Regime::kThreeReal:
+      ThrowNoKinematicSeparation(
+          r,
+          "the characteristic cubic has three real roots: x1 is a sum of three decaying "
+          "exponentials that stays positive");
+    case Regime::kDoubleRoot:
+      ThrowNoKinematicSeparation(
+          r,
+          "the characteristic cubic has three real roots, two of them equal: x1 is a sum of "
+          "decaying exponentials, one times a polynomial in t, that stays positive");
+    case Regime::kTripleRoot:
+      ThrowNoKinematicSeparation(
+          r,
+          "the characteristic cubic has three real roots, all equal: x1 is a decaying "
+          "exponential times a polynomial in t that stays positive");
+  }
+}
+
 // Kinematic contact end: first zero of u after the peak. x1 = exp(-P tau) g,
 // where g is a sinusoid of frequency omega plus a positive exponential, so
-// zeros only occur where the sinusoid is negative, one dip per slow period, and
-// none before tau = pi/omega. Sampled every (pi/omega)/16 from the peak, with
-// every local minimum of u between samples located and tested.
+// zeros only occur where the sinusoid is negative, where g is convex: one dip
+// per slow period, and none before tau = pi/omega. Sampled every (pi/omega)/16
+// from the peak, with every local minimum of g between samples located and
+// tested. Minima of g, not of x1: g' = exp(P tau)(x1' + P x1) is a sinusoid
+// plus a monotone exponential, whose sign changes samples catch, while x1'
+// can be negative but for a stretch far shorter than a sample around a narrow
+// dip (the pair decaying about as fast as the real root, near the triple
+// root: there x1's maximum and minimum both fell between two samples and a
+// later period's dip was reported).
 double KinematicEnd(const ScaledSystem& sys, const PoyntingThomsonRates& r, double tau_peak) {
-  if (!sys.complex_pair()) {
-    ThrowNoKinematicSeparation(
-        r,
-        "the characteristic cubic has three real roots: x1 is a sum of three decaying "
-        "exponentials that stays positive");
-  }
+  RequireComplexPair(sys, r);
   const double h = pi / (kSamplesPerHalfPeriod * sys.omega());
   // If the real root decays more slowly than the pair, x1 can only cross in
   // its first slow period; otherwise it crosses eventually, and 200 periods is
@@ -366,8 +654,9 @@ double KinematicEnd(const ScaledSystem& sys, const PoyntingThomsonRates& r, doub
     if (tau >= end) break;
     const ScaledSystem::State z_next = sys.At(tau_next);
     if (z_next.u <= 0.0) return RootOf(sys, Quantity::kU, false, tau, tau_next);
-    if (z.v < 0.0 && z_next.v > 0.0) {  // a local minimum of x1 between samples
-      const double tau_min = RootOf(sys, Quantity::kV, true, tau, tau_next);
+    if (sys.Value(Quantity::kEnvelopeSlope, z) < 0.0 &&
+        sys.Value(Quantity::kEnvelopeSlope, z_next) > 0.0) {  // a local minimum of g
+      const double tau_min = RootOf(sys, Quantity::kEnvelopeSlope, true, tau, tau_next);
       if (sys.At(tau_min).u <= 0.0) return RootOf(sys, Quantity::kU, false, tau, tau_min);
     }
     z = z_next;
@@ -384,8 +673,10 @@ double KinematicEnd(const ScaledSystem& sys, const PoyntingThomsonRates& r, doub
       "minimum before the dip that could take it below 0");
 }
 
-ScaledResponse Solve(const PoyntingThomsonRates& r, Separation separation) {
-  const ScaledSystem sys(r);
+ScaledResponse Solve(const PoyntingThomsonRates& r, const ExactInputs& exact,
+                     Separation separation) {
+  const ScaledSystem sys(r, exact);
+  if (separation == Separation::kKinematic) RequireComplexPair(sys, r);
   ScaledResponse out;
   // Peak: first zero of x1'. x1' > 0 on (0, sqrt 2) (the scaled force is at
   // most u <= tau there), so doubling starts at tau = 1.
@@ -428,7 +719,7 @@ PoyntingThomsonRates RatesOf(const PoyntingThomson& m) {
 
 PoyntingThomsonRoots CharacteristicRoots(const PoyntingThomson& m) {
   const PoyntingThomsonRates r = RatesOf(m);
-  const ScaledSystem sys(r);
+  const ScaledSystem sys(r, ExactOf(m));
   const double wn = r.natural_frequency;
   const double p = sys.pair_decay(), w2 = sys.omega2();
   PoyntingThomsonRoots out;
@@ -450,18 +741,21 @@ ContactResponse PoyntingThomsonContact(const PoyntingThomsonRates& r, double v,
                                        Separation separation) {
   CheckRates(r);
   CheckSpeed(v);
-  return ToPhysical(Solve(r, separation), r, v, separation);
+  return ToPhysical(Solve(r, ExactOf(r), separation), r, v, separation);
 }
 
 ContactResponse PoyntingThomsonContact(const PoyntingThomson& m, double v, Separation separation) {
-  return PoyntingThomsonContact(RatesOf(m), v, separation);
+  const PoyntingThomsonRates r = RatesOf(m);
+  CheckRates(r);
+  CheckSpeed(v);
+  return ToPhysical(Solve(r, ExactOf(m), separation), r, v, separation);
 }
 
 PoyntingThomsonState PoyntingThomsonStateAt(const PoyntingThomson& m, double v, double t) {
   const PoyntingThomsonRates r = RatesOf(m);
   CheckSpeed(v);
   if (!(t >= 0.0)) throw std::invalid_argument(fmt::format("time must be >= 0, got {}", t));
-  const ScaledSystem sys(r);
+  const ScaledSystem sys(r, ExactOf(m));
   const double tau = r.natural_frequency * t;
   const ScaledSystem::State z = sys.At(tau);
   const double undo_shift = std::exp(-sys.mu() * tau);
@@ -476,7 +770,7 @@ PoyntingThomsonState PoyntingThomsonStateAt(const PoyntingThomson& m, double v, 
 
 double PoyntingThomsonCompression(const PoyntingThomsonRates& r, double v, double t) {
   CheckRates(r);
-  const ScaledSystem sys(r);
+  const ScaledSystem sys(r, ExactOf(r));
   const double tau = r.natural_frequency * t;
   return v / r.natural_frequency * sys.At(tau).u * std::exp(-sys.mu() * tau);
 }
@@ -485,7 +779,8 @@ PoyntingThomsonContactLaw::PoyntingThomsonContactLaw(const PoyntingThomson& mode
                                                      Separation separation)
     : rates_(RatesOf(model)), separation_(separation) {
   try {
-    unit_response_ = PoyntingThomsonContact(rates_, 1.0, separation);
+    // From the model, not rates_: the regime is the model's (see ExactInputs).
+    unit_response_ = PoyntingThomsonContact(model, 1.0, separation);
   } catch (const NoSeparationError& e) {
     no_separation_ = e.what();
   }

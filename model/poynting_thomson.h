@@ -36,11 +36,22 @@
 //  - force: F first returns to 0. Always happens, continuous in every regime.
 //  - kinematic: x1 first returns to 0. Never happens with three real roots
 //    (x1 is then a sum of three exponentials with at most one more zero, and it
-//    ends positive), nor with a complex pair whose decay is faster than the
-//    real root's when x1 does not cross within the first slow period; both
-//    throw NoSeparationError. Approaching the three-real-roots region from the
-//    side where the complex pair is the slow mode, tau_c ~ pi/omega diverges and
-//    e underflows: log_restitution stays finite.
+//    ends positive; likewise at a double or triple root), nor with a complex
+//    pair whose decay is faster than the real root's when x1 does not cross
+//    within the first slow period; both throw NoSeparationError. Approaching
+//    the three-real-roots region from the side where the complex pair is the
+//    slow mode, tau_c ~ pi/omega diverges and e underflows: log_restitution
+//    stays finite.
+//
+// Which of these regimes applies is decided exactly, from the sign of the
+// cubic's discriminant evaluated in integer arithmetic from the input doubles
+// (C M s^3 + K2 M s^2 + (K1 + K2) C s + K1 K2), not from computed roots: near
+// a double root those are off by ~sqrt(eps), near the triple root by
+// ~eps^(1/3), far more than the distance to the boundary (doubles 1e-12 from
+// the triple root can be 1e-39 from the boundary, relative to the
+// discriminant's terms). Within 1e-12 of it (so relative) the roots are also
+// recomputed in 256 bits from the inputs, and the responses are then accurate
+// to ~eps; farther out the double-precision roots stand, within cond * eps.
 #pragma once
 
 #include <array>
@@ -74,9 +85,10 @@ PoyntingThomsonRates RatesOf(const PoyntingThomson& model);
 
 // Roots of the characteristic cubic (rad/s), for diagnostics and reports:
 // roots[0] is the real root used above, roots[1], roots[2] the other two.
-// Near a double or triple root they carry errors of order sqrt(eps) or
-// eps^(1/3) relative (the problem's own conditioning); the responses above do
-// not inherit them.
+// complex_pair is exact (as above). Within ~1e-12 of a double or triple root,
+// relative to the discriminant's terms, the roots come from 256-bit arithmetic
+// and are accurate to rounding; farther out, from double precision, their
+// errors stay below ~1e-4 of the distance between the nearest two.
 struct PoyntingThomsonRoots {
   std::array<std::complex<double>, 3> roots;  // s, rad/s (real parts negative)
   bool complex_pair = false;                  // one real root and a complex pair
@@ -86,6 +98,13 @@ PoyntingThomsonRoots CharacteristicRoots(const PoyntingThomson& model);
 // One impact at `impact_speed` > 0. Throws NoSeparationError where kinematic
 // separation never happens (see above; the message says why and suggests force
 // separation), std::invalid_argument for bad parameters or speed.
+//
+// The rates overload takes the rates as exact: its regime is that of B's own
+// cubic s^3 + beta s^2 + (kappa1 + kappa2) s + beta kappa1 with these doubles.
+// RatesOf rounds each rate, so within ~eps of a boundary a model and its rates
+// can fall on different sides (and give NoSeparationError and a finite, huge
+// tau_c): for a model use the model overload, as the contact law, the CLI
+// and the fits do.
 ContactResponse PoyntingThomsonContact(const PoyntingThomson& model, double impact_speed,
                                        Separation separation);
 ContactResponse PoyntingThomsonContact(const PoyntingThomsonRates& rates, double impact_speed,
@@ -105,10 +124,10 @@ PoyntingThomsonState PoyntingThomsonStateAt(const PoyntingThomson& model, double
 double PoyntingThomsonCompression(const PoyntingThomsonRates& rates, double impact_speed, double t);
 
 // The ContactLaw for the rebound history. A linear law: the response at unit
-// speed is computed once, here, and scaled (tau_c and e do not depend on the
-// speed; peak compression is proportional to it). A law that never separates
-// under the chosen convention can be built; Respond then throws
-// NoSeparationError with the diagnostic.
+// speed is computed once, here, from the model (its regime), and scaled (tau_c
+// and e do not depend on the speed; peak compression is proportional to it). A
+// law that never separates under the chosen convention can be built; Respond
+// then throws NoSeparationError with the diagnostic.
 class PoyntingThomsonContactLaw final : public ContactLaw {
  public:
   PoyntingThomsonContactLaw(const PoyntingThomson& model, Separation separation);

@@ -75,7 +75,7 @@ void CheckSame(const RunResult& a, const RunResult& b) {
   CHECK(Same(a.measured.xmax_sigma, b.measured.xmax_sigma));
   CHECK(Same(a.measured.t_peak, b.measured.t_peak));
   CHECK(Same(a.measured.t_peak_sigma, b.measured.t_peak_sigma));
-  CHECK(a.PeakTimesSource() == b.PeakTimesSource());
+  CHECK(std::string(a.PeakTimesSource()) == b.PeakTimesSource());
   CHECK(a.measured.contact_time == b.measured.contact_time);
   CHECK(Same(a.measured.contact_time_sigma, b.measured.contact_time_sigma));
   CHECK(a.measured.contact_time_source == b.measured.contact_time_source);
@@ -198,7 +198,7 @@ TEST_CASE("results_layout1: a layout-1 file reads with its values where they wer
   CHECK(run.ok);
   CHECK(run.measured.source == "typed-in");
   CHECK(run.measured.xmax == std::vector<double>{0.293, 0.195, 0.117, 0.060, 0.053});
-  CHECK(run.PeakTimesSource() == "model");
+  CHECK(std::string(run.PeakTimesSource()) == "model");
   // The session's one contact time is the fit's, not the run's.
   CHECK_FALSE(run.measured.contact_time.has_value());
   CHECK(run.fits.contact_time_source == "session");

@@ -109,7 +109,7 @@ TEST_CASE("html_report: a digitized photo's overlay is embedded, not linked") {
 TEST_CASE("svg_plot: text is escaped and the axes cover the data") {
   Plot plot;
   plot.title = "a < b & c";
-  plot.series.push_back({"s", {0.0, 1.0, 2.0}, {10.0, 20.0, 15.0}});
+  plot.series.push_back({"s", {0.0, 1.0, 2.0}, {10.0, 20.0, 15.0}, {}});
   const std::string svg = RenderSvg(plot);
   CHECK_THAT(svg, Catch::Contains("a &lt; b &amp; c"));
   CHECK_THAT(svg, Catch::Contains("<polyline"));
