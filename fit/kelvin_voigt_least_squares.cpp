@@ -171,13 +171,16 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   fit.rebound0_speed = {std::exp(w), std::exp(w) * sw};
   const fit_internal::AmplitudeSlope a0 = AmplitudeAndSlope(pendulum, std::exp(w));
   fit.rebound0_xmax = {a0.amplitude, a0.slope * std::exp(w) * sw};
-  // The model's maxima, with sigma from the gradient of X_n in (q, w).
+  // The model's maxima, with sigma from the gradient of X_n in (q, w), scaled
+  // by the Birge ratio where the scatter exceeds the stated sigmas: a
+  // prediction must cover what the data scatter by, not what they promised.
+  if (weighted) fit.scatter = CheckScatter(fit.chi2, fit.dof);
   const int count = measured.xmax.empty() ? 0 : static_cast<int>(measured.xmax.size());
   for (int n = 0; n < count; ++n) {
     const double v = std::exp(w + n * q);
     const fit_internal::AmplitudeSlope a = AmplitudeAndSlope(pendulum, v);
     const Eigen::Vector2d g(a.slope * v * n, a.slope * v);
-    fit.predicted_xmax.push_back({a.amplitude, std::sqrt(g.dot(cov * g))});
+    fit.predicted_xmax.push_back({a.amplitude, fit.scatter.Scale() * std::sqrt(g.dot(cov * g))});
   }
 
   if (!(q < 0.0)) {

@@ -80,10 +80,14 @@ struct KelvinVoigtLeastSquaresFit {
   ParameterCovariance covariance;
   ParameterCovariance fitted_covariance;
   std::vector<MaximumResidual> residuals;
-  double chi2 = 0.0;                     // sum of squared normalized residuals (no robust loss)
-  int dof = 0;                           // maxima - 2
-  Identifiability identifiability;       // over (ln e, ln v0)
-  std::vector<Estimate> predicted_xmax;  // the model's maxima of rebounds 0, 1, ...
+  double chi2 = 0.0;  // sum of squared normalized residuals (no robust loss)
+  int dof = 0;        // maxima - 2
+  // Weighted fits: chi^2 against its dof. The estimates keep their stated
+  // standard errors; the predicted maxima's are scaled by scatter.Scale().
+  ScatterCheck scatter;
+  Identifiability identifiability;  // over (ln e, ln v0)
+  std::vector<Estimate>
+      predicted_xmax;  // the model's maxima of rebounds 0, 1, ... (Birge-scaled sigma)
 };
 
 // Throws std::invalid_argument for fewer than two usable maxima (NaN entries

@@ -25,6 +25,8 @@ void CopyQuality(const FitStatus& status, const Identifiability& identifiability
   out.identifiability = identifiability.message;
   out.chi2 = chi2;
   out.dof = dof;
+  // Unweighted fits already scale their covariance by the residuals.
+  if (!covariance.scaled_by_residuals) out.scatter = CheckScatter(chi2, dof);
   out.covariance_names = covariance.names;
   out.correlation = covariance.correlation;
 }

@@ -361,6 +361,13 @@ void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary
   f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
   WriteNamedEstimates(out, g, fit.parameters);
   f.WriteScalar(g + "/chi2", fit.chi2, "1");
+  f.SetAttribute(g, "excess_scatter", static_cast<long long>(fit.scatter.excess));
+  f.WriteScalar(g + "/birge_ratio", fit.scatter.birge_ratio, "1");
+  f.WriteScalar(g + "/chi2_p_value", fit.scatter.p_value, "1");
+  for (const NamedEstimate& p : fit.parameters) {
+    f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
+                  UnitsOf(p.units, out.u));
+  }
   f.WriteScalar(g + "/seconds", fit.seconds, "s");
   if (!fit.predicted_xmax.empty()) {
     f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, out.u.length);
@@ -396,6 +403,11 @@ LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const s
   fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
   fit.parameters = ReadNamedEstimates(f, g);
   fit.chi2 = f.ReadScalar(g + "/chi2");
+  if (f.Exists(g + "/birge_ratio")) {  // since layout 2's issue-18 additions
+    fit.scatter.birge_ratio = f.ReadScalar(g + "/birge_ratio");
+    fit.scatter.p_value = f.ReadScalar(g + "/chi2_p_value");
+    fit.scatter.excess = f.ReadIntegerAttribute(g, "excess_scatter") != 0;
+  }
   fit.seconds = f.ReadScalar(g + "/seconds");
   fit.predicted_xmax = ReadVectorIfPresent(f, g + "/predicted_xmax");
   fit.normalized_residuals = f.ReadVector(g + "/normalized_residuals");
@@ -428,6 +440,7 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
     f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
     WriteNamedEstimates(out, h, m.parameters);
     f.WriteScalar(h + "/chi2", m.chi2, "1");
+    f.WriteScalar(h + "/birge_ratio", CheckScatter(m.chi2, m.dof).birge_ratio, "1");
     f.WriteScalar(h + "/aic", m.aic, "1");
     f.WriteScalar(h + "/bic", m.bic, "1");
     f.WriteScalar(h + "/log_restitution_spread", m.log_restitution_spread, "1");

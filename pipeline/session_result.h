@@ -33,6 +33,9 @@ struct LeastSquaresSummary {
   std::vector<NamedEstimate> parameters;
   double chi2 = 0.0;
   int dof = 0;
+  // chi^2 against its dof (weighted fits only): the Birge ratio that scales
+  // the stated standard errors where the scatter exceeds them.
+  ScatterCheck scatter;
   double seconds = 0.0;
   std::vector<double> predicted_xmax;        // rebound 0, 1, ... (when the model predicts them)
   std::vector<double> normalized_residuals;  // (measured - model)/sigma per maximum

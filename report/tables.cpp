@@ -154,21 +154,38 @@ Cell Determined(const LeastSquaresSummary& fit, const std::string& name, int dig
   return WithSigma(shown, digits);
 }
 
+// "ok", or the flag of a fit whose scatter exceeds its stated sigmas.
+std::string ScatterStatus(const ScatterCheck& scatter) {
+  if (!scatter.excess) return "ok";
+  return fmt::format("ok; excess scatter: scaled ± = {:.3g} x stated", scatter.Scale());
+}
+
 Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) {
   Table t;
   t.name = "kelvin_voigt_least_squares";
   t.caption = "Kelvin-Voigt by least squares over every rebound maximum of each run";
-  t.columns = {
-      "Run",  "zeta", "e",     fmt::format("K ({})", u.stiffness), fmt::format("C ({})", u.damping),
-      "chi2", "dof",  "Status"};
+  t.columns = {"Run",
+               "zeta",
+               "e",
+               fmt::format("K ({})", u.stiffness),
+               fmt::format("C ({})", u.damping),
+               "chi2",
+               "dof",
+               "Birge ratio",
+               "Status"};
   for (const RunResult& run : r.runs) {
     const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "kelvin_voigt_least_squares");
     if (fit == nullptr) continue;
     t.rows.push_back({run.id, Determined(*fit, "zeta", 5), Determined(*fit, "restitution", 4),
                       Determined(*fit, "stiffness", 0), Determined(*fit, "damping", 3),
-                      Sig(fit->chi2, 3), Count(fit->dof), fit->ok ? "ok" : fit->reason});
+                      Sig(fit->chi2, 3), Count(fit->dof), Sig(fit->scatter.birge_ratio, 3),
+                      fit->ok ? ScatterStatus(fit->scatter) : fit->reason});
   }
-  t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37)."};
+  t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37).",
+             "The ± are the stated standard errors (from the maxima's sigmas). Where chi2 is "
+             "significantly above its dof (p < 0.001) the status says by how much the scatter "
+             "exceeds them: multiply the ± by the Birge ratio sqrt(chi2/dof) (the results file "
+             "has them as *_std_error_scaled; the model's predicted maxima use them)."};
   return t;
 }
 
@@ -190,6 +207,10 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
     std::string identifiability = fit.ok ? fit.termination : fit.reason;
     if (fit.identifiable) {
       identifiability = "K1, K2 and C determined";
+      if (fit.scatter.excess) {
+        identifiability +=
+            fmt::format(" (scatter {:.3g} x the sigmas: scale the ±)", fit.scatter.birge_ratio);
+      }
     } else if (!fit.identifiability.empty()) {
       identifiability = fmt::format("{} of 3 combinations determined", fit.rank);
       if (const auto last = fit.identifiability.rfind(". "); last != std::string::npos) {

@@ -134,3 +134,24 @@ TEST_CASE("On Hunt-Crossley data with strong speed dependence the comparison pre
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("The scatter check: chi2 at its dof keeps the stated errors, far above scales them",
+          "[birge]") {
+  // P(chi2_20 >= 20) = 0.4579 (tables); P(chi2_20 >= 200) is ~1e-31.
+  const ScatterCheck fair = CheckScatter(20.0, 20);
+  CHECK(fair.p_value == Approx(0.4579).margin(1e-4));
+  CHECK_FALSE(fair.excess);
+  CHECK(fair.Scale() == 1.0);
+  const ScatterCheck wide = CheckScatter(200.0, 20);
+  CHECK(wide.excess);
+  CHECK(wide.birge_ratio == Approx(std::sqrt(10.0)));
+  CHECK(wide.Scale() == Approx(std::sqrt(10.0)));
+  // Just significant: the 99.9 % point of chi2_10 is 29.588.
+  CHECK_FALSE(CheckScatter(29.5, 10).excess);
+  CHECK(CheckScatter(29.7, 10).excess);
+  CHECK_FALSE(CheckScatter(5.0, 0).excess);  // no degrees of freedom: nothing to check
+}
+
+}  // namespace impactlab
