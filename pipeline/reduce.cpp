@@ -18,6 +18,7 @@
 #include "pipeline/log_results.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
+#include "rebounds/rebound_anomalies.h"
 
 namespace impactlab {
 namespace {
@@ -451,6 +452,14 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     progress.Done("run " + runs[i].id, runs[i].ok, runs[i].reused);
   });
   result.runs = std::move(runs);
+  for (RunResult& run : result.runs) {
+    if (!run.ok) continue;
+    const RunMeasurement& m = run.measured;
+    for (const ReboundAnomaly& a : FindReboundAnomalies(
+             pendulum, m.xmax, m.xmax_sigma, m.rebound_duration, m.rebound_duration_sigma)) {
+      run.anomalies.push_back(a.why);
+    }
+  }
   for (const RunResult& run : result.runs) {
     if (!run.ok || !run.measured.right || !run.measured.left) continue;
     if (const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left)) {

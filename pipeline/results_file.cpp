@@ -721,13 +721,18 @@ void WriteRebounds(Out& out, const RunResult& run) {
   }
   if (!m.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", m.t_peak_sigma, "s");
   if (!m.rebound_duration.empty()) f.WriteVector(g + "/duration", m.rebound_duration, "s");
+  if (!m.rebound_duration_sigma.empty()) {
+    f.WriteVector(g + "/duration_std_error", m.rebound_duration_sigma, "s");
+  }
+  if (run.ok) f.WriteStrings(g + "/anomalies", run.anomalies);
   WriteReboundScale(out, g, 0, m.xmax.size(),
                     SameLength(g, m.xmax.size(),
                                {{"xmax", m.xmax.size()},
                                 {"xmax_std_error", m.xmax_sigma.size()},
                                 {"t_peak", t_peak.size()},
                                 {"t_peak_std_error", m.t_peak_sigma.size()},
-                                {"duration", m.rebound_duration.size()}}));
+                                {"duration", m.rebound_duration.size()},
+                                {"duration_std_error", m.rebound_duration_sigma.size()}}));
   if (m.right) WriteBar(out, g + "/right", *m.right);
   if (m.left) WriteBar(out, g + "/left", *m.left);
 }
@@ -946,6 +951,8 @@ void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   }
   m.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
   m.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
+  m.rebound_duration_sigma = ReadVectorIfPresent(f, g + "/rebounds/duration_std_error");
+  if (f.Exists(g + "/rebounds/anomalies")) run.anomalies = f.ReadStrings(g + "/rebounds/anomalies");
   if (f.Exists(g + "/rebounds/right")) m.right = ReadBar(f, g + "/rebounds/right");
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }

@@ -118,7 +118,8 @@ struct RunMeasurement {
   // Trace-based runs: each bar's rebounds (the run's xmax is their average,
   // as the thesis did) and the calibrations used.
   std::optional<BarRebounds> right, left;
-  std::vector<double> rebound_duration;  // s, of the average, session numbering
+  std::vector<double> rebound_duration;        // s, of the average, session numbering
+  std::vector<double> rebound_duration_sigma;  // s, one-sigma (empty: not known)
   std::vector<CellCalibration> calibrations;
   // Figures 16-18: the measured displacement (the average of the bars), length units.
   Curve measured_displacement;
@@ -157,6 +158,9 @@ struct RunResult {
 
   RunMeasurement measured;
   RunFits fits;  // empty unless fitted
+  // Rebounds the free pendulum cannot explain (rebounds/rebound_anomalies.h),
+  // one sentence each; marked, not dropped.
+  std::vector<std::string> anomalies;
 
   // The stage settings its measurement and fits used, of the stages that
   // apply to it (pipeline/stage_options.h), by key.

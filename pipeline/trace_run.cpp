@@ -317,6 +317,7 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   out.t_peak = both.t_peak;
   out.t_peak_sigma = both.t_peak_sigma;
   out.rebound_duration = both.duration;
+  out.rebound_duration_sigma = both.duration_sigma;
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
     const std::string key = RunKey(run) + ".traces.contact";

@@ -7,6 +7,15 @@
 
 namespace impactlab {
 
+namespace {
+
+// A bar read back from a results file has no duration sigmas: 0 (unknown).
+double SigmaAt(const std::vector<double>& sigma, std::size_t n) {
+  return n < sigma.size() ? sigma[n] : 0.0;
+}
+
+}  // namespace
+
 BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound) {
   BarRebounds out;
   for (const ExtractedRebound& r : extraction.rebounds) {
@@ -18,6 +27,7 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
     out.t_peak.push_back(r.t_peak.value);
     out.t_peak_sigma.push_back(r.t_peak.sigma);
     out.duration.push_back(r.duration.value);
+    out.duration_sigma.push_back(r.duration.sigma);
   }
   return out;
 }
@@ -58,6 +68,8 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
     out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
     out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
     out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
+    out.duration_sigma.push_back(
+        0.5 * std::hypot(SigmaAt(right.duration_sigma, n), SigmaAt(left.duration_sigma, n)));
   }
   if (disagreement) return out;
   for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
@@ -66,6 +78,7 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
     out.t_peak.push_back(averaged.t_peak[n]);
     out.t_peak_sigma.push_back(averaged.t_peak_sigma[n]);
     out.duration.push_back(averaged.duration[n]);
+    out.duration_sigma.push_back(SigmaAt(averaged.duration_sigma, n));
   }
   return out;
 }

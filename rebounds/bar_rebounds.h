@@ -17,6 +17,7 @@ struct BarRebounds {
   std::vector<double> xmax, xmax_sigma;      // session numbering
   std::vector<double> t_peak, t_peak_sigma;  // s since release
   std::vector<double> duration;              // s, between the flank's zero crossings
+  std::vector<double> duration_sigma;        // s, one-sigma, same length
 };
 
 // Session numbering: PENDUL rebound N is session rebound N - first_rebound.

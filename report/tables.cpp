@@ -289,6 +289,21 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
   return t;
 }
 
+Table ReboundAnomalyTable(const SessionResult& r) {
+  Table t;
+  t.name = "rebound_anomalies";
+  t.caption = "Rebounds the free pendulum cannot explain (marked, not dropped)";
+  t.columns = {"Run", "Anomaly"};
+  for (const RunResult& run : r.runs) {
+    for (const std::string& a : run.anomalies) t.rows.push_back({run.id, a});
+  }
+  t.notes = {
+      "A rebound whose maximum exceeds its predecessor's, or whose duration departs from "
+      "the pendulum's half period at its amplitude, by more than 3 combined sigma: the "
+      "swing was disturbed (support wires, a second contact) or misread."};
+  return t;
+}
+
 Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& u) {
   Table t;
   t.name = "contact_laws";
@@ -498,6 +513,7 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   }
   if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
   if (!r.contact_laws.empty()) tables.push_back(ContactLawTable(r.contact_laws, u));
+  tables.push_back(ReboundAnomalyTable(r));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
   for (const LogResult& log : r.logs) {
     if (log.ok) tables.push_back(LogTable(log));
