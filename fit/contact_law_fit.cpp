@@ -487,6 +487,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     throw std::invalid_argument(
         fmt::format("a contact law needs two runs or more, got {}", runs.size()));
   }
+  const auto start = std::chrono::steady_clock::now();
   std::vector<PreparedRun> prepared;
   for (const LawRun& run : runs) prepared.push_back(Prepare(run, options.use_contact_times));
   Solved solved = Solve(kind, prepared, options);
@@ -509,6 +510,8 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     }
     PredictHeldOut(refit.law, refit.theta, prepared[h], &ss_norm, &ss_length, &count, &ok);
   }
+  fit.status.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fit.loo_ok = ok && count > 0;
   fit.loo_maxima = count;
   if (count > 0) {

@@ -72,7 +72,7 @@ struct ContactLawFit {
   bool ok = false;
   std::string reason;           // why not, when !ok
   std::string identifiability;  // one sentence: which data fix which parameter
-  FitStatus status;
+  FitStatus status;             // seconds: the whole fit, leave-one-out included
 
   // The law's parameters with their stated standard errors (from the
   // measurements' sigmas) and, in `scatter`, the Birge ratio that scales them.
