@@ -99,6 +99,12 @@ int main(int argc, char** argv) {
                     {"hertz_stiffness", hc.stiffness},
                     {"exponent", 1.5}}});
 
+  const HertzDamper hd{kMass, 4.7e7, 1.5, 0.6};
+  cases.push_back({"hertz-damper",
+                   ContactLawKind::kHertzDamper,
+                   std::make_unique<HertzDamperContactLaw>(hd, Separation::kKinematic),
+                   {{"damping", hd.damping}, {"hertz_stiffness", hd.stiffness}}});
+
   ContactLawFitOptions options;
   options.leave_one_out = false;
   for (double scale : {1.0, error_scale}) {

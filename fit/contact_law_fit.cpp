@@ -71,7 +71,7 @@ struct LawModel {
   int StiffnessIndex() const { return HasDamping() ? 1 : 0; }
 
   template <typename T>
-  bool Restitution(const T* theta, const T& speed, T* e) const {
+  bool Restitution(const T* theta, const T& speed, double mass, T* e) const {
     using std::acos;
     using std::exp;
     using std::sqrt;
@@ -91,8 +91,41 @@ struct LawModel {
       case ContactLawKind::kHuntCrossleyExponent:
         *e = hunt_crossley::RestitutionOf(exp(theta[0]) * speed);
         return true;
+      case ContactLawKind::kHertzDamper: {
+        T s_c;
+        return Damper(theta, speed, mass, e, &s_c);
+      }
     }
     return false;
+  }
+
+  // The Hertz peak compression x* = ((n+1) M v^2 / (2k))^(1/(n+1)) in T.
+  template <typename T>
+  T PeakScale(const T& log_k, const T& n, const T& speed, double mass) const {
+    using std::exp;
+    using std::log;
+    const T one(1.0);
+    return exp((log((n + one) * T(0.5 * mass) * speed * speed) - log_k) / (n + one));
+  }
+
+  // The damper's e and scaled contact time at beta = c x*/(M v), carried to T
+  // by their derivatives in beta.
+  template <typename T>
+  bool Damper(const T* theta, const T& speed, double mass, T* e, T* s_c) const {
+    using std::exp;
+    const T beta =
+        exp(theta[0]) * PeakScale(theta[1], T(exponent), speed, mass) / (T(mass) * speed);
+    const double b = ValueOf(beta);
+    if (!(b >= 0.0) || !std::isfinite(b)) return false;
+    HertzDamperScaled d;
+    try {
+      d = HertzDamperScaledImpact(exponent, b, separation, 1e-9);
+    } catch (const std::exception&) {
+      return false;  // no separation there: Ceres shrinks the step
+    }
+    *e = T(d.restitution) + T(d.d_restitution) * (beta - T(b));
+    *s_c = T(d.contact_time) + T(d.d_contact_time) * (beta - T(b));
+    return true;
   }
 
   template <typename T>
@@ -113,9 +146,13 @@ struct LawModel {
       return true;
     }
     const T n = FitsExponent() ? theta[StiffnessIndex() + 1] : T(exponent);
-    const T one(1.0);
-    // x* = ((n+1) M v^2 / (2k))^(1/(n+1)), t* = x*/v.
-    const T x_star = exp((log((n + one) * T(0.5 * mass) * speed * speed) - log_k) / (n + one));
+    const T x_star = PeakScale(log_k, n, speed, mass);  // t* = x*/v
+    if (kind == ContactLawKind::kHertzDamper) {
+      T e, s_c;
+      if (!Damper(theta, speed, mass, &e, &s_c)) return false;
+      *tau = x_star / speed * s_c;
+      return true;
+    }
     if (kind == ContactLawKind::kHertz) {
       *tau = x_star / speed * T(hertz_time);
       return true;
@@ -165,7 +202,7 @@ struct RunResiduals {
       if (run->has_contact && n == r.contact_rebound && !contact_at(v)) return false;
       if (n < run->last) {
         T e;
-        if (!law->Restitution(theta, v, &e)) return false;
+        if (!law->Restitution(theta, v, r.mass, &e)) return false;
         v = v * e;
       }
     }
@@ -240,6 +277,11 @@ std::string Sentence(const LawModel& law, const std::vector<PreparedRun>& runs,
       s = fmt::format("chi from how e changes with impact speed; {}; n fixed at {}", k_part,
                       law.exponent);
       break;
+    case ContactLawKind::kHertzDamper:
+      s = fmt::format(
+          "c k^(-1/(n+1)) from the maxima' decay and its speed dependence; {}; n fixed at {}",
+          k_part, law.exponent);
+      break;
     case ContactLawKind::kHuntCrossleyExponent:
       s = fmt::format("chi from how e changes with impact speed; {}; {}", k_part,
                       law.FitsExponent()
@@ -305,6 +347,23 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
       theta[1] = std::log(StiffnessFromContactTime(mass, tau, zeta, options.separation));
       names.push_back("log K");
     }
+  } else if (kind == ContactLawKind::kHertzDamper) {
+    if (!law.fit_stiffness) {
+      fit.reason = "needs contact times: the maxima alone fix only the combination c k^(-1/(n+1))";
+      fit.status.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return out;
+    }
+    // Hertz's k from the contact times, then c from the damping ratio the
+    // decay suggests: at n = 1, beta = 2 zeta.
+    const double n = law.exponent;
+    const double x_star = tau * speed / law.hertz_time;
+    const double log_k =
+        std::log(0.5 * (n + 1.0) * mass * speed * speed) - (n + 1.0) * std::log(x_star);
+    const double zeta = DampingRatioFromLogRestitution(q, options.separation);
+    theta[0] = std::log(2.0 * zeta * mass * speed / x_star);
+    theta[1] = log_k;
+    names = {"log c", "log k"};
   } else {
     if (law.HasDamping()) {
       const double chi = DampingFactorFor(std::exp(q), speed, DampingFactorConvention::kExact);
@@ -419,6 +478,7 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
     if (name == "log K") fit.parameters.push_back({"stiffness", "stiffness", e});
     if (name == "log chi") fit.parameters.push_back({"damping_factor", "inverse_speed", e});
     if (name == "log k") fit.parameters.push_back({"hertz_stiffness", "hertz_stiffness", e});
+    if (name == "log c") fit.parameters.push_back({"damping", "damping", e});
   }
   for (std::size_t i = 0; i < w.size(); ++i) {
     const auto wi = p + static_cast<Eigen::Index>(i);
@@ -436,7 +496,7 @@ void PredictHeldOut(const LawModel& law, const std::vector<double>& theta, const
   std::size_t k = 1;
   for (int n = p.rebounds.front(); n < p.last && k < p.x.size(); ++n) {
     double e = 1.0;
-    if (!law.Restitution(theta.data(), v, &e)) {
+    if (!law.Restitution(theta.data(), v, p.run->mass, &e)) {
       *ok = false;
       return;
     }
@@ -467,6 +527,8 @@ const char* ContactLawName(ContactLawKind kind) {
       return "hunt-crossley";
     case ContactLawKind::kHuntCrossleyExponent:
       return "hunt-crossley-n";
+    case ContactLawKind::kHertzDamper:
+      return "hertz-damper";
   }
   return "";
 }

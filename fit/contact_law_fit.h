@@ -19,6 +19,11 @@
 //   hunt-crossley    e = e(chi v) from the maxima alone; k from the contact times; n = 3/2
 //   hunt-crossley-n  n free as well: tau_c ~ v^(-(n-1)/(n+1)) needs contact times
 //                    at two or more speeds
+//   hertz-damper     F = k x^n + c x' (n fixed): e depends on c k^(-1/(n+1)) and the
+//                    speed, so the maxima fix that combination and the contact
+//                    times k; without contact times it is not fitted. Its
+//                    derivatives come from the variational equations of the
+//                    integration (model/contact_integration.h)
 // A parameter the data cannot fix is left out of the fit and named in the
 // `identifiability` sentence.
 #pragma once
@@ -33,7 +38,13 @@
 
 namespace impactlab {
 
-enum class ContactLawKind { kKelvinVoigt, kHertz, kHuntCrossley, kHuntCrossleyExponent };
+enum class ContactLawKind {
+  kKelvinVoigt,
+  kHertz,
+  kHuntCrossley,
+  kHuntCrossleyExponent,
+  kHertzDamper
+};
 const char* ContactLawName(ContactLawKind kind);  // "kelvin-voigt", "hertz", ...
 
 struct LawRun {

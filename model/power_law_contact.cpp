@@ -136,6 +136,22 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
                 separation);
 }
 
+HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
+                                          double tolerance) {
+  const double half = 0.5 * (exponent + 1.0);
+  const ScaledForceWithPartials force{[=](double u, double w) {
+    const double a = std::abs(u);
+    // f = ((n+1)/2) sign(u) |u|^n + beta w; f_u, f_w, f_beta.
+    return std::array<double, 4>{half * std::copysign(std::pow(a, exponent), u) + beta * w,
+                                 half * exponent * std::pow(a, exponent - 1.0), beta, w};
+  }};
+  ScaledIntegrationOptions options;
+  options.tolerance = tolerance;
+  const ScaledImpactSensitivity s =
+      IntegrateScaledImpactWithSensitivity(force, separation, options);
+  return {s.impact.contact_time, -s.impact.exit_rate, s.d_contact_time, -s.d_exit_rate};
+}
+
 const char* DampingFactorConventionName(DampingFactorConvention convention) {
   switch (convention) {
     case DampingFactorConvention::kExact:

@@ -64,6 +64,18 @@ ContactResponse HuntCrossleyContact(const HuntCrossley& model, double impact_spe
 ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed,
                                    Separation separation);
 
+// The damper's impact in the Hertz scaling (u = x/x*, s = t v0/x*) as a
+// function of beta = c x*/(M v0) alone, with the derivatives in beta that the
+// fits need (the variational equations, model/contact_integration.h).
+struct HertzDamperScaled {
+  double contact_time = 0.0;    // s_c
+  double restitution = 0.0;     // e
+  double d_contact_time = 0.0;  // d s_c / d beta
+  double d_restitution = 0.0;   // d e / d beta
+};
+HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
+                                          double tolerance = 1e-13);
+
 // Hunt-Crossley restitution at eps = chi v0 >= 0 (1 at eps = 0), exact to a
 // few ulp over eps in [0, 1e300).
 double HuntCrossleyRestitution(double eps);

@@ -33,6 +33,7 @@ struct LawInputs {
   // Per run id: the session rebound its measured contact time's impact follows
   // (-1: the release's impact). Runs absent: their contact time is not used.
   std::map<std::string, int> contact_rebounds;
+  int jobs = 1;  // threads the contact-law fits may use
 };
 
 // The restitution models, and the contact laws' predictions of the maxima

@@ -472,7 +472,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.joint_fits = FitSessionJointly(pendulum, session.apparatus->mass, result.separation,
                                         session_options.fit, result.runs);
   const LawInputs law_inputs{pendulum, session.apparatus->mass, result.separation,
-                             ContactRebounds(session)};
+                             ContactRebounds(session), options.jobs};
   std::string why;
   result.model_comparison = CompareModels(law_inputs, session_options.fit, result.runs, &why);
   if (!result.model_comparison) result.warnings.push_back(why);

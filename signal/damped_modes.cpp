@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "signal/singular_vectors.h"
 #include "signal/spectrum.h"
 
 namespace impactlab {
@@ -143,8 +144,7 @@ std::vector<Pole> PencilPoles(std::span<const double> y, double sample_rate_hz,
   for (Eigen::Index i = 0; i < rows; ++i) {
     for (Eigen::Index j = 0; j <= pencil; ++j) hankel(i, j) = x(i + j);
   }
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(hankel, Eigen::ComputeThinV);
-  const Eigen::MatrixXd v = svd.matrixV().leftCols(p);
+  const Eigen::MatrixXd v = LeadingRightSingularVectors(hankel, p);
   const Eigen::MatrixXd v1 = v.topRows(pencil);
   const Eigen::MatrixXd v2 = v.bottomRows(pencil);
   const Eigen::MatrixXd a = v1.completeOrthogonalDecomposition().solve(v2);

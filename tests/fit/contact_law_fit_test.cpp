@@ -155,3 +155,35 @@ TEST_CASE("The scatter check: chi2 at its dof keeps the stated errors, far above
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("A Hertz spring with a damper across runs recovers c and k within their sigmas",
+          "[contact_law]") {
+  const HertzDamper truth{kMass, 4.7e7, 1.5, 0.6};
+  LawSessionOptions options;
+  options.xmax_sigma = 2e-4;
+  options.seed = 13;
+  const auto runs = AsLawRuns(
+      DrawLawSession(kPendulum, HertzDamperContactLaw(truth, Separation::kKinematic), options));
+  ContactLawFitOptions fit_options;
+  fit_options.leave_one_out = false;
+  const ContactLawFit fit = FitContactLaw(ContactLawKind::kHertzDamper, runs, fit_options);
+  REQUIRE(fit.ok);
+  INFO(fit.identifiability);
+  CHECK(std::abs(Pull(Parameter(fit, "damping"), truth.damping)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(fit, "hertz_stiffness"), truth.stiffness)) < 4.0);
+  CHECK(fit.chi2 / fit.dof < 2.5);
+  // Without contact times it says why it cannot be fitted.
+  LawSessionOptions no_contact = options;
+  no_contact.contact_time_sigma = 0.0;
+  const ContactLawFit blind = FitContactLaw(
+      ContactLawKind::kHertzDamper,
+      AsLawRuns(DrawLawSession(kPendulum, HertzDamperContactLaw(truth, Separation::kKinematic),
+                               no_contact)),
+      fit_options);
+  CHECK_FALSE(blind.ok);
+  CHECK(blind.reason.find("needs contact times") != std::string::npos);
+}
+
+}  // namespace impactlab

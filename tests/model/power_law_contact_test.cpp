@@ -178,3 +178,29 @@ TEST_CASE("Under Hunt-Crossley the rebound history's e rises as the impacts slow
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("The damper's derivatives in beta by the variational equations match differences",
+          "[power_law]") {
+  for (Separation sep : {Separation::kKinematic, Separation::kForce}) {
+    for (double n : {1.0, 1.5}) {
+      const double beta = 0.3, h = 1e-6;
+      const HertzDamperScaled at = HertzDamperScaledImpact(n, beta, sep);
+      const HertzDamperScaled up = HertzDamperScaledImpact(n, beta + h, sep);
+      const HertzDamperScaled down = HertzDamperScaledImpact(n, beta - h, sep);
+      INFO(SeparationName(sep) << ", n = " << n);
+      CHECK(at.d_restitution ==
+            Approx((up.restitution - down.restitution) / (2 * h)).epsilon(1e-6));
+      CHECK(at.d_contact_time ==
+            Approx((up.contact_time - down.contact_time) / (2 * h)).epsilon(1e-6));
+      // The value is the plain integration's.
+      // beta = c x*/(M v0): c = beta/x* at M = k = v0 = 1.
+      const double c = beta / HertzPeakCompression(1.0, 1.0, n, 1.0);
+      const ContactResponse r = HertzDamperContact({1.0, 1.0, n, c}, 1.0, sep);
+      CHECK(at.restitution == Approx(r.restitution).epsilon(1e-9));
+    }
+  }
+}
+
+}  // namespace impactlab

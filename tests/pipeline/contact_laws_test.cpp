@@ -59,7 +59,7 @@ TEST_CASE("A Hunt-Crossley session reduces to its law, preferred over the linear
   std::ofstream(dir.path() / "session.toml") << Manifest(runs);
 
   const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
-  REQUIRE(result.contact_laws.size() == 4);
+  REQUIRE(result.contact_laws.size() == 5);
   const ContactLawFit& hc = result.contact_laws[2];
   REQUIRE(hc.law == "hunt-crossley");
   REQUIRE(hc.ok);
