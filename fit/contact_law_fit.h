@@ -1,6 +1,5 @@
 // Contact laws fitted across a session's runs: maxima at the several impact
-// speeds of every run, and the runs' measured contact times (docs/fitting.md,
-// "Contact laws across runs").
+// speeds of every run, and the runs' measured contact times (docs/contact-laws.md).
 //
 // Run r's rebound 0 swings through equilibrium at v_{r,0} = exp(w_r) (a
 // nuisance parameter, as in the joint fits); each impact keeps the fraction

@@ -99,7 +99,7 @@ struct Identifiability {
 // Whether the scatter about a fit is what the stated sigmas promise: chi^2
 // against its distribution with `dof` degrees of freedom. Far above it the
 // sigmas understate the scatter, and the standard errors scaled by the Birge
-// ratio sqrt(chi^2/dof) are the honest ones (docs/fitting.md, "Honest
+// ratio sqrt(chi^2/dof) are the honest ones (docs/contact-laws.md, "Honest
 // uncertainty"). Scaled only when the excess is significant (p < 1e-3), so
 // that a fit whose sigmas are right keeps its stated errors and their coverage.
 struct ScatterCheck {

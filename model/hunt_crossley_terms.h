@@ -1,6 +1,6 @@
 // The dimensionless Hunt-Crossley impact, templated on the scalar so that the
-// fits differentiate it exactly with ceres::Jet (docs/fitting.md, "Contact
-// laws"). Header-only: model/hunt_crossley.h is the double-precision API.
+// fits differentiate it exactly with ceres::Jet (docs/contact-laws.md).
+// Header-only: model/power_law_contact.h is the double-precision API.
 //
 // F = k x^n (1 + chi x'), M x'' = -F, x(0) = 0, x'(0) = v0. Scaled by the
 // Hertz peak compression x* = ((n+1) M v0^2 / (2k))^(1/(n+1)) and the time

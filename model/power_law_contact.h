@@ -1,4 +1,4 @@
-// Power-law contacts (docs/fitting.md, "Contact laws"): the elastic Hertz law
+// Power-law contacts (docs/contact-laws.md): the elastic Hertz law
 // and the two ways of making it dissipate that multibody simulators use.
 //
 //   Hertz                F = k x^n                       (n = 3/2 for spheres)

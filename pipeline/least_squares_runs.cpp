@@ -327,7 +327,7 @@ void Evidence(ModelComparison& c, const std::vector<const RunResult*>& runs,
   }
   if (hertz) {
     c.evidence.push_back(fmt::format(
-        "The elastic Hertz law keeps e = 1: the maxima' decay {} it ({}).",
+        "The elastic Hertz law keeps e = 1: the maxima' decay {} it (verdict: {}).",
         hertz->verdict.rfind("rejected", 0) == 0 ? "rejects" : "does not reject", hertz->verdict));
   }
   if (Row(c, "common")) {
