@@ -2,10 +2,11 @@
 // sessions drawn from each law (synth/law_session.h: six runs, five maxima and
 // one contact time each, Gaussian reading errors of the stated sigmas), the
 // fraction of fits whose 68 % and 95 % intervals (1 and 1.96 sigma) hold the
-// truth, per parameter, with the pulls' RMS and the fit's run time
-// (docs/benchmarks.md). Then the same with reading errors three times the
-// stated sigmas: the stated errors must under-cover, the Birge-scaled ones
-// (ScatterCheck) cover again.
+// truth, per parameter, with the pulls' RMS and the fit's run time, and how
+// often the reported 68 % interval (linear, or from the chi^2 profile where
+// chi^2 is not quadratic) holds it (docs/benchmarks.md). Then the same with reading errors three
+// times the stated sigmas: the stated errors must under-cover, the Birge-scaled ones (ScatterCheck)
+// cover again.
 //
 //   bench_contact_law_coverage [--sessions 1000] [--seed 1] [--error-scale 3]
 #include <algorithm>
@@ -39,6 +40,7 @@ struct Case {
 
 struct Tally {
   int fits = 0, inside68 = 0, inside95 = 0;
+  int inside_interval = 0, profiles = 0;  // the 68 % interval (linear or profile)
   double pull_ss = 0.0;
 };
 
@@ -112,8 +114,9 @@ int main(int argc, char** argv) {
       if (scale == 1.0 && birge) continue;
       fmt::print("\nreading errors {} x the stated sigmas; {} standard errors\n", scale,
                  birge ? "Birge-scaled" : "stated");
-      fmt::print("{:<16} {:<16} {:>6} {:>8} {:>8} {:>9} {:>10} {:>8}\n", "law", "parameter", "fits",
-                 "in 68%", "in 95%", "pull RMS", "fit ms", "failed");
+      fmt::print("{:<16} {:<16} {:>6} {:>8} {:>8} {:>9} {:>10} {:>8} {:>12} {:>9}\n", "law",
+                 "parameter", "fits", "in 68%", "in 95%", "pull RMS", "fit ms", "failed",
+                 "in interval", "profiles");
       for (const Case& c : cases) {
         std::map<std::string, Tally> tallies;
         std::vector<double> ms;
@@ -142,12 +145,19 @@ int main(int argc, char** argv) {
             t.inside68 += std::abs(pull) <= 1.0;
             t.inside95 += std::abs(pull) <= 1.959964;
             t.pull_ss += pull * pull;
+            for (const ParameterInterval& in : fit.intervals) {
+              if (in.name != p.name) continue;
+              t.inside_interval += in.lower <= truth->second && truth->second <= in.upper;
+              t.profiles += in.profile;
+            }
           }
         }
         for (const auto& [name, t] : tallies) {
-          fmt::print("{:<16} {:<16} {:>6} {:>7.1f}% {:>7.1f}% {:>9.3f} {:>10.2f} {:>8}\n", c.name,
-                     name, t.fits, 100.0 * t.inside68 / t.fits, 100.0 * t.inside95 / t.fits,
-                     std::sqrt(t.pull_ss / t.fits), Median(ms), failed);
+          fmt::print(
+              "{:<16} {:<16} {:>6} {:>7.1f}% {:>7.1f}% {:>9.3f} {:>10.2f} {:>8} {:>11.1f}% {:>9}\n",
+              c.name, name, t.fits, 100.0 * t.inside68 / t.fits, 100.0 * t.inside95 / t.fits,
+              std::sqrt(t.pull_ss / t.fits), Median(ms), failed, 100.0 * t.inside_interval / t.fits,
+              t.profiles);
         }
       }
     }

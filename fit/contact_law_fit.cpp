@@ -294,6 +294,120 @@ std::string Sentence(const LawModel& law, const std::vector<PreparedRun>& runs,
   return s + ".";
 }
 
+// The profile of theta[i]: min chi^2 over the other parameters with theta[i]
+// held at t, minus the best fit's. Each profile point starts from the best
+// fit and leaves the problem there afterwards.
+class Profile {
+ public:
+  Profile(ceres::Problem& problem, std::vector<double>& theta, std::vector<double>& w, int i,
+          double chi2_min, const SolverControl& solver)
+      : problem_(problem),
+        theta_(theta),
+        w_(w),
+        i_(i),
+        chi2_min_(chi2_min),
+        solver_(solver),
+        theta0_(theta),
+        w0_(w) {
+    if (theta.size() == 1) {
+      problem_.SetParameterBlockConstant(theta_.data());
+    } else {
+      problem_.SetManifold(theta_.data(),
+                           new ceres::SubsetManifold(static_cast<int>(theta.size()), {i}));
+    }
+  }
+  ~Profile() {
+    theta_ = theta0_;
+    w_ = w0_;
+    if (theta_.size() == 1) {
+      problem_.SetParameterBlockVariable(theta_.data());
+    } else {
+      problem_.SetManifold(theta_.data(), nullptr);
+    }
+  }
+  Profile(const Profile&) = delete;
+  Profile& operator=(const Profile&) = delete;
+
+  // NaN where the solve fails.
+  double Rise(double t) {
+    theta_ = theta0_;
+    w_ = w0_;
+    theta_[static_cast<std::size_t>(i_)] = t;
+    FitStatus status;
+    fit_internal::Solve(problem_, solver_, &status);
+    if (!status.usable) return std::numeric_limits<double>::quiet_NaN();
+    return 2.0 * status.final_cost - chi2_min_;
+  }
+
+ private:
+  ceres::Problem& problem_;
+  std::vector<double>& theta_;
+  std::vector<double>& w_;
+  int i_;
+  double chi2_min_;
+  SolverControl solver_;
+  std::vector<double> theta0_, w0_;
+};
+
+// The 68 % interval of theta[i] (log space, or n itself): the linearised one
+// where the profile rises by s^2 at its ends (within `tolerance`), else where
+// the profile crosses s^2, found by doubling the step and then bisecting.
+ParameterInterval IntervalOf(ceres::Problem& problem, std::vector<double>& theta,
+                             std::vector<double>& w, int i, double sigma, double chi2_min,
+                             double scale, bool is_log, std::pair<double, double> bounds,
+                             const ContactLawFitOptions& options) {
+  const double center = theta[static_cast<std::size_t>(i)];
+  const double target = scale * scale;
+  const double half_width = sigma * scale;
+  ParameterInterval out;
+  Profile profile(problem, theta, w, i, chi2_min, options.solver);
+  std::array<double, 2> ends{};
+  std::array<double, 2> rises{};
+  bool linear_ok = true;
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? -1.0 : 1.0;
+    double t = std::clamp(center + sign * half_width, bounds.first, bounds.second);
+    const double rise = profile.Rise(t);
+    rises[side] = rise / target;
+    ends[side] = t;
+    linear_ok = linear_ok && std::isfinite(rise) &&
+                std::abs(rise / target - 1.0) <= options.profile_tolerance &&
+                t == center + sign * half_width;
+  }
+  out.rise_at_lower = rises[0];
+  out.rise_at_upper = rises[1];
+  if (!linear_ok) {
+    out.profile = true;
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? -1.0 : 1.0;
+      const double bound = side == 0 ? bounds.first : bounds.second;
+      // Bracket: inside where the rise is below the target.
+      double inside = center, outside = center + sign * half_width;
+      double rise = profile.Rise(outside);
+      for (int k = 0; k < 12 && !(rise >= target); ++k) {
+        if (outside == bound) break;
+        inside = outside;
+        outside = std::clamp(center + sign * half_width * std::pow(2.0, k + 1), bounds.first,
+                             bounds.second);
+        rise = profile.Rise(outside);
+      }
+      if (!(rise >= target)) {
+        ends[side] = outside;  // never reached: the bound (or the search's end)
+        out.at_bound = out.at_bound || outside == bound;
+        continue;
+      }
+      for (int k = 0; k < 30 && std::abs(outside - inside) > 1e-4 * half_width; ++k) {
+        const double mid = 0.5 * (inside + outside);
+        (profile.Rise(mid) >= target ? outside : inside) = mid;
+      }
+      ends[side] = 0.5 * (inside + outside);
+    }
+  }
+  out.lower = is_log ? std::exp(ends[0]) : ends[0];
+  out.upper = is_log ? std::exp(ends[1]) : ends[1];
+  return out;
+}
+
 struct Solved {
   ContactLawFit fit;
   LawModel law;
@@ -484,6 +598,17 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
     const auto wi = p + static_cast<Eigen::Index>(i);
     fit.run_rebound0_speed.push_back({std::exp(w[i]), std::exp(w[i]) * std::sqrt(cov(wi, wi))});
   }
+  if (options.profile_tolerance > 0.0) {
+    const double inf = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const bool is_n = names[static_cast<std::size_t>(i)] == "n";
+      ParameterInterval interval = IntervalOf(
+          problem, theta, w, static_cast<int>(i), std::sqrt(cov(i, i)), fit.chi2,
+          fit.scatter.Scale(), !is_n, is_n ? std::pair{0.5, 5.0} : std::pair{-inf, inf}, options);
+      interval.name = fit.parameters[static_cast<std::size_t>(i)].name;
+      fit.intervals.push_back(interval);
+    }
+  }
   fit.ok = true;
   return finish();
 }
@@ -556,7 +681,10 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
   ContactLawFit& fit = solved.fit;
   if (!fit.ok || !options.leave_one_out || prepared.size() < 3) return fit;
 
-  // Leave one run out: the law refitted on the others predicts it.
+  // Leave one run out: the law refitted on the others predicts it (no
+  // intervals needed of the refits).
+  ContactLawFitOptions refit_options = options;
+  refit_options.profile_tolerance = 0.0;
   double ss_norm = 0.0, ss_length = 0.0;
   int count = 0;
   bool ok = true;
@@ -565,7 +693,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     for (std::size_t i = 0; i < prepared.size(); ++i) {
       if (i != h) training.push_back(prepared[i]);
     }
-    const Solved refit = Solve(kind, training, options);
+    const Solved refit = Solve(kind, training, refit_options);
     if (!refit.fit.ok) {
       ok = false;
       continue;

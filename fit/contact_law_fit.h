@@ -62,6 +62,9 @@ struct ContactLawFitOptions {
   double exponent = 1.5;                           // n where it is not fitted
   bool use_contact_times = true;                   // false: the maxima alone
   bool leave_one_out = true;                       // also refit without each run
+  // Where the chi^2 profile's rise at the linearised ends (1 sigma out) is off
+  // 1 by more than this fraction, the interval comes from the profile.
+  double profile_tolerance = 0.2;
   SolverControl solver;
   double min_relative_singular_value = 1e-8;
 
@@ -70,11 +73,27 @@ struct ContactLawFitOptions {
   static void VisitSettings(Self& self, Visit&& visit) {
     visit("exponent", self.exponent, "n of the Hertz and Hunt-Crossley laws where not fitted");
     visit("leave_one_out", self.leave_one_out, "also refit without each run and predict it");
+    visit("profile_tolerance", self.profile_tolerance,
+          "profile-likelihood interval where the chi2 rise at 1 sigma is off 1 by more");
     visit("solver", self.solver, "");
     visit("min_relative_singular_value", self.min_relative_singular_value,
           "directions below this are not determined");
   }
   bool Check(std::string* why) const;
+};
+
+// A parameter's 68 % interval: the linearised value ± sigma (Birge-scaled
+// where the scatter is in excess) where the chi^2 profile agrees with it, else
+// the profile-likelihood interval, where the profile min chi^2(theta_i) rises
+// by s^2 (s the Birge scale) above its minimum.
+struct ParameterInterval {
+  std::string name;
+  double lower = 0.0, upper = 0.0;  // in the parameter's own units
+  bool profile = false;             // from the profile (the linearisation was off)
+  // The profile's rise at the linearised ends, in units of s^2 (1 where the
+  // chi^2 is quadratic there); NaN where not evaluated.
+  double rise_at_lower = 0.0, rise_at_upper = 0.0;
+  bool at_bound = false;  // an end stopped at a bound of the parameter (n in [0.5, 5])
 };
 
 struct ContactLawFit {
@@ -90,6 +109,7 @@ struct ContactLawFit {
   ParameterCovariance covariance;  // of the fitted logarithms (and n)
   ScatterCheck scatter;
   std::vector<Estimate> run_rebound0_speed;  // fitted v_{r,0}
+  std::vector<ParameterInterval> intervals;  // one per parameter, same order
 
   int maxima = 0;
   int contact_times = 0;

@@ -166,6 +166,9 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
   out.f.WriteVector(g + "/t_peak", bar.t_peak, "s");
   out.f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
   out.f.WriteVector(g + "/duration", bar.duration, "s");
+  if (!bar.duration_sigma.empty()) {
+    out.f.WriteVector(g + "/duration_std_error", bar.duration_sigma, "s");
+  }
   const std::size_t n = bar.xmax.size();
   WriteReboundScale(out, g, 0, n,
                     SameLength(g, n,
@@ -173,13 +176,14 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
                                 {"xmax_std_error", bar.xmax_sigma.size()},
                                 {"t_peak", bar.t_peak.size()},
                                 {"t_peak_std_error", bar.t_peak_sigma.size()},
-                                {"duration", bar.duration.size()}}));
+                                {"duration", bar.duration.size()},
+                                {"duration_std_error", bar.duration_sigma.size()}}));
 }
 
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
-  return {f.ReadVector(g + "/xmax"), f.ReadVector(g + "/xmax_std_error"),
-          f.ReadVector(g + "/t_peak"), f.ReadVector(g + "/t_peak_std_error"),
-          f.ReadVector(g + "/duration")};
+  return {f.ReadVector(g + "/xmax"),     f.ReadVector(g + "/xmax_std_error"),
+          f.ReadVector(g + "/t_peak"),   f.ReadVector(g + "/t_peak_std_error"),
+          f.ReadVector(g + "/duration"), ReadVectorIfPresent(f, g + "/duration_std_error")};
 }
 
 // The overlay's pixels, red-green-blue, as its JPEG decodes at a quarter of its width
@@ -504,6 +508,16 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
     f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
                   UnitsOf(p.units, out.u));
   }
+  std::vector<std::string> methods;
+  for (std::size_t i = 0; i < fit.intervals.size() && i < fit.parameters.size(); ++i) {
+    const ParameterInterval& in = fit.intervals[i];
+    const std::string units = UnitsOf(fit.parameters[i].units, out.u);
+    f.WriteScalar(g + "/" + in.name + "_interval_lower", in.lower, units);
+    f.WriteScalar(g + "/" + in.name + "_interval_upper", in.upper, units);
+    methods.push_back(std::string(in.profile ? "profile" : "linear") +
+                      (in.at_bound ? ", at a bound" : ""));
+  }
+  f.WriteStrings(g + "/interval_methods", methods);
   f.WriteScalar(g + "/chi2", fit.chi2, "1");
   f.WriteScalar(g + "/chi2_maxima", fit.chi2_maxima, "1");
   f.WriteScalar(g + "/chi2_contact", fit.chi2_contact, "1");
@@ -530,6 +544,18 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   fit.parameter_count = static_cast<int>(f.ReadIntegerAttribute(g, "parameter_count"));
   fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
   fit.parameters = ReadNamedEstimates(f, g);
+  if (f.Exists(g + "/interval_methods")) {
+    const std::vector<std::string> methods = f.ReadStrings(g + "/interval_methods");
+    for (std::size_t i = 0; i < methods.size() && i < fit.parameters.size(); ++i) {
+      ParameterInterval in;
+      in.name = fit.parameters[i].name;
+      in.lower = f.ReadScalar(g + "/" + in.name + "_interval_lower");
+      in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
+      in.profile = methods[i].rfind("profile", 0) == 0;
+      in.at_bound = methods[i].find("at a bound") != std::string::npos;
+      fit.intervals.push_back(in);
+    }
+  }
   fit.chi2 = f.ReadScalar(g + "/chi2");
   fit.chi2_maxima = f.ReadScalar(g + "/chi2_maxima");
   fit.chi2_contact = f.ReadScalar(g + "/chi2_contact");

@@ -323,6 +323,11 @@ Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& 
       if (p.units == "inverse_speed") shown.name += fmt::format(" (s/{})", u.length);
       parameters += (parameters.empty() ? "" : "; ") + ParameterText(shown, fit.scatter.Scale());
     }
+    for (const ParameterInterval& in : fit.intervals) {
+      if (!in.profile) continue;
+      parameters += fmt::format("; {} profile 68 % [{:.4g}, {:.4g}]{}", in.name, in.lower, in.upper,
+                                in.at_bound ? " (at a bound)" : "");
+    }
     if (parameters.empty()) parameters = "-";
     t.rows.push_back({fit.law + (fit.ok ? "" : " (failed)"), parameters, Count(fit.parameter_count),
                       Sig(fit.chi2_maxima, 4), Sig(fit.chi2_contact, 4), Count(fit.dof),
@@ -332,7 +337,8 @@ Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& 
   t.notes = {
       "Each law predicts every impact's e and contact time from its speed; a run's "
       "maxima follow impact by impact. Birge ratio sqrt(chi2/dof); \"scaled\": the "
-      "standard errors times it where chi2 is significantly high (p < 0.001)."};
+      "standard errors times it where chi2 is significantly high (p < 0.001). \"profile 68 %\": "
+      "where chi2 is not quadratic over ±1 sigma, the interval from the chi2 profile."};
   return t;
 }
 

@@ -187,3 +187,43 @@ TEST_CASE("A Hertz spring with a damper across runs recovers c and k within thei
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("Each parameter's 68 % interval: linear where chi2 is quadratic, else the profile's",
+          "[contact_law]") {
+  LawSessionOptions options;
+  options.seed = 7;
+  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  ContactLawFitOptions fit_options;
+  fit_options.leave_one_out = false;
+  const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, fit_options);
+  REQUIRE(fit.ok);
+  REQUIRE(fit.intervals.size() == fit.parameters.size());
+  for (std::size_t i = 0; i < fit.intervals.size(); ++i) {
+    const ParameterInterval& in = fit.intervals[i];
+    const Estimate& e = fit.parameters[i].estimate;
+    INFO(in.name);
+    // Small noise: the profile rises by ~1 at +-1 sigma and the linear interval stands.
+    CHECK_FALSE(in.profile);
+    CHECK(in.rise_at_lower == Approx(1.0).margin(0.2));
+    CHECK(in.rise_at_upper == Approx(1.0).margin(0.2));
+    // exp(ln v -+ sigma/v): the log-space interval.
+    CHECK(in.lower == Approx(e.value * std::exp(-e.sigma / e.value)).epsilon(1e-9));
+    CHECK(in.upper == Approx(e.value * std::exp(e.sigma / e.value)).epsilon(1e-9));
+  }
+  // Forcing the profile everywhere (tolerance 0+) gives an interval close to the linear one.
+  fit_options.profile_tolerance = 1e-9;
+  const ContactLawFit profiled = FitContactLaw(ContactLawKind::kHuntCrossley, runs, fit_options);
+  REQUIRE(profiled.ok);
+  for (std::size_t i = 0; i < profiled.intervals.size(); ++i) {
+    const ParameterInterval& in = profiled.intervals[i];
+    const ParameterInterval& linear = fit.intervals[i];
+    const double width = linear.upper - linear.lower;
+    CHECK(in.profile);
+    CHECK(std::abs(in.lower - linear.lower) < 0.1 * width);
+    CHECK(std::abs(in.upper - linear.upper) < 0.1 * width);
+  }
+}
+
+}  // namespace impactlab
