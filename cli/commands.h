@@ -28,5 +28,6 @@ void AddDigitizeCommand(CLI::App& app, Action& action);
 void AddSynthCommand(CLI::App& app, Action& action);
 void AddSynthLogsCommand(CLI::App& app, Action& action);
 void AddSettingsCommand(CLI::App& app, Action& action);
+void AddSimulateCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
   AddDigitizeCommand(app, action);
   AddSynthCommand(app, action);
   AddSynthLogsCommand(app, action);
+  AddSimulateCommand(app, action);
   AddSettingsCommand(app, action);
   AddHelpCommand(app, action);
   if (const auto unknown = UnknownCommand(app, argc, argv)) {

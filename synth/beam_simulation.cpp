@@ -13,6 +13,7 @@
 
 #include "io/log_reader.h"  // kStandardGravity
 #include "synth/beam_model_internal.h"
+#include "synth/gaussian.h"
 
 namespace impactlab {
 namespace {
@@ -101,29 +102,7 @@ std::vector<double> ModeAmplitudes(const std::vector<double>& y, std::size_t fir
   return amplitudes;
 }
 
-// Standard normal deviates from a portable generator (Box-Muller on mt19937_64),
-// so a seed writes the same bytes with any standard library.
-class Gaussian {
- public:
-  explicit Gaussian(std::uint64_t seed) : engine_(seed) {}
-  double operator()() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    const double u1 = (static_cast<double>(engine_() >> 11) + 0.5) * 0x1.0p-53;
-    const double u2 = static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    spare_ = r * std::sin(2.0 * kPi * u2);
-    has_spare_ = true;
-    return r * std::cos(2.0 * kPi * u2);
-  }
-
- private:
-  std::mt19937_64 engine_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
-};
+using synth_detail::Gaussian;
 
 }  // namespace
 

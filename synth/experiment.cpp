@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -287,7 +288,7 @@ void SimulatedRun::Simulate() {
                                    ? contact_start_s_ + o_.integration.max_contact_time_s
                                    : phase_start_s + free_limit_s;
     const double limit = std::min(boundary, phase_limit);
-    integrator_.Reset(dyn_, y, t, first_step_s);
+    integrator_.Reset(std::cref(dyn_), y, t, first_step_s);
     for (;;) {
       integrator_.Step(limit);
       const State& y_lo = integrator_.previous_state();
@@ -377,7 +378,7 @@ SampledSwing SimulateFreeSwing(const FreeSwingOptions& o) {
                          o.integration.max_step_s});
   State y{};
   y[0] = std::asin(o.release_x / o.pendulum_length);
-  integrator.Reset(dyn, y, 0.0, 1e-5);
+  integrator.Reset(std::cref(dyn), y, 0.0, 1e-5);
   SampledSwing out;
   long k = 0;
   auto emit = [&](double t_stop) {

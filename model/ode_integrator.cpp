@@ -1,58 +1,68 @@
-#include "synth/integrator.h"
+#include "model/ode_integrator.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <boost/math/tools/roots.hpp>
-#include <boost/numeric/odeint.hpp>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 
-namespace impactlab::synth_detail {
+namespace impactlab {
 
 namespace odeint = boost::numeric::odeint;
-using Dopri = odeint::runge_kutta_dopri5<State>;
-using Controlled = odeint::controlled_runge_kutta<Dopri>;
 
-struct Integrator::Impl {
-  explicit Impl(const IntegratorTolerances& tol)
-      : controlled(Controlled::error_checker_type(tol.absolute, tol.relative),
-                   Controlled::step_adjuster_type(tol.max_step_s), Dopri()) {}
 
-  // Odeint copies the system: a thin wrapper around the current dynamics.
-  auto System() const {
-    return [d = dynamics](const State& y, State& dydt, double t) { (*d)(y, dydt, t); };
+
+template <std::size_t N>
+struct OdeIntegrator<N>::Impl {
+  using Dopri = odeint::runge_kutta_dopri5<State>;
+  using Controlled = odeint::controlled_runge_kutta<Dopri>;
+
+  explicit Impl(const OdeTolerances& tol)
+      : controlled(typename Controlled::error_checker_type(tol.absolute, tol.relative),
+                   typename Controlled::step_adjuster_type(tol.max_step_s), Dopri()) {}
+
+  // Odeint copies the system: a thin wrapper around the current one.
+  auto Wrapped() const {
+    return [s = &system](const State& y, State& dydt, double t) { (*s)(y, dydt, t); };
   }
 
   Controlled controlled;
   mutable Dopri exact;  // separate stages, so Exact() leaves the dense output intact
-  const Dynamics* dynamics = nullptr;
+  System system;
   State dydt_prev{};
   State dydt{};
   double step_s = 0.0;
 };
 
-Integrator::Integrator(const IntegratorTolerances& tolerances)
+template <std::size_t N>
+OdeIntegrator<N>::OdeIntegrator(const OdeTolerances& tolerances)
     : impl_(std::make_unique<Impl>(tolerances)) {}
 
-Integrator::~Integrator() = default;
+template <std::size_t N>
+OdeIntegrator<N>::~OdeIntegrator() = default;
 
-void Integrator::Reset(const Dynamics& dynamics, const State& y, double t_s, double first_step_s) {
-  impl_->dynamics = &dynamics;
+template <std::size_t N>
+void OdeIntegrator<N>::Reset(System system, const State& y, double t_s, double first_step_s) {
+  impl_->system = std::move(system);
   impl_->controlled.reset();
   t_prev_ = t_ = t_s;
   y_prev_ = y_ = y;
-  dynamics(y_, impl_->dydt, t_);
+  impl_->system(y_, impl_->dydt, t_);
   impl_->dydt_prev = impl_->dydt;
   impl_->step_s = first_step_s;
 }
 
-void Integrator::Step(double limit_s) {
+template <std::size_t N>
+void OdeIntegrator<N>::Step(double limit_s) {
   if (!(limit_s > t_)) {
     throw std::logic_error(fmt::format("integrator asked to step from {} s to {} s", t_, limit_s));
   }
-  const auto system = impl_->System();
+  const auto system = impl_->Wrapped();
   for (int attempt = 0; attempt < 200; ++attempt) {
     const bool clipped = impl_->step_s >= limit_s - t_;
     double dt = clipped ? limit_s - t_ : impl_->step_s;
@@ -78,7 +88,8 @@ void Integrator::Step(double limit_s) {
       fmt::format("ODE step size collapsed at t = {} s (last trial {} s)", t_, impl_->step_s));
 }
 
-State Integrator::Interpolate(double t_s) const {
+template <std::size_t N>
+typename OdeIntegrator<N>::State OdeIntegrator<N>::Interpolate(double t_s) const {
   if (t_s == t_) return y_;
   State y;
   impl_->controlled.stepper().calc_state(t_s, y, y_prev_, impl_->dydt_prev, t_prev_, y_,
@@ -86,15 +97,17 @@ State Integrator::Interpolate(double t_s) const {
   return y;
 }
 
-State Integrator::Exact(double t_s) const {
+template <std::size_t N>
+typename OdeIntegrator<N>::State OdeIntegrator<N>::Exact(double t_s) const {
   if (t_s == t_prev_) return y_prev_;
   State y;
   State dydt;
-  impl_->exact.do_step(impl_->System(), y_prev_, impl_->dydt_prev, t_prev_, y, dydt, t_s - t_prev_);
+  impl_->exact.do_step(impl_->Wrapped(), y_prev_, impl_->dydt_prev, t_prev_, y, dydt, t_s - t_prev_);
   return y;
 }
 
-double Integrator::RefineRoot(const std::function<double(const State&)>& g, double g_prev,
+template <std::size_t N>
+double OdeIntegrator<N>::RefineRoot(const std::function<double(const State&)>& g, double g_prev,
                               double t_hi_s, double g_hi) const {
   if (g_prev == 0.0) return t_prev_;
   if (g_hi == 0.0) return t_hi_s;
@@ -105,6 +118,19 @@ double Integrator::RefineRoot(const std::function<double(const State&)>& g, doub
   return 0.5 * (lo + hi);
 }
 
-double Integrator::suggested_step() const { return impl_->step_s; }
+template <std::size_t N>
+double OdeIntegrator<N>::suggested_step() const {
+  return impl_->step_s;
+}
 
-}  // namespace impactlab::synth_detail
+template <std::size_t N>
+void OdeIntegrator<N>::ReplaceState(const State& y) {
+  y_ = y;
+  impl_->system(y_, impl_->dydt, t_);
+  impl_->controlled.reset();
+}
+
+template class OdeIntegrator<6>;
+template class OdeIntegrator<16>;
+
+}  // namespace impactlab

@@ -1,0 +1,135 @@
+#include "multibody/two_link_dynamics.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <fmt/format.h>
+
+namespace impactlab {
+namespace {
+
+using Solver = Eigen::LLT<TwoLinkMatrix>;
+
+// M, the right-hand side Q - h, and the factorised M.
+struct Balance {
+  TwoLinkMatrix mass;
+  TwoLinkVector rhs;
+  Solver solver;
+};
+
+Balance Assemble(const TwoLinkModel& model, const TwoLinkVector& q, const TwoLinkVector& v,
+                 const DriveVoltages& voltages) {
+  Balance b;
+  TwoLinkVector velocity_forces;
+  model.Inertia(q, v, &b.mass, &velocity_forces);
+  b.rhs = model.AppliedForces(q, v, voltages) - velocity_forces;
+  b.solver.compute(b.mass);
+  if (b.solver.info() != Eigen::Success) {
+    throw std::domain_error("two-link: the mass matrix is not positive definite");
+  }
+  return b;
+}
+
+double RegularisedSign(double velocity, double scale) {
+  return velocity / std::sqrt(velocity * velocity + scale * scale);
+}
+
+}  // namespace
+
+TwoLinkVector FreeAcceleration(const TwoLinkModel& model, const TwoLinkVector& q,
+                               const TwoLinkVector& v, const DriveVoltages& voltages) {
+  const Balance b = Assemble(model, q, v, voltages);
+  return b.solver.solve(b.rhs);
+}
+
+ConstrainedAcceleration ConstrainedMotion(const TwoLinkModel& model, const TwoLinkVector& q,
+                                          const TwoLinkVector& v, const DriveVoltages& voltages) {
+  const Balance b = Assemble(model, q, v, voltages);
+  const PointMotion tip = model.Tip(q, v);
+  const TwoLinkRow normal = tip.jacobian.row(0);
+  const TwoLinkRow tangent = tip.jacobian.row(1);
+  const TwoLinkSurface& surface = model.parameters().surface;
+  const double slip = tangent.dot(v);
+  const double friction_per_normal =
+      -surface.friction_coefficient * RegularisedSign(slip, surface.slip_velocity_m_s);
+  const TwoLinkRow loaded = normal + friction_per_normal * tangent;  // W
+  const TwoLinkVector free = b.solver.solve(b.rhs);
+  const TwoLinkVector response = b.solver.solve(loaded.transpose());  // M^-1 W^T
+  ConstrainedAcceleration out;
+  out.normal_force_n =
+      (-tip.velocity_product.x() - normal.dot(free)) / normal.dot(response);
+  out.friction_force_n = friction_per_normal * out.normal_force_n;
+  out.acceleration = free + out.normal_force_n * response;
+  return out;
+}
+
+ImpactOutcome Impact(const TwoLinkModel& model, const TwoLinkVector& q,
+                     const TwoLinkVector& velocity_before) {
+  TwoLinkMatrix mass;
+  TwoLinkVector unused;
+  model.Inertia(q, velocity_before, &mass, &unused);
+  const Solver solver(mass);
+  const PointMotion tip = model.Tip(q, velocity_before);
+  const Eigen::Matrix<double, 2, kTwoLinkCoordinates>& rows = tip.jacobian;  // G_n, G_t
+  const double mu = model.parameters().surface.friction_coefficient;
+
+  ImpactOutcome out;
+  out.normal_velocity_before_m_s = rows.row(0).dot(velocity_before);
+  out.tangential_velocity_before_m_s = rows.row(1).dot(velocity_before);
+
+  // Sticking: both tip velocities to zero.
+  const Eigen::Matrix<double, kTwoLinkCoordinates, 2> response = solver.solve(rows.transpose());
+  const Eigen::Matrix2d delassus = rows * response;
+  const Eigen::Vector2d impulse = delassus.lu().solve(-(rows * velocity_before));
+  Eigen::Vector2d applied = impulse;
+  if (impulse(0) > 0.0 && std::abs(impulse(1)) <= mu * impulse(0)) {
+    out.sticks = true;
+  } else {
+    // Sliding against the pre-impact slip (or against the impulse sticking
+    // would have needed, when there was no slip).
+    const double slip = out.tangential_velocity_before_m_s;
+    const double direction = slip != 0.0 ? (slip > 0.0 ? 1.0 : -1.0) : (impulse(1) < 0.0 ? 1.0 : -1.0);
+    const TwoLinkRow loaded = rows.row(0) - mu * direction * rows.row(1);
+    const TwoLinkVector loaded_response = solver.solve(loaded.transpose());
+    applied(0) = -rows.row(0).dot(velocity_before) / rows.row(0).dot(loaded_response);
+    applied(1) = -mu * direction * applied(0);
+  }
+  out.normal_impulse_n_s = applied(0);
+  out.tangential_impulse_n_s = applied(1);
+  const TwoLinkVector generalized_impulse = rows.transpose() * applied;
+  out.velocity = velocity_before + solver.solve(generalized_impulse);
+  out.normal_velocity_after_m_s = rows.row(0).dot(out.velocity);
+  out.tangential_velocity_after_m_s = rows.row(1).dot(out.velocity);
+  const double scale = (mass * velocity_before).norm();
+  out.momentum_residual =
+      (mass * (out.velocity - velocity_before) - generalized_impulse).norm() / scale;
+  return out;
+}
+
+int DependentCoordinate(const TwoLinkModel& model, const TwoLinkVector& q) {
+  const TwoLinkRow normal = model.Tip(q, TwoLinkVector::Zero()).jacobian.row(0);
+  return std::abs(normal(kLink2Angle)) >= 0.2 * std::abs(normal(kLink1Angle)) ? kLink2Angle
+                                                                               : kLink1Angle;
+}
+
+double CloseLoop(const TwoLinkModel& model, int dependent, TwoLinkVector* q, TwoLinkVector* v) {
+  double gap = model.Gap(*q);
+  for (int iteration = 0; iteration < 30 && gap != 0.0; ++iteration) {
+    const double slope = model.Tip(*q, TwoLinkVector::Zero()).jacobian(0, dependent);
+    const double step = gap / slope;
+    (*q)(dependent) -= step;
+    gap = model.Gap(*q);
+    if (std::abs(step) <= 1e-15 * (1.0 + std::abs((*q)(dependent)))) break;
+  }
+  if (!(std::abs(gap) < 1e-12)) {
+    throw std::domain_error(fmt::format(
+        "two-link: the loop closure did not converge (gap {:.3g} m after Newton)", gap));
+  }
+  const TwoLinkRow normal = model.Tip(*q, TwoLinkVector::Zero()).jacobian.row(0);
+  (*v)(dependent) -= normal.dot(*v) / normal(dependent);
+  return gap;
+}
+
+}  // namespace impactlab

@@ -1,0 +1,68 @@
+#include "multibody/two_link_toml.h"
+
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "io/errors.h"
+#include "multibody/two_link_keys.h"
+
+namespace impactlab {
+
+TwoLinkParameters ParseTwoLinkParameters(std::string_view text,
+                                         const std::filesystem::path& file) {
+  toml::table table;
+  try {
+    table = toml::parse(text, file.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError({file, "", static_cast<long long>(e.source().begin.line)},
+                     std::string(e.description()));
+  }
+  TwoLinkParameters p = TwoLinkParameters::Nominal();
+  std::map<std::string, std::set<std::string>> known;
+  VisitTwoLinkKeys(p, [&](const char* section, const char* key, double& value,
+                          TwoLinkKeyRule, const char*) {
+    known[section].insert(key);
+    const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
+    if (!node) return;
+    const std::string where = fmt::format("{}.{}", section, key);
+    const auto line = static_cast<long long>(node->source().begin.line);
+    if (!node->is_number()) throw InputError({file, where, line}, "must be a number");
+    value = node->value<double>().value();
+  });
+  for (const auto& [section, node] : table) {
+    const std::string name(section.str());
+    const auto line = static_cast<long long>(node.source().begin.line);
+    if (!known.count(name)) throw InputError({file, name, line}, "unknown table");
+    if (!node.is_table()) throw InputError({file, name, line}, "must be a table");
+    for (const auto& [key, value] : *node.as_table()) {
+      if (!known[name].count(std::string(key.str()))) {
+        throw InputError({file, fmt::format("{}.{}", name, key.str()),
+                          static_cast<long long>(value.source().begin.line)},
+                         "unknown key");
+      }
+    }
+  }
+  std::string error;
+  if (!p.Check(&error)) throw InputError({file, "", std::nullopt}, error);
+  return p;
+}
+
+std::string TwoLinkParametersText(const TwoLinkParameters& parameters) {
+  std::ostringstream out;
+  std::string current;
+  VisitTwoLinkKeys(parameters, [&](const char* section, const char* key, const double& value,
+                                   TwoLinkKeyRule, const char* description) {
+    if (current != section) {
+      out << (current.empty() ? "" : "\n") << "[" << section << "]\n";
+      current = section;
+    }
+    out << fmt::format("{} = {}  # {}\n", key, value, description);
+  });
+  return out.str();
+}
+
+}  // namespace impactlab

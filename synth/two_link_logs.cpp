@@ -1,0 +1,207 @@
+#include "synth/two_link_logs.h"
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "io/errors.h"
+#include "io/log_reader.h"  // kStandardGravity
+#include "multibody/two_link_toml.h"
+#include "synth/gaussian.h"
+#include "synth/manifest_writer.h"
+
+namespace impactlab {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kAccelerometerColumns[kTwoLinkAccelerometers] = {"acc1", "acc2", "acc3",
+                                                                       "acc4"};
+constexpr const char* kAccelerometerChannels[kTwoLinkAccelerometers] = {"a1", "a2", "a3", "a4"};
+
+double CountsPerRad(const TwoLinkSensors& sensors, const TwoLinkDrive& drive) {
+  return sensors.counts_per_rev * drive.gear_ratio / (2.0 * std::numbers::pi);
+}
+
+bool IsBeamSensor(int s) { return s == 0 || s == 2; }
+
+std::ofstream OpenCsv(const fs::path& file, const std::string& header) {
+  std::ofstream out(file, std::ios::binary);
+  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
+  out << header << "\n";
+  return out;
+}
+
+void Close(std::ofstream& out, const fs::path& file) {
+  out.close();
+  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
+}
+
+std::string LogHeader() { return "t,enc1,enc2,acc1,acc2,acc3,acc4"; }
+
+// SI: angles in rad, accelerations in m/s^2.
+void WriteSimulationCsv(const fs::path& file, const TwoLinkRecord& r) {
+  std::ofstream out = OpenCsv(file, LogHeader());
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    fmt::format_to(std::ostreambuf_iterator<char>(out),
+                   "{:.6f},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", r.time_s[i],
+                   r.gearbox_a_rad[i], r.gearbox_b_rad[i], r.acceleration_m_s2[0][i],
+                   r.acceleration_m_s2[1][i], r.acceleration_m_s2[2][i], r.acceleration_m_s2[3][i]);
+  }
+  Close(out, file);
+}
+
+// The logger: whole encoder counts, accelerometer volts with noise in ADC steps.
+void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r,
+                        const TwoLinkParameters& p, std::uint64_t seed) {
+  const TwoLinkSensors& s = p.sensors;
+  synth_detail::Gaussian noise(seed);
+  std::ofstream out = OpenCsv(file, LogHeader());
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    const auto counts_a =
+        static_cast<long long>(std::floor(r.gearbox_a_rad[i] * CountsPerRad(s, p.drive_a)));
+    const auto counts_b =
+        static_cast<long long>(std::floor(r.gearbox_b_rad[i] * CountsPerRad(s, p.drive_b)));
+    std::string row = fmt::format("{:.6f},{},{}", r.time_s[i], counts_a, counts_b);
+    for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
+      const double sensitivity =
+          IsBeamSensor(a) ? s.beam_sensitivity_v_per_g : s.body_sensitivity_v_per_g;
+      const double sigma = IsBeamSensor(a) ? s.beam_noise_v : s.body_noise_v;
+      double volts = r.acceleration_m_s2[a][i] / kStandardGravity * sensitivity + sigma * noise();
+      if (s.adc_lsb_v > 0.0) volts = std::round(volts / s.adc_lsb_v) * s.adc_lsb_v;
+      row += fmt::format(",{:.6f}", volts);
+    }
+    out << row << "\n";
+  }
+  Close(out, file);
+}
+
+void WriteStateCsv(const fs::path& file, const TwoLinkRecord& r) {
+  std::ofstream out = OpenCsv(
+      file,
+      "t,q1,q2,q3,q4,q5,q6,theta_a,theta_b,q1_dot,q2_dot,q3_dot,q4_dot,q5_dot,q6_dot,"
+      "theta_a_dot,theta_b_dot,in_contact,normal_force,friction_force,tip_x,tip_y,voltage_a,"
+      "voltage_b");
+  for (std::size_t i = 0; i < r.position.size(); ++i) {
+    std::string row = fmt::format("{:.6f}", r.time_s[i]);
+    for (int c = 0; c < kTwoLinkCoordinates; ++c) row += fmt::format(",{:.10g}", r.position[i](c));
+    for (int c = 0; c < kTwoLinkCoordinates; ++c) row += fmt::format(",{:.10g}", r.velocity[i](c));
+    row += fmt::format(",{},{:.10g},{:.10g},{:.10g},{:.10g},{:.6g},{:.6g}\n", r.in_contact[i],
+                       r.normal_force_n[i], r.friction_force_n[i], r.tip_x_m[i], r.tip_y_m[i],
+                       r.voltage_a_v[i], r.voltage_b_v[i]);
+    out << row;
+  }
+  Close(out, file);
+}
+
+nlohmann::json RecordJson(const TwoLinkRecord& r, const std::string& parameters_text) {
+  nlohmann::json events = nlohmann::json::array();
+  for (const TwoLinkEvent& e : r.events) {
+    nlohmann::json event = {{"time_s", e.time_s}, {"kind", e.kind}};
+    if (e.kind == "impact") {
+      event["normal_velocity_before_m_s"] = e.impact.normal_velocity_before_m_s;
+      event["tangential_velocity_before_m_s"] = e.impact.tangential_velocity_before_m_s;
+      event["normal_impulse_n_s"] = e.impact.normal_impulse_n_s;
+      event["tangential_impulse_n_s"] = e.impact.tangential_impulse_n_s;
+      event["sticks"] = e.impact.sticks;
+    }
+    events.push_back(event);
+  }
+  return {{"impact_time_s", r.FirstImpact()},
+          {"events", events},
+          {"steps", r.steps},
+          {"max_loop_closure_m", r.max_loop_closure_m},
+          {"parameters_toml", parameters_text}};
+}
+
+Log CaseLog(int number, const TwoLinkParameters& p) {
+  Log log;
+  log.id = fmt::format("case{}", number);
+  log.experiment = fmt::format("logs/case{}-experiment.csv", number);
+  log.simulation = fmt::format("logs/case{}-simulation.csv", number);
+  log.time_column = "t";
+  auto encoder = [&](const char* name, const char* column, const TwoLinkDrive& drive) {
+    LogChannel c;
+    c.name = name;
+    c.column = column;
+    c.counts_per_rev = p.sensors.counts_per_rev;
+    c.gear_ratio = drive.gear_ratio;
+    return c;
+  };
+  log.channels = {encoder("q1", "enc1", p.drive_a), encoder("q4", "enc2", p.drive_b)};
+  for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
+    LogChannel c;
+    c.name = kAccelerometerChannels[a];
+    c.column = kAccelerometerColumns[a];
+    c.sensitivity =
+        IsBeamSensor(a) ? p.sensors.beam_sensitivity_v_per_g : p.sensors.body_sensitivity_v_per_g;
+    log.channels.push_back(c);
+  }
+  return log;
+}
+
+}  // namespace
+
+TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
+  if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
+  for (int number : options.cases) {
+    if (number < 1 || number > 3) {
+      throw std::invalid_argument(fmt::format("simulate two-link: no case {} (1, 2 or 3)", number));
+    }
+  }
+  std::error_code ec;
+  if (fs::exists(folder) && !fs::is_empty(folder, ec)) {
+    throw InputError({folder, "", std::nullopt}, "the output folder exists and is not empty");
+  }
+  fs::create_directories(folder / "logs", ec);
+  if (options.write_state) fs::create_directories(folder / "state", ec);
+  if (ec) throw InputError({folder, "", std::nullopt}, "cannot create the folder: " + ec.message());
+
+  const TwoLinkModel simulation_model(options.simulation);
+  const TwoLinkModel experiment_model(options.experiment);
+  SessionManifest manifest;
+  manifest.comment = {"Encoder and accelerometer logs of the two-link flexible manipulator",
+                      "(impactlab simulate two-link; docs/two-link.md). The experiment is the",
+                      "simulator with its own parameters and the logger's noise; the",
+                      "simulation is the nominal model in SI."};
+  manifest.title = options.title.empty() ? "Two-link flexible manipulator (simulated logs)"
+                                         : options.title;
+  manifest.units = UnitSystem::kSI;
+  TwoLinkLogSummary summary;
+  summary.truth = {{"schema", "impactlab-two-link-truth"},
+                   {"version", 1},
+                   {"seed", options.seed},
+                   {"sample_rate_hz", options.experiment.sensors.sample_rate_hz}};
+  const std::string experiment_text = TwoLinkParametersText(options.experiment);
+  const std::string simulation_text = TwoLinkParametersText(options.simulation);
+  for (int number : options.cases) {
+    const TwoLinkCase& experiment_case = options.experiment.cases[number - 1];
+    const TwoLinkCase& simulation_case = options.simulation.cases[number - 1];
+    TwoLinkSimulationOptions integration = options.integration;
+    integration.keep_state = options.write_state;
+    const TwoLinkRecord experiment = SimulateTwoLink(experiment_model, experiment_case, integration);
+    const TwoLinkRecord simulation =
+        SimulateTwoLink(simulation_model, simulation_case, integration);
+    const Log log = CaseLog(number, options.experiment);
+    WriteExperimentCsv(folder / log.experiment, experiment, options.experiment,
+                       options.seed + static_cast<std::uint64_t>(number));
+    WriteSimulationCsv(folder / *log.simulation, simulation);
+    if (options.write_state) {
+      WriteStateCsv(folder / "state" / fmt::format("case{}-experiment.csv", number), experiment);
+      WriteStateCsv(folder / "state" / fmt::format("case{}-simulation.csv", number), simulation);
+    }
+    manifest.logs.push_back(log);
+    summary.truth[log.id] = {{"experiment", RecordJson(experiment, experiment_text)},
+                             {"simulation", RecordJson(simulation, simulation_text)}};
+    summary.rows = static_cast<int>(experiment.time_s.size());
+  }
+  WriteManifest(folder / "session.toml", manifest);
+  return summary;
+}
+
+}  // namespace impactlab

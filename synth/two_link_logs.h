@@ -1,0 +1,45 @@
+// `impactlab simulate two-link`: a session folder of encoder and accelerometer
+// logs from the two-link manipulator's simulator (multibody/, docs/two-link.md),
+// in the format `reduce` reads (docs/session-format.md, "Logs").
+//
+// Per case N: logs/caseN-experiment.csv, the logger's view (encoder counts on
+// the motors, accelerometer volts with Gaussian noise in 16-bit steps) of the
+// `experiment` parameters; logs/caseN-simulation.csv, the `simulation`
+// parameters' clean record in SI; and, unless left out, state/caseN-*.csv,
+// the full state history of each. Columns: t, enc1, enc2 (q1, q4),
+// acc1..acc4 (mid beam 1, RB2, mid beam 2, RB4).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "multibody/two_link_parameters.h"
+#include "multibody/two_link_simulation.h"
+
+namespace impactlab {
+
+struct TwoLinkLogOptions {
+  std::vector<int> cases = {1};  // of 1, 2, 3
+  TwoLinkParameters simulation = TwoLinkParameters::Nominal();
+  TwoLinkParameters experiment = TwoLinkParameters::Nominal();  // its logger adds the noise
+  std::uint64_t seed = 1;
+  bool write_state = true;
+  TwoLinkSimulationOptions integration;
+  std::string title;  // the manifest's; empty: a default
+};
+
+struct TwoLinkLogSummary {
+  nlohmann::json truth;  // per case: impact times, events, the parameters
+  int rows = 0;          // per file
+};
+
+// Writes `folder`/session.toml, logs/ and state/. The folder must not exist
+// or be empty. Throws std::invalid_argument for bad options, InputError for a
+// folder that cannot be written, std::runtime_error when a simulation fails.
+TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
+                                      const TwoLinkLogOptions& options);
+
+}  // namespace impactlab
