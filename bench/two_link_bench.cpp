@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "multibody/two_link_modes.h"
 #include "multibody/two_link_simulation.h"
@@ -32,7 +32,8 @@ std::pair<double, double> Differences(const TwoLinkRecord& a, const TwoLinkRecor
   const std::size_t n = std::min(a.time_s.size(), b.time_s.size());
   for (std::size_t i = 0; i < n; ++i) {
     angle = std::max(angle, std::abs(a.gearbox_a_rad[i] - b.gearbox_a_rad[i]));
-    acceleration = std::max(acceleration, std::abs(a.acceleration_m_s2[0][i] - b.acceleration_m_s2[0][i]));
+    acceleration =
+        std::max(acceleration, std::abs(a.acceleration_m_s2[0][i] - b.acceleration_m_s2[0][i]));
   }
   return {angle, acceleration};
 }
@@ -46,8 +47,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const TwoLinkModel model(TwoLinkParameters::Nominal());
-  fmt::print("| case | tolerance | median s | steps | RHS calls | events | first impact s | "
-             "max |dq1| rad | max |da1| m/s^2 |\n|---|---|---|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| case | tolerance | median s | steps | RHS calls | events | first impact s | "
+      "max |dq1| rad | max |da1| m/s^2 |\n|---|---|---|---|---|---|---|---|---|\n");
   for (int c = 0; c < 3; ++c) {
     TwoLinkSimulationOptions reference_options;
     reference_options.relative_tolerance = 1e-12;
@@ -82,15 +84,16 @@ int main(int argc, char** argv) {
     const TwoLinkRecord record = SimulateTwoLink(model, model.parameters().cases[c], options);
     const double impact = record.FirstImpact();
     if (impact < 0.0) continue;
-    const std::size_t k = std::min(record.time_s.size() - 1,
-                                   static_cast<std::size_t>((impact + 1.0) * 1000.0));
+    const std::size_t k =
+        std::min(record.time_s.size() - 1, static_cast<std::size_t>((impact + 1.0) * 1000.0));
     const TwoLinkVector& q = record.position[k];
     const TwoLinkVector& v = record.velocity[k];
     const DriveVoltages voltages{record.voltage_a_v[k], record.voltage_b_v[k]};
     const auto modes = LinearisedModes(model, q, v, voltages, record.in_contact[k] != 0);
     std::string list;
     for (const VibrationMode& m : modes) {
-      if (m.frequency_hz > 0.0) list += fmt::format(" {:.2f} Hz (zeta {:.3f});", m.frequency_hz, m.damping_ratio);
+      if (m.frequency_hz > 0.0)
+        list += fmt::format(" {:.2f} Hz (zeta {:.3f});", m.frequency_hz, m.damping_ratio);
     }
     fmt::print("\ncase {} at t = {:.3f} s ({}):{}\n\n", c + 1, record.time_s[k],
                record.in_contact[k] ? "on the surface" : "free", list);

@@ -29,5 +29,6 @@ void AddSynthCommand(CLI::App& app, Action& action);
 void AddSynthLogsCommand(CLI::App& app, Action& action);
 void AddSettingsCommand(CLI::App& app, Action& action);
 void AddSimulateCommand(CLI::App& app, Action& action);
+void AddFitCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

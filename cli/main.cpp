@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
   AddSynthCommand(app, action);
   AddSynthLogsCommand(app, action);
   AddSimulateCommand(app, action);
+  AddFitCommand(app, action);
   AddSettingsCommand(app, action);
   AddHelpCommand(app, action);
   if (const auto unknown = UnknownCommand(app, argc, argv)) {

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -84,11 +84,14 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
       std::ofstream out(truth);
       out << summary.truth.dump(1) << "\n";
       if (!out) throw InputError({truth, "", std::nullopt}, "cannot write the truth file");
-      for (int number : options.cases) {
+      for (std::size_t i = 0; i < options.cases.size(); ++i) {
+        const int number = options.cases[i];
         const auto& c = summary.truth[fmt::format("case{}", number)];
-        fmt::print(stderr, "case {}: {} rows; first impact at {:.4f} s (experiment), {:.4f} s (simulation)\n",
-                   number, summary.rows, c["experiment"]["impact_time_s"].get<double>(),
-                   c["simulation"]["impact_time_s"].get<double>());
+        fmt::print(
+            stderr,
+            "case {}: {} rows; first impact at {:.4f} s (experiment), {:.4f} s (simulation)\n",
+            number, summary.rows[i], c["experiment"]["impact_time_s"].get<double>(),
+            c["simulation"]["impact_time_s"].get<double>());
       }
       fmt::print(stderr, "session in {}; truth in {}\n", args->out.string(), truth.string());
       return kExitOk;

@@ -15,8 +15,6 @@ namespace impactlab {
 
 namespace odeint = boost::numeric::odeint;
 
-
-
 template <std::size_t N>
 struct OdeIntegrator<N>::Impl {
   using Dopri = odeint::runge_kutta_dopri5<State>;
@@ -102,13 +100,14 @@ typename OdeIntegrator<N>::State OdeIntegrator<N>::Exact(double t_s) const {
   if (t_s == t_prev_) return y_prev_;
   State y;
   State dydt;
-  impl_->exact.do_step(impl_->Wrapped(), y_prev_, impl_->dydt_prev, t_prev_, y, dydt, t_s - t_prev_);
+  impl_->exact.do_step(impl_->Wrapped(), y_prev_, impl_->dydt_prev, t_prev_, y, dydt,
+                       t_s - t_prev_);
   return y;
 }
 
 template <std::size_t N>
 double OdeIntegrator<N>::RefineRoot(const std::function<double(const State&)>& g, double g_prev,
-                              double t_hi_s, double g_hi) const {
+                                    double t_hi_s, double g_hi) const {
   if (g_prev == 0.0) return t_prev_;
   if (g_hi == 0.0) return t_hi_s;
   auto f = [&](double t) { return g(Exact(t)); };

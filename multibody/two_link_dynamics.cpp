@@ -3,9 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
-#include <fmt/format.h>
 
 namespace impactlab {
 namespace {
@@ -58,8 +58,7 @@ ConstrainedAcceleration ConstrainedMotion(const TwoLinkModel& model, const TwoLi
   const TwoLinkVector free = b.solver.solve(b.rhs);
   const TwoLinkVector response = b.solver.solve(loaded.transpose());  // M^-1 W^T
   ConstrainedAcceleration out;
-  out.normal_force_n =
-      (-tip.velocity_product.x() - normal.dot(free)) / normal.dot(response);
+  out.normal_force_n = (-tip.velocity_product.x() - normal.dot(free)) / normal.dot(response);
   out.friction_force_n = friction_per_normal * out.normal_force_n;
   out.acceleration = free + out.normal_force_n * response;
   return out;
@@ -90,7 +89,8 @@ ImpactOutcome Impact(const TwoLinkModel& model, const TwoLinkVector& q,
     // Sliding against the pre-impact slip (or against the impulse sticking
     // would have needed, when there was no slip).
     const double slip = out.tangential_velocity_before_m_s;
-    const double direction = slip != 0.0 ? (slip > 0.0 ? 1.0 : -1.0) : (impulse(1) < 0.0 ? 1.0 : -1.0);
+    const double direction =
+        slip != 0.0 ? (slip > 0.0 ? 1.0 : -1.0) : (impulse(1) < 0.0 ? 1.0 : -1.0);
     const TwoLinkRow loaded = rows.row(0) - mu * direction * rows.row(1);
     const TwoLinkVector loaded_response = solver.solve(loaded.transpose());
     applied(0) = -rows.row(0).dot(velocity_before) / rows.row(0).dot(loaded_response);
@@ -111,7 +111,7 @@ ImpactOutcome Impact(const TwoLinkModel& model, const TwoLinkVector& q,
 int DependentCoordinate(const TwoLinkModel& model, const TwoLinkVector& q) {
   const TwoLinkRow normal = model.Tip(q, TwoLinkVector::Zero()).jacobian.row(0);
   return std::abs(normal(kLink2Angle)) >= 0.2 * std::abs(normal(kLink1Angle)) ? kLink2Angle
-                                                                               : kLink1Angle;
+                                                                              : kLink1Angle;
 }
 
 double CloseLoop(const TwoLinkModel& model, int dependent, TwoLinkVector* q, TwoLinkVector* v) {

@@ -101,8 +101,8 @@ TwoLinkModel::TwoLinkModel(const TwoLinkParameters& parameters) : parameters_(pa
     const TwoLinkBeam& b = beam == 1 ? p.beam1 : p.beam2;
     for (int g = 0; g < 4; ++g) {
       const double x = 0.5 * b.length_m * (1.0 + kGaussNodes[g]);
-      masses_[next++] = BeamPoint(beam, x, 0.5 * b.length_m * kGaussWeights[g] *
-                                               b.mass_per_length_kg_per_m);
+      masses_[next++] =
+          BeamPoint(beam, x, 0.5 * b.length_m * kGaussWeights[g] * b.mass_per_length_kg_per_m);
     }
   }
   // Joint B carries RB2 and RB3, both centred on it.
@@ -148,7 +148,7 @@ PointMotion TwoLinkModel::Motion(const Point& point, const TwoLinkVector& q,
     rotation << c, -s, s, c;
     const Eigen::Vector2d local = term.offset + term.shape * q;
     const Eigen::Vector2d local_rate = term.shape * v;
-    const Eigen::Vector2d turned(-local.y(), local.x());            // S s
+    const Eigen::Vector2d turned(-local.y(), local.x());                 // S s
     const Eigen::Vector2d turned_rate(-local_rate.y(), local_rate.x());  // S s'
     motion.position += rotation * local;
     motion.jacobian += rotation * (turned * term.angle + term.shape);

@@ -32,14 +32,14 @@
 namespace impactlab {
 
 enum TwoLinkCoordinate : int {
-  kLink1Angle = 0,    // q1
-  kBeam1Deflection,   // q2
-  kBeam1Rotation,     // q3
-  kLink2Angle,        // q4
-  kBeam2Deflection,   // q5
-  kBeam2Rotation,     // q6
-  kGearboxAAngle,     // theta_A
-  kGearboxBAngle,     // theta_B
+  kLink1Angle = 0,   // q1
+  kBeam1Deflection,  // q2
+  kBeam1Rotation,    // q3
+  kLink2Angle,       // q4
+  kBeam2Deflection,  // q5
+  kBeam2Rotation,    // q6
+  kGearboxAAngle,    // theta_A
+  kGearboxBAngle,    // theta_B
   kTwoLinkCoordinates
 };
 

@@ -14,7 +14,7 @@
 namespace impactlab {
 
 struct VibrationMode {
-  double frequency_hz = 0.0;  // damped, Im(s) / 2 pi; 0 for a real pole
+  double frequency_hz = 0.0;   // damped, Im(s) / 2 pi; 0 for a real pole
   double damping_ratio = 0.0;  // -Re(s) / |s|
   double decay_rate_per_s = 0.0;
 };

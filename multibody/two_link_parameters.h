@@ -33,18 +33,20 @@ struct TwoLinkBody {
 // `backlash_rad` (total play) and a gear mesh of stiffness k_g and damping
 // c_g while engaged. The encoder sits on the motor: it reads the output angle.
 struct TwoLinkDrive {
-  double gear_ratio = 1.0;                     // n
-  double torque_constant_n_m_per_a = 0.0;      // K_t
-  double back_emf_v_s_per_rad = 0.0;           // K_b
-  double armature_resistance_ohm = 1.0;        // R
-  double equivalent_inertia_kg_m2 = 0.0;       // J_eq, at the output
-  double equivalent_damping_n_m_s = 0.0;       // C_eq, at the output
-  double backlash_rad = 0.0;                   // total play at the output
+  double gear_ratio = 1.0;                    // n
+  double torque_constant_n_m_per_a = 0.0;     // K_t
+  double back_emf_v_s_per_rad = 0.0;          // K_b
+  double armature_resistance_ohm = 1.0;       // R
+  double equivalent_inertia_kg_m2 = 0.0;      // J_eq, at the output
+  double equivalent_damping_n_m_s = 0.0;      // C_eq, at the output
+  double backlash_rad = 0.0;                  // total play at the output
   double mesh_stiffness_n_m_per_rad = 2.0e4;  // k_g
-  double mesh_damping_n_m_s = 0.5;             // c_g
+  double mesh_damping_n_m_s = 0.5;            // c_g
 
   // Stall torque per volt, n K_t / R, and the speed damping n^2 K_t K_b / R.
-  double TorquePerVolt() const { return gear_ratio * torque_constant_n_m_per_a / armature_resistance_ohm; }
+  double TorquePerVolt() const {
+    return gear_ratio * torque_constant_n_m_per_a / armature_resistance_ohm;
+  }
   double BackEmfDamping() const {
     return gear_ratio * gear_ratio * torque_constant_n_m_per_a * back_emf_v_s_per_rad /
            armature_resistance_ohm;
@@ -52,21 +54,21 @@ struct TwoLinkDrive {
 };
 
 struct TwoLinkTool {
-  TwoLinkBody body;           // RB4
-  double centre_m = 0.0;      // its centre of mass this far beyond beam 2's tip, along the beam
-  double tip_x_m = 0.0;       // the contact tip from the centre of mass, along the beam ...
-  double tip_y_m = 0.0;       // ... and across it
+  TwoLinkBody body;       // RB4
+  double centre_m = 0.0;  // its centre of mass this far beyond beam 2's tip, along the beam
+  double tip_x_m = 0.0;   // the contact tip from the centre of mass, along the beam ...
+  double tip_y_m = 0.0;   // ... and across it
 };
 
 struct TwoLinkSurface {
-  double distance_m = 0.025;           // the line x = -distance
-  double friction_coefficient = 0.2;   // kinetic Coulomb mu
-  double slip_velocity_m_s = 1e-3;     // friction is mu N v / sqrt(v^2 + v_s^2) (eq. 21, regularised)
+  double distance_m = 0.025;          // the line x = -distance
+  double friction_coefficient = 0.2;  // kinetic Coulomb mu
+  double slip_velocity_m_s = 1e-3;  // friction is mu N v / sqrt(v^2 + v_s^2) (eq. 21, regularised)
 };
 
 // Where the sensors sit and what the experiment's logger adds.
 struct TwoLinkSensors {
-  double counts_per_rev = 1024.0;  // encoder counts per motor turn
+  double counts_per_rev = 1024.0;           // encoder counts per motor turn
   double beam_sensitivity_v_per_g = 0.100;  // mid-beam accelerometers (the document)
   double body_sensitivity_v_per_g = 0.005;  // on RB2 and RB4 (the document)
   double beam_noise_v = 2e-3;               // one-sigma, experiment only

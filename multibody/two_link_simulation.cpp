@@ -155,8 +155,8 @@ TwoLinkRecord Simulation::Run() {
   q(kLink1Angle) = q(kGearboxAAngle) = case_.q1_rad;
   q(kLink2Angle) = q(kGearboxBAngle) = case_.q4_rad;
   if (!(model_.Gap(q) > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "two-link: the tool's tip starts {:.4g} m inside the surface", -model_.Gap(q)));
+    throw std::invalid_argument(
+        fmt::format("two-link: the tool's tip starts {:.4g} m inside the surface", -model_.Gap(q)));
   }
   Regime regime;
   double t = 0.0;
@@ -174,8 +174,8 @@ TwoLinkRecord Simulation::Run() {
         integrator_.Step(limit);
       } catch (const std::runtime_error& e) {
         throw std::domain_error(fmt::format("two-link, {} motion at t = {:.6f} s: {}",
-                                             regime.constrained ? "constrained" : "free",
-                                             integrator_.time(), e.what()));
+                                            regime.constrained ? "constrained" : "free",
+                                            integrator_.time(), e.what()));
       }
       ++record_.steps;
       const double t_lo = integrator_.previous_time(), t_hi = integrator_.time();
@@ -227,9 +227,9 @@ TwoLinkRecord Simulation::Run() {
       }
       record_.events.push_back(record_event);
       if (static_cast<int>(record_.events.size()) > options_.max_events) {
-        throw std::domain_error(fmt::format(
-            "two-link: more than {} impacts and separations by t = {:.6f} s (chatter)",
-            options_.max_events, t_event));
+        throw std::domain_error(
+            fmt::format("two-link: more than {} impacts and separations by t = {:.6f} s (chatter)",
+                        options_.max_events, t_event));
       }
       t = t_event;
       y = Join(q, v);

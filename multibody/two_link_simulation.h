@@ -34,7 +34,7 @@ struct TwoLinkSimulationOptions {
 
 struct TwoLinkEvent {
   double time_s = 0.0;
-  std::string kind;  // "impact" or "separation"
+  std::string kind;      // "impact" or "separation"
   ImpactOutcome impact;  // for impacts
 };
 
@@ -45,8 +45,7 @@ struct TwoLinkRecord {
   // The full state per sample (keep_state), the regime and the surface's force.
   std::vector<TwoLinkVector> position, velocity;
   std::vector<int> in_contact;
-  std::vector<double> normal_force_n, friction_force_n, tip_x_m, tip_y_m, voltage_a_v,
-      voltage_b_v;
+  std::vector<double> normal_force_n, friction_force_n, tip_x_m, tip_y_m, voltage_a_v, voltage_b_v;
   std::vector<TwoLinkEvent> events;
   double max_loop_closure_m = 0.0;  // largest |gap| at constrained samples
   long steps = 0;

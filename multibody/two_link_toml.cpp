@@ -12,8 +12,7 @@
 
 namespace impactlab {
 
-TwoLinkParameters ParseTwoLinkParameters(std::string_view text,
-                                         const std::filesystem::path& file) {
+TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::filesystem::path& file) {
   toml::table table;
   try {
     table = toml::parse(text, file.string());
@@ -23,16 +22,16 @@ TwoLinkParameters ParseTwoLinkParameters(std::string_view text,
   }
   TwoLinkParameters p = TwoLinkParameters::Nominal();
   std::map<std::string, std::set<std::string>> known;
-  VisitTwoLinkKeys(p, [&](const char* section, const char* key, double& value,
-                          TwoLinkKeyRule, const char*) {
-    known[section].insert(key);
-    const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
-    if (!node) return;
-    const std::string where = fmt::format("{}.{}", section, key);
-    const auto line = static_cast<long long>(node->source().begin.line);
-    if (!node->is_number()) throw InputError({file, where, line}, "must be a number");
-    value = node->value<double>().value();
-  });
+  VisitTwoLinkKeys(
+      p, [&](const char* section, const char* key, double& value, TwoLinkKeyRule, const char*) {
+        known[section].insert(key);
+        const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
+        if (!node) return;
+        const std::string where = fmt::format("{}.{}", section, key);
+        const auto line = static_cast<long long>(node->source().begin.line);
+        if (!node->is_number()) throw InputError({file, where, line}, "must be a number");
+        value = node->value<double>().value();
+      });
   for (const auto& [section, node] : table) {
     const std::string name(section.str());
     const auto line = static_cast<long long>(node.source().begin.line);

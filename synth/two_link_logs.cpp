@@ -44,21 +44,9 @@ void Close(std::ofstream& out, const fs::path& file) {
 
 std::string LogHeader() { return "t,enc1,enc2,acc1,acc2,acc3,acc4"; }
 
-// SI: angles in rad, accelerations in m/s^2.
-void WriteSimulationCsv(const fs::path& file, const TwoLinkRecord& r) {
-  std::ofstream out = OpenCsv(file, LogHeader());
-  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
-    fmt::format_to(std::ostreambuf_iterator<char>(out),
-                   "{:.6f},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", r.time_s[i],
-                   r.gearbox_a_rad[i], r.gearbox_b_rad[i], r.acceleration_m_s2[0][i],
-                   r.acceleration_m_s2[1][i], r.acceleration_m_s2[2][i], r.acceleration_m_s2[3][i]);
-  }
-  Close(out, file);
-}
-
 // The logger: whole encoder counts, accelerometer volts with noise in ADC steps.
-void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r,
-                        const TwoLinkParameters& p, std::uint64_t seed) {
+void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r, const TwoLinkParameters& p,
+                        std::uint64_t seed) {
   const TwoLinkSensors& s = p.sensors;
   synth_detail::Gaussian noise(seed);
   std::ofstream out = OpenCsv(file, LogHeader());
@@ -147,6 +135,17 @@ Log CaseLog(int number, const TwoLinkParameters& p) {
 
 }  // namespace
 
+void WriteTwoLinkSimulationCsv(const fs::path& file, const TwoLinkRecord& r) {
+  std::ofstream out = OpenCsv(file, LogHeader());
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    fmt::format_to(std::ostreambuf_iterator<char>(out),
+                   "{:.6f},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n", r.time_s[i],
+                   r.gearbox_a_rad[i], r.gearbox_b_rad[i], r.acceleration_m_s2[0][i],
+                   r.acceleration_m_s2[1][i], r.acceleration_m_s2[2][i], r.acceleration_m_s2[3][i]);
+  }
+  Close(out, file);
+}
+
 TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
   if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
   for (int number : options.cases) {
@@ -167,10 +166,10 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
   SessionManifest manifest;
   manifest.comment = {"Encoder and accelerometer logs of the two-link flexible manipulator",
                       "(impactlab simulate two-link; docs/two-link.md). The experiment is the",
-                      "simulator with its own parameters and the logger's noise; the",
-                      "simulation is the nominal model in SI."};
-  manifest.title = options.title.empty() ? "Two-link flexible manipulator (simulated logs)"
-                                         : options.title;
+                      "simulator with the experiment's parameters and the logger's noise; the",
+                      "simulation is the simulation's parameters, clean, in SI."};
+  manifest.title =
+      options.title.empty() ? "Two-link flexible manipulator (simulated logs)" : options.title;
   manifest.units = UnitSystem::kSI;
   TwoLinkLogSummary summary;
   summary.truth = {{"schema", "impactlab-two-link-truth"},
@@ -184,13 +183,14 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
     const TwoLinkCase& simulation_case = options.simulation.cases[number - 1];
     TwoLinkSimulationOptions integration = options.integration;
     integration.keep_state = options.write_state;
-    const TwoLinkRecord experiment = SimulateTwoLink(experiment_model, experiment_case, integration);
+    const TwoLinkRecord experiment =
+        SimulateTwoLink(experiment_model, experiment_case, integration);
     const TwoLinkRecord simulation =
         SimulateTwoLink(simulation_model, simulation_case, integration);
     const Log log = CaseLog(number, options.experiment);
     WriteExperimentCsv(folder / log.experiment, experiment, options.experiment,
                        options.seed + static_cast<std::uint64_t>(number));
-    WriteSimulationCsv(folder / *log.simulation, simulation);
+    WriteTwoLinkSimulationCsv(folder / *log.simulation, simulation);
     if (options.write_state) {
       WriteStateCsv(folder / "state" / fmt::format("case{}-experiment.csv", number), experiment);
       WriteStateCsv(folder / "state" / fmt::format("case{}-simulation.csv", number), simulation);
@@ -198,7 +198,7 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
     manifest.logs.push_back(log);
     summary.truth[log.id] = {{"experiment", RecordJson(experiment, experiment_text)},
                              {"simulation", RecordJson(simulation, simulation_text)}};
-    summary.rows = static_cast<int>(experiment.time_s.size());
+    summary.rows.push_back(static_cast<int>(experiment.time_s.size()));
   }
   WriteManifest(folder / "session.toml", manifest);
   return summary;

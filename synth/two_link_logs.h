@@ -32,8 +32,8 @@ struct TwoLinkLogOptions {
 };
 
 struct TwoLinkLogSummary {
-  nlohmann::json truth;  // per case: impact times, events, the parameters
-  int rows = 0;          // per file
+  nlohmann::json truth;   // per case: impact times, events, the parameters
+  std::vector<int> rows;  // per case, in each of its files
 };
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
@@ -41,5 +41,9 @@ struct TwoLinkLogSummary {
 // folder that cannot be written, std::runtime_error when a simulation fails.
 TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
                                       const TwoLinkLogOptions& options);
+
+// A simulation's log in SI (angles in rad, accelerations in m/s^2), the
+// columns above. Throws InputError when the file cannot be written.
+void WriteTwoLinkSimulationCsv(const std::filesystem::path& file, const TwoLinkRecord& record);
 
 }  // namespace impactlab

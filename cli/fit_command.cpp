@@ -1,0 +1,166 @@
+// `impactlab fit two-link PARAMS.toml SESSION --log ID --free KEY,... -o DIR`:
+// the two-link simulation fitted to one `[[log]]` of a session
+// (docs/two-link-fit.md). DIR gets fitted.toml (the parameter file with the
+// fitted values), fit.md (what was determined, with uncertainties, and what
+// was not) and a session whose log pairs the experiment with the fitted
+// simulation, so `impactlab reduce DIR` shows fitted against measured.
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "fit/two_link_fit.h"
+#include "io/errors.h"
+#include "io/log_reader.h"
+#include "io/manifest.h"
+#include "multibody/two_link_simulation.h"
+#include "multibody/two_link_toml.h"
+#include "synth/manifest_writer.h"
+#include "synth/two_link_logs.h"
+
+namespace impactlab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+TwoLinkParameters ReadParameterFile(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError({file, "", std::nullopt}, "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseTwoLinkParameters(text.str(), file);
+}
+
+void WriteText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
+}
+
+// The experiment's channels by the simulator's names (q1, q4, a1..a4), in SI.
+TwoLinkMeasurement Measurement(const Log& log) {
+  const LogSeries series = ReadLogSeries(log.folder / log.experiment, log.time_column, log.channels,
+                                         LogSource::kExperiment);
+  TwoLinkMeasurement m;
+  m.time_s = series.time_s;
+  const double t0 = m.time_s.empty() ? 0.0 : m.time_s.front();
+  for (double& t : m.time_s) t -= t0;
+  for (std::size_t c = 0; c < log.channels.size(); ++c) {
+    const LogChannel& channel = log.channels[c];
+    const std::vector<double>& values = series.values[c];
+    const double step =
+        channel.counts_per_rev ? 2.0 * M_PI / (*channel.counts_per_rev * channel.gear_ratio) : 0.0;
+    if (channel.name == "q1") {
+      m.q1_rad = values;
+      m.encoder_a_step_rad = step;
+    } else if (channel.name == "q4") {
+      m.q4_rad = values;
+      m.encoder_b_step_rad = step;
+    } else if (channel.name.size() == 2 && channel.name[0] == 'a' && channel.name[1] >= '1' &&
+               channel.name[1] <= '4') {
+      m.acceleration_m_s2[channel.name[1] - '1'] = values;
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+void AddFitCommand(CLI::App& app, Action& action) {
+  struct Args {
+    fs::path parameters, session, out;
+    std::string log_id;
+    std::vector<std::string> free;
+    TwoLinkFitOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* fit = app.add_subcommand("fit", "Fit a mechanism's simulation to a session's logs");
+  fit->require_subcommand(1);
+  CLI::App* cmd = fit->add_subcommand(
+      "two-link", "The two-link flexible manipulator's simulation fitted to one [[log]]");
+  cmd->add_option("parameters", args->parameters, "Start parameters (TOML, SI; docs/two-link.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("session", args->session, "Session folder (or its session.toml)")->required();
+  cmd->add_option("--log", args->log_id, "The [[log]] id (default: the first)");
+  cmd->add_option("--case", args->options.case_number, "The document's case the log is")
+      ->check(CLI::Range(1, 3))
+      ->capture_default_str();
+  cmd->add_option("--free", args->free,
+                  "Parameters to fit, as section.key (e.g. beam1.flexural_rigidity_n_m2)")
+      ->required()
+      ->delimiter(',');
+  cmd->add_option("--max-iterations", args->options.max_iterations, "Levenberg-Marquardt steps")
+      ->capture_default_str();
+  cmd->add_option("--threads", args->options.threads, "Simulations run side by side")
+      ->capture_default_str();
+  cmd->add_option("-o,--out", args->out, "Folder to create (must not exist or be empty)")
+      ->required();
+  cmd->callback([&action, args] {
+    action = [args] {
+      std::error_code ec;
+      if (fs::exists(args->out) && !fs::is_empty(args->out, ec)) {
+        throw InputError({args->out, "", std::nullopt},
+                         "the output folder exists and is not empty");
+      }
+      const TwoLinkParameters start = ReadParameterFile(args->parameters);
+      const ManifestReadResult manifest = ReadManifest(args->session);
+      const Log* log = nullptr;
+      for (const Log& l : manifest.session.logs) {
+        if (args->log_id.empty() || l.id == args->log_id) {
+          log = &l;
+          break;
+        }
+      }
+      if (!log) {
+        throw InputError({SessionFolderOf(args->session) / "session.toml", "log", std::nullopt},
+                         args->log_id.empty() ? "the session has no [[log]]"
+                                              : "no [[log]] with id \"" + args->log_id + "\"");
+      }
+      TwoLinkFitOptions options = args->options;
+      options.free = args->free;
+      const TwoLinkMeasurement measurement = Measurement(*log);
+      fmt::print(stderr, "fitting {} parameter(s) to log {} ({} samples)...\n", options.free.size(),
+                 log->id, measurement.time_s.size());
+      const TwoLinkFitResult result = FitTwoLinkSimulation(start, measurement, options);
+
+      fs::create_directories(args->out / "logs", ec);
+      if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());
+      WriteText(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
+      const std::string summary = fmt::format("# Two-link simulation fitted to log {} of {}\n\n{}",
+                                              log->id, args->session.string(), result.Summary());
+      WriteText(args->out / "fit.md", summary);
+      // The session: the experiment as recorded beside the fitted simulation.
+      Log pair = *log;
+      pair.experiment = fs::path("logs") / (log->id + "-experiment.csv");
+      pair.simulation = fs::path("logs") / (log->id + "-fitted.csv");
+      fs::copy_file(log->folder / log->experiment, args->out / pair.experiment, ec);
+      if (ec) throw InputError({log->folder / log->experiment, "", std::nullopt}, ec.message());
+      TwoLinkParameters fitted = result.fitted;
+      const TwoLinkModel model(fitted);
+      const TwoLinkRecord record =
+          SimulateTwoLink(model, fitted.cases[options.case_number - 1], {});
+      WriteTwoLinkSimulationCsv(args->out / *pair.simulation, record);
+      SessionManifest out;
+      out.comment = {"The experiment of " + args->session.string() + " against the fitted",
+                     "two-link simulation (impactlab fit two-link; see fit.md)."};
+      out.title = "Two-link simulation fitted to log " + log->id;
+      out.units = UnitSystem::kSI;
+      out.logs.push_back(pair);
+      WriteManifest(args->out / "session.toml", out);
+      fmt::print("{}", summary);
+      fmt::print(stderr, "written: {}/fitted.toml, fit.md, session.toml (impactlab reduce {})\n",
+                 args->out.string(), args->out.string());
+      return kExitOk;
+    };
+  });
+}
+
+}  // namespace impactlab::cli

@@ -1,0 +1,541 @@
+#include "fit/two_link_fit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <stdexcept>
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+#include <Eigen/Dense>
+
+#include "multibody/two_link_keys.h"
+#include "multibody/two_link_simulation.h"
+#include "signal/damped_modes.h"
+
+namespace impactlab {
+namespace {
+
+constexpr const char* kChannelNames[6] = {"q1", "q4", "a1", "a2", "a3", "a4"};
+
+// Accelerometer samples this close to a simulated impact or separation are
+// left out (an impact's one-sample spike moves with it).
+constexpr long long kEventGuard = 5;
+
+// A free parameter: where it lives and how it is varied.
+struct FreeParameter {
+  std::string name;
+  bool logarithmic = true;
+  double start = 0.0;
+};
+
+double* Slot(TwoLinkParameters& p, const std::string& name) {
+  double* slot = nullptr;
+  VisitTwoLinkKeys(
+      p, [&](const char* section, const char* key, double& value, TwoLinkKeyRule, const char*) {
+        if (name == fmt::format("{}.{}", section, key)) slot = &value;
+      });
+  return slot;
+}
+
+double RobustSigma(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  for (double& v : values) v = std::abs(v - median);
+  std::nth_element(values.begin(), mid, values.end());
+  return 1.4826 * *mid;
+}
+
+// The channel's noise from its second differences (a smooth signal's are
+// (2 pi f / rate)^2 of it: small at these rates).
+double NoiseSigma(const std::vector<double>& x) {
+  std::vector<double> second;
+  for (std::size_t i = 1; i + 1 < x.size(); ++i) second.push_back(x[i + 1] - 2.0 * x[i] + x[i - 1]);
+  return RobustSigma(second) / std::sqrt(6.0);
+}
+
+struct Channel {
+  const std::vector<double>* measured = nullptr;
+  double sigma = 0.0;
+  std::vector<bool> spike;      // samples left out (accelerometers)
+  std::vector<double> centred;  // an encoder's readings at their counts' centres
+  const std::vector<double>& values() const { return centred.empty() ? *measured : centred; }
+};
+
+// What one simulation gives the fit.
+struct Evaluation {
+  bool ok = false;
+  Eigen::VectorXd residuals;
+  double frequency_hz = 0.0;
+  double impact_s = -1.0;
+  std::vector<double> channel_rms;
+  std::vector<bool> near_event;  // accelerometer samples left out next to simulated impacts
+};
+
+class Problem {
+ public:
+  Problem(const TwoLinkParameters& start, const TwoLinkMeasurement& m, const TwoLinkFitOptions& o)
+      : start_(start), measurement_(m), options_(o) {
+    const std::size_t n = m.time_s.size();
+    if (n < 10) throw std::invalid_argument("two-link fit: the record has fewer than 10 samples");
+    rate_ = static_cast<double>(n - 1) / (m.time_s.back() - m.time_s.front());
+    start_.sensors.sample_rate_hz = rate_;
+    start_.cases[o.case_number - 1].duration_s = m.time_s.back();
+    for (const std::string& name : o.free) {
+      TwoLinkParameters copy = start_;
+      double* slot = Slot(copy, name);
+      if (!slot) throw std::invalid_argument("two-link fit: no parameter \"" + name + "\"");
+      FreeParameter p;
+      p.name = name;
+      p.start = *slot;
+      p.logarithmic = *slot > 0.0 && name.rfind("case", 0) != 0;
+      free_.push_back(p);
+    }
+    const std::optional<std::vector<double>>* sources[6] = {&m.q1_rad,
+                                                            &m.q4_rad,
+                                                            &m.acceleration_m_s2[0],
+                                                            &m.acceleration_m_s2[1],
+                                                            &m.acceleration_m_s2[2],
+                                                            &m.acceleration_m_s2[3]};
+    for (int c = 0; c < 6; ++c) {
+      Channel channel;
+      if (sources[c]->has_value()) {
+        channel.measured = &sources[c]->value();
+        if (channel.measured->size() != n) {
+          throw std::invalid_argument(fmt::format("two-link fit: channel {} has {} samples, not {}",
+                                                  kChannelNames[c], channel.measured->size(), n));
+        }
+        channel.sigma = NoiseSigma(*channel.measured);
+        if (c < 2) {
+          // A count says the angle lies in [count, count + 1) steps: its
+          // centre, half a step up, is the unbiased reading.
+          const double step = c == 0 ? m.encoder_a_step_rad : m.encoder_b_step_rad;
+          channel.sigma = std::max(channel.sigma, step / std::sqrt(12.0));
+          channel.centred = *channel.measured;
+          for (double& v : channel.centred) v += 0.5 * step;
+        }
+        channel.spike.assign(n, false);
+        if (c >= 2) MarkSpikes(&channel);
+        if (!(channel.sigma > 0.0)) channel.sigma = 1e-12;
+      }
+      channels_.push_back(channel);
+    }
+    if (o.use_ring_down_frequency && m.acceleration_m_s2[0]) {
+      measured_impact_ = LargestSpike(channels_[2]);
+      if (measured_impact_ >= 0.0) {
+        const DampedModeFit fit = RingDown(*m.acceleration_m_s2[0], measured_impact_);
+        if (fit.ok && !fit.modes.empty() && fit.modes[0].frequency_hz.sigma > 0.0) {
+          measured_frequency_ = fit.modes[0].frequency_hz;
+        }
+      }
+    }
+  }
+
+  int parameter_count() const { return static_cast<int>(free_.size()); }
+  int residual_count() const {
+    int count = measured_frequency_ ? 1 : 0;
+    for (const Channel& c : channels_) {
+      if (c.measured) count += static_cast<int>(c.measured->size());
+    }
+    return count;
+  }
+  const std::vector<FreeParameter>& free() const { return free_; }
+  std::optional<Estimate> measured_frequency() const { return measured_frequency_; }
+  double measured_impact() const { return measured_impact_; }
+  const std::vector<Channel>& channels() const { return channels_; }
+
+  Eigen::VectorXd StartPoint() const {
+    Eigen::VectorXd x(free_.size());
+    for (std::size_t i = 0; i < free_.size(); ++i) {
+      x(static_cast<Eigen::Index>(i)) =
+          free_[i].logarithmic ? std::log(free_[i].start) : free_[i].start;
+    }
+    return x;
+  }
+
+  TwoLinkParameters ParametersAt(const Eigen::VectorXd& x) const {
+    TwoLinkParameters p = start_;
+    for (std::size_t i = 0; i < free_.size(); ++i) {
+      const double v = x(static_cast<Eigen::Index>(i));
+      *Slot(p, free_[i].name) = free_[i].logarithmic ? std::exp(v) : v;
+    }
+    return p;
+  }
+
+  // Stage 1 fits the encoders alone: their cost is smooth in the impact
+  // instant, while a ring-down's phase makes the accelerometers' cost ripple
+  // with it (a start more than a period off lands in a side minimum).
+  void set_encoders_only(bool encoders_only) { encoders_only_ = encoders_only; }
+
+  // `mask`: the samples to leave out next to impacts, when a difference
+  // quotient needs its base point's (a mask that moved with the impacts
+  // would make the quotient jump when an impact crosses a sample).
+  Evaluation Evaluate(const Eigen::VectorXd& x, const std::vector<bool>* mask = nullptr) const {
+    Evaluation e;
+    e.residuals = Eigen::VectorXd::Zero(residual_count());
+    e.channel_rms.assign(6, 0.0);
+    TwoLinkRecord record;
+    try {
+      const TwoLinkParameters p = ParametersAt(x);
+      std::string error;
+      if (!p.Check(&error)) return e;
+      const TwoLinkModel model(p);
+      TwoLinkSimulationOptions options;
+      options.relative_tolerance = options_.tolerance;
+      options.absolute_tolerance = options_.tolerance * 1e-3;
+      options.keep_state = false;
+      record = SimulateTwoLink(model, p.cases[options_.case_number - 1], options);
+    } catch (const std::exception&) {
+      return e;
+    }
+    ++simulations_;
+    const std::size_t n = measurement_.time_s.size();
+    const std::vector<double>* simulated[6] = {
+        &record.gearbox_a_rad,        &record.gearbox_b_rad,        &record.acceleration_m_s2[0],
+        &record.acceleration_m_s2[1], &record.acceleration_m_s2[2], &record.acceleration_m_s2[3]};
+    // Samples next to a simulated impact are left out of the accelerometers.
+    std::vector<bool>& near_event = e.near_event;
+    if (mask) {
+      near_event = *mask;
+    } else {
+      near_event.assign(n, false);
+      for (const TwoLinkEvent& event : record.events) {
+        const auto k = static_cast<long long>(std::ceil(event.time_s * rate_));
+        for (long long j = k - kEventGuard; j <= k + kEventGuard; ++j) {
+          if (j >= 0 && j < static_cast<long long>(n))
+            near_event[static_cast<std::size_t>(j)] = true;
+        }
+      }
+    }
+    Eigen::Index row = 0;
+    for (int c = 0; c < 6; ++c) {
+      const Channel& channel = channels_[c];
+      if (!channel.measured) continue;
+      double sum = 0.0;
+      int count = 0;
+      for (std::size_t i = 0; i < n; ++i, ++row) {
+        const auto k = static_cast<std::size_t>(std::llround(measurement_.time_s[i] * rate_));
+        if (k >= simulated[c]->size()) continue;
+        if (c >= 2 && (encoders_only_ || channel.spike[i] || near_event[i])) continue;
+        const double d = (*simulated[c])[k] - channel.values()[i];
+        e.residuals(row) = d / channel.sigma;
+        sum += d * d;
+        ++count;
+      }
+      e.channel_rms[c] = count > 0 ? std::sqrt(sum / count) : 0.0;
+    }
+    e.impact_s = record.FirstImpact();
+    if (measured_frequency_ && e.impact_s >= 0.0 && !encoders_only_) {
+      const DampedModeFit fit = RingDown(record.acceleration_m_s2[0], e.impact_s);
+      if (!fit.ok || fit.modes.empty()) return e;
+      e.frequency_hz = NearestFrequency(fit, measured_frequency_->value);
+      e.residuals(row) = (e.frequency_hz - measured_frequency_->value) / measured_frequency_->sigma;
+    }
+    e.ok = true;
+    return e;
+  }
+
+  int simulations() const { return simulations_.load(); }
+
+ private:
+  void MarkSpikes(Channel* channel) const {
+    const std::vector<double>& x = *channel->measured;
+    for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+      double a = x[i - 1], b = x[i], c = x[i + 1];
+      const double median = std::max(std::min(a, b), std::min(std::max(a, b), c));
+      if (std::abs(b - median) > 8.0 * channel->sigma) {
+        for (std::size_t j = i >= 2 ? i - 2 : 0; j <= std::min(x.size() - 1, i + 2); ++j) {
+          channel->spike[j] = true;
+        }
+      }
+    }
+  }
+
+  // The impact: the record's largest departure from its neighbours' median.
+  double LargestSpike(const Channel& channel) const {
+    const std::vector<double>& x = *channel.measured;
+    double largest = 0.0;
+    double when = -1.0;
+    for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+      const double a = x[i - 1], b = x[i], c = x[i + 1];
+      const double median = std::max(std::min(a, b), std::min(std::max(a, b), c));
+      if (channel.spike[i] && std::abs(b - median) > largest) {
+        largest = std::abs(b - median);
+        when = measurement_.time_s[i];
+      }
+    }
+    return when;
+  }
+
+  DampedModeFit RingDown(const std::vector<double>& x, double impact_s) const {
+    const auto first =
+        static_cast<std::size_t>(std::ceil((impact_s + options_.ring_down_delay_s) * rate_));
+    const auto count = static_cast<std::size_t>(options_.ring_down_duration_s * rate_);
+    if (first >= x.size()) return {};
+    const std::size_t last = std::min(x.size(), first + count);
+    return FitDampedModes(std::span<const double>(x.data() + first, last - first), rate_, {});
+  }
+
+  static double NearestFrequency(const DampedModeFit& fit, double target) {
+    double best = fit.modes[0].frequency_hz.value;
+    for (const DampedMode& m : fit.modes) {
+      if (std::abs(m.frequency_hz.value - target) < std::abs(best - target))
+        best = m.frequency_hz.value;
+    }
+    return best;
+  }
+
+  TwoLinkParameters start_;
+  const TwoLinkMeasurement& measurement_;
+  const TwoLinkFitOptions& options_;
+  double rate_ = 0.0;
+  std::vector<FreeParameter> free_;
+  std::vector<Channel> channels_;
+  std::optional<Estimate> measured_frequency_;
+  double measured_impact_ = -1.0;
+  bool encoders_only_ = false;
+  mutable std::atomic<int> simulations_{0};
+};
+
+// Residuals and their forward-difference Jacobian, the columns' simulations
+// run `threads` at a time.
+Eigen::MatrixXd Jacobian(const Problem& problem, const Eigen::VectorXd& x, const Evaluation& base,
+                         const TwoLinkFitOptions& o, bool* ok) {
+  const int p = problem.parameter_count();
+  Eigen::MatrixXd jacobian(base.residuals.size(), p);
+  *ok = true;
+  for (int first = 0; first < p; first += o.threads) {
+    std::vector<std::future<std::pair<double, Evaluation>>> columns;
+    for (int j = first; j < std::min(p, first + o.threads); ++j) {
+      columns.push_back(std::async(std::launch::async, [&, j] {
+        const bool log = problem.free()[static_cast<std::size_t>(j)].logarithmic;
+        const double h = log ? o.relative_step : o.absolute_step * std::max(1.0, std::abs(x(j)));
+        Eigen::VectorXd shifted = x;
+        shifted(j) += h;
+        return std::make_pair(h, problem.Evaluate(shifted, &base.near_event));
+      }));
+    }
+    for (int j = first; j < std::min(p, first + o.threads); ++j) {
+      auto [h, e] = columns[static_cast<std::size_t>(j - first)].get();
+      if (!e.ok) {
+        *ok = false;
+        return jacobian;
+      }
+      jacobian.col(j) = (e.residuals - base.residuals) / h;
+    }
+  }
+  return jacobian;
+}
+
+class SimulationCost : public ceres::CostFunction {
+ public:
+  SimulationCost(const Problem& problem, const TwoLinkFitOptions& options)
+      : problem_(problem), options_(options) {
+    set_num_residuals(problem.residual_count());
+    mutable_parameter_block_sizes()->push_back(problem.parameter_count());
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const Eigen::Map<const Eigen::VectorXd> x(parameters[0], problem_.parameter_count());
+    const Evaluation e = problem_.Evaluate(x);
+    if (!e.ok) return false;
+    Eigen::Map<Eigen::VectorXd>(residuals, num_residuals()) = e.residuals;
+    if (jacobians && jacobians[0]) {
+      bool ok = false;
+      const Eigen::MatrixXd j = Jacobian(problem_, x, e, options_, &ok);
+      if (!ok) return false;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          jacobians[0], num_residuals(), problem_.parameter_count()) = j;
+    }
+    return true;
+  }
+
+ private:
+  const Problem& problem_;
+  const TwoLinkFitOptions& options_;
+};
+
+std::string Combination(const Eigen::VectorXd& direction, const std::vector<FreeParameter>& free) {
+  std::string out;
+  for (Eigen::Index j = 0; j < direction.size(); ++j) {
+    const double c = direction(j);
+    if (std::abs(c) < 0.05) continue;
+    const std::string term = free[static_cast<std::size_t>(j)].logarithmic
+                                 ? "ln " + free[static_cast<std::size_t>(j)].name
+                                 : free[static_cast<std::size_t>(j)].name;
+    out += fmt::format("{}{:.2f} {}", out.empty() ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + "),
+                       std::abs(c), term);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool TwoLinkFitOptions::Check(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (free.empty()) return fail("two-link fit: name at least one parameter to free");
+  if (case_number < 1 || case_number > 3) return fail("two-link fit: case must be 1, 2 or 3");
+  if (max_iterations < 1 || !(relative_step > 0.0) || !(absolute_step > 0.0) || threads < 1 ||
+      !(tolerance > 0.0) || !(undetermined_ratio > 0.0)) {
+    return fail("two-link fit: iterations, steps, tolerance and threads must be positive");
+  }
+  return true;
+}
+
+TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
+                                      const TwoLinkMeasurement& measurement,
+                                      const TwoLinkFitOptions& options) {
+  std::string error;
+  if (!options.Check(&error)) throw std::invalid_argument(error);
+  const auto clock_start = std::chrono::steady_clock::now();
+  Problem problem(start, measurement, options);
+  const Evaluation first = problem.Evaluate(problem.StartPoint());
+  if (!first.ok) throw std::domain_error("two-link fit: the start parameters cannot be simulated");
+
+  Eigen::VectorXd x = problem.StartPoint();
+  ceres::Solver::Summary summary;
+  int iterations = 0;
+  const bool staged = measurement.q1_rad || measurement.q4_rad;
+  for (int stage = staged ? 0 : 1; stage < 2; ++stage) {
+    problem.set_encoders_only(stage == 0);
+    ceres::Problem ceres_problem;
+    ceres_problem.AddResidualBlock(new SimulationCost(problem, options), nullptr, x.data());
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = options.max_iterations;
+    solver_options.function_tolerance = stage == 0 ? 1e-6 : 1e-8;
+    solver_options.parameter_tolerance = 1e-8;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solve(solver_options, &ceres_problem, &summary);
+    iterations += static_cast<int>(summary.iterations.size());
+  }
+
+  TwoLinkFitResult result;
+  result.fitted = problem.ParametersAt(x);
+  result.iterations = iterations;
+  result.termination = summary.message;
+  const Evaluation last = problem.Evaluate(x);
+  bool ok = false;
+  const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, &ok);
+  const int p = problem.parameter_count();
+  result.chi2 = last.residuals.squaredNorm();
+  result.dof = std::max(1, problem.residual_count() - p);
+  result.birge_ratio = std::sqrt(result.chi2 / result.dof);
+  const double scale = std::max(1.0, result.birge_ratio);
+
+  // The residuals of a channel are correlated along the record (an
+  // encoder's in runs of one count): each channel's rows are weighted down by
+  // the square root of its correlation inflation before the covariance.
+  Eigen::MatrixXd weighted = jacobian;
+  {
+    Eigen::Index row = 0;
+    for (const Channel& channel : problem.channels()) {
+      if (!channel.measured) continue;
+      const auto n = static_cast<Eigen::Index>(channel.measured->size());
+      const double inflation = CorrelationInflation(
+          std::span<const double>(last.residuals.data() + row, static_cast<std::size_t>(n)));
+      weighted.middleRows(row, n) /= std::sqrt(inflation);
+      row += n;
+    }
+  }
+  // Covariance from the determined directions only.
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(p, p);
+  std::vector<bool> determined(static_cast<std::size_t>(p), true);
+  if (ok) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(weighted, Eigen::ComputeThinV);
+    for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i) {
+      result.singular_value_ratios.push_back(svd.singularValues()(i) / svd.singularValues()(0));
+    }
+    const Eigen::VectorXd& s = svd.singularValues();
+    for (int i = 0; i < p; ++i) {
+      const Eigen::VectorXd direction = svd.matrixV().col(i);
+      const double ratio = s(0) > 0.0 ? s(i) / s(0) : 0.0;
+      if (ratio < options.undetermined_ratio) {
+        result.undetermined.push_back({Combination(direction, problem.free()), ratio});
+        for (int j = 0; j < p; ++j) {
+          if (std::abs(direction(j)) >= 0.05) determined[static_cast<std::size_t>(j)] = false;
+        }
+      } else {
+        covariance += direction * direction.transpose() / (s(i) * s(i));
+      }
+    }
+  }
+  for (int j = 0; j < p; ++j) {
+    const FreeParameter& f = problem.free()[static_cast<std::size_t>(j)];
+    FittedParameter out;
+    out.name = f.name;
+    out.start = f.start;
+    out.determined = ok && determined[static_cast<std::size_t>(j)];
+    const double value = f.logarithmic ? std::exp(x(j)) : x(j);
+    const double sigma_x = out.determined ? std::sqrt(covariance(j, j)) : 0.0;
+    out.value = {value, f.logarithmic ? value * sigma_x : sigma_x};
+    out.std_error_scaled = out.value.sigma * scale;
+    result.parameters.push_back(out);
+  }
+  for (int c = 0; c < 6; ++c) {
+    const Channel& channel = problem.channels()[static_cast<std::size_t>(c)];
+    if (!channel.measured) continue;
+    result.channels.push_back({kChannelNames[c], first.channel_rms[static_cast<std::size_t>(c)],
+                               last.channel_rms[static_cast<std::size_t>(c)], channel.sigma,
+                               static_cast<int>(channel.measured->size())});
+  }
+  result.measured_frequency_hz = problem.measured_frequency();
+  result.start_frequency_hz = first.frequency_hz;
+  result.fitted_frequency_hz = last.frequency_hz;
+  result.measured_impact_s = problem.measured_impact();
+  result.start_impact_s = first.impact_s;
+  result.fitted_impact_s = last.impact_s;
+  result.simulations = problem.simulations();
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
+std::string TwoLinkFitResult::Summary() const {
+  std::string out =
+      "| parameter | start | fitted | sigma | sigma (scaled) | determined |\n"
+      "| --- | ---: | ---: | ---: | ---: | --- |\n";
+  for (const FittedParameter& p : parameters) {
+    out +=
+        fmt::format("| {} | {:.6g} | {:.6g} | {:.3g} | {:.3g} | {} |\n", p.name, p.start,
+                    p.value.value, p.value.sigma, p.std_error_scaled, p.determined ? "yes" : "no");
+  }
+  for (const UndeterminedCombination& u : undetermined) {
+    out +=
+        fmt::format("\nNot determined by these data: {} (singular value {:.1e} of the largest)\n",
+                    u.combination, u.singular_value_ratio);
+  }
+  out +=
+      "\n| channel | RMS at start | RMS fitted | noise sigma | samples |\n"
+      "| --- | ---: | ---: | ---: | ---: |\n";
+  for (const ChannelMatch& c : channels) {
+    out += fmt::format("| {} | {:.4g} | {:.4g} | {:.3g} | {} |\n", c.channel, c.rms_start,
+                       c.rms_fitted, c.sigma, c.samples);
+  }
+  out += fmt::format("\nchi2 {:.6g} on {} degrees of freedom; Birge ratio {:.3g}\n", chi2, dof,
+                     birge_ratio);
+  std::string ratios;
+  for (double r : singular_value_ratios) ratios += fmt::format(" {:.2e}", r);
+  out += "singular values of the weighted Jacobian over the largest:" + ratios + "\n";
+  if (measured_frequency_hz) {
+    out += fmt::format(
+        "a1 ring-down: measured {:.4f} +- {:.4f} Hz; start {:.4f} Hz; fitted {:.4f} Hz\n",
+        measured_frequency_hz->value, measured_frequency_hz->sigma, start_frequency_hz,
+        fitted_frequency_hz);
+  }
+  out += fmt::format("first impact: measured {:.4f} s; start {:.4f} s; fitted {:.4f} s\n",
+                     measured_impact_s, start_impact_s, fitted_impact_s);
+  out += fmt::format("{} iterations, {} simulations, {:.1f} s; {}\n", iterations, simulations,
+                     seconds, termination);
+  return out;
+}
+
+}  // namespace impactlab

@@ -1,0 +1,111 @@
+// The two-link manipulator's simulation fitted to an experiment's logs
+// (docs/two-link-fit.md): the parameters the user frees are adjusted by
+// Levenberg-Marquardt (Ceres) so that the simulated encoder angles and
+// accelerations match the logged ones sample by sample, with the ring-down
+// frequency of the first mid-beam accelerometer as one more datum.
+//
+// Each residual is (simulated - measured) / sigma, sigma the channel's noise
+// estimated from the record itself (second differences, robust; an encoder's
+// at least its count / sqrt 12). Accelerometer samples within two samples of
+// an impact (the simulation's, or a spike in the record) are left out: a
+// one-sample spike's height says where in the sample the impact fell, not how
+// the arm moves. An encoder's reading is taken at the centre of its count.
+// Each channel's rows are weighted down by its residuals' correlation
+// inflation (model/estimate.h) for the covariance. Positive parameters are fitted as logarithms;
+// derivatives are forward differences of whole simulations, run side by side. The fit runs in two
+// stages: the encoders alone first (their cost is smooth in the impact instant), then every channel
+// from there.
+//
+// The answer says which combinations the data determine: the singular vectors
+// of the weighted Jacobian whose singular values fall below
+// `undetermined_ratio` of the largest are named as combinations of log
+// parameters (e.g. "ln drive_a.torque_constant_n_m_per_a - ln
+// drive_a.armature_resistance_ohm"), and a parameter in one of them has no
+// standard error of its own.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/estimate.h"
+#include "multibody/two_link_parameters.h"
+
+namespace impactlab {
+
+// An experiment's record in SI on a uniform grid starting at t = 0: the
+// encoders' angles (rad) and the accelerometers' accelerations (m/s^2), each
+// present or not, in the simulator's order (a1 mid beam 1, a2 RB2, a3 mid
+// beam 2, a4 RB4).
+struct TwoLinkMeasurement {
+  std::vector<double> time_s;
+  std::optional<std::vector<double>> q1_rad, q4_rad;
+  std::optional<std::vector<double>> acceleration_m_s2[4];
+  double encoder_a_step_rad = 0.0, encoder_b_step_rad = 0.0;  // one count, for the noise floor
+};
+
+struct TwoLinkFitOptions {
+  std::vector<std::string> free;  // keys of the parameter file, "section.key"
+  int case_number = 1;
+  int max_iterations = 40;
+  double relative_step = 1e-4;          // forward difference in log parameters
+  double absolute_step = 1e-5;          // ... for a parameter that may be <= 0
+  double undetermined_ratio = 1e-3;     // singular value / largest below this: not
+                                        // determined (forward differences of adaptive
+                                        // simulations resolve no finer)
+  bool use_ring_down_frequency = true;  // a1's post-impact damped frequency as a datum
+  double ring_down_delay_s = 0.005;     // the ring-down window starts this long after the impact
+  double ring_down_duration_s = 1.0;
+  double tolerance = 1e-8;  // the simulation's relative tolerance
+  int threads = 2;
+
+  bool Check(std::string* error) const;
+};
+
+struct FittedParameter {
+  std::string name;
+  double start = 0.0;
+  Estimate value;                 // sigma from the weighted Jacobian (0 when not determined)
+  double std_error_scaled = 0.0;  // times the Birge ratio when that exceeds 1
+  bool determined = true;
+};
+
+struct UndeterminedCombination {
+  std::string combination;  // e.g. "0.71 ln a - 0.71 ln b"
+  double singular_value_ratio = 0.0;
+};
+
+struct ChannelMatch {
+  std::string channel;
+  double rms_start = 0.0, rms_fitted = 0.0;  // SI
+  double sigma = 0.0;                        // the noise used
+  int samples = 0;
+};
+
+struct TwoLinkFitResult {
+  TwoLinkParameters fitted;
+  std::vector<FittedParameter> parameters;
+  std::vector<UndeterminedCombination> undetermined;
+  std::vector<double> singular_value_ratios;  // of the weighted Jacobian, largest first
+  std::vector<ChannelMatch> channels;
+  double chi2 = 0.0;
+  int dof = 0;
+  double birge_ratio = 0.0;
+  std::optional<Estimate> measured_frequency_hz;  // a1's ring-down
+  double start_frequency_hz = 0.0, fitted_frequency_hz = 0.0;
+  double measured_impact_s = -1.0, start_impact_s = -1.0, fitted_impact_s = -1.0;
+  int iterations = 0;
+  int simulations = 0;
+  double seconds = 0.0;
+  std::string termination;
+
+  std::string Summary() const;  // a Markdown report: parameters, combinations, channels
+};
+
+// Throws std::invalid_argument for bad options or an unknown key (naming
+// it), std::domain_error when the start parameters cannot be simulated.
+TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
+                                      const TwoLinkMeasurement& measurement,
+                                      const TwoLinkFitOptions& options);
+
+}  // namespace impactlab
