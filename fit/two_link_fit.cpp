@@ -301,31 +301,53 @@ class Problem {
   mutable std::atomic<int> simulations_{0};
 };
 
-// Residuals and their forward-difference Jacobian, the columns' simulations
-// run `threads` at a time.
+// The residuals' Jacobian by differences of whole simulations, `threads`
+// at a time: forward differences while iterating, central ones for the
+// covariance (a parameter that enters only through a ratio with another then
+// gives exactly opposite columns, so the pair's degeneracy is seen; forward
+// differences differ by the response's curvature, which the bouncing after
+// an impact makes large).
 Eigen::MatrixXd Jacobian(const Problem& problem, const Eigen::VectorXd& x, const Evaluation& base,
-                         const TwoLinkFitOptions& o, bool* ok) {
+                         const TwoLinkFitOptions& o, bool central, bool* ok) {
   const int p = problem.parameter_count();
-  Eigen::MatrixXd jacobian(base.residuals.size(), p);
+  struct Task {
+    int column;
+    double step;  // signed
+  };
+  std::vector<Task> tasks;
+  for (int j = 0; j < p; ++j) {
+    const bool log = problem.free()[static_cast<std::size_t>(j)].logarithmic;
+    const double h = log ? o.relative_step : o.absolute_step * std::max(1.0, std::abs(x(j)));
+    tasks.push_back({j, h});
+    if (central) tasks.push_back({j, -h});
+  }
+  std::vector<Evaluation> results(tasks.size());
   *ok = true;
-  for (int first = 0; first < p; first += o.threads) {
-    std::vector<std::future<std::pair<double, Evaluation>>> columns;
-    for (int j = first; j < std::min(p, first + o.threads); ++j) {
-      columns.push_back(std::async(std::launch::async, [&, j] {
-        const bool log = problem.free()[static_cast<std::size_t>(j)].logarithmic;
-        const double h = log ? o.relative_step : o.absolute_step * std::max(1.0, std::abs(x(j)));
+  for (std::size_t first = 0; first < tasks.size(); first += static_cast<std::size_t>(o.threads)) {
+    std::vector<std::future<Evaluation>> running;
+    const std::size_t end = std::min(tasks.size(), first + static_cast<std::size_t>(o.threads));
+    for (std::size_t t = first; t < end; ++t) {
+      running.push_back(std::async(std::launch::async, [&, t] {
         Eigen::VectorXd shifted = x;
-        shifted(j) += h;
-        return std::make_pair(h, problem.Evaluate(shifted, &base.near_event));
+        shifted(tasks[t].column) += tasks[t].step;
+        return problem.Evaluate(shifted, &base.near_event);
       }));
     }
-    for (int j = first; j < std::min(p, first + o.threads); ++j) {
-      auto [h, e] = columns[static_cast<std::size_t>(j - first)].get();
-      if (!e.ok) {
-        *ok = false;
-        return jacobian;
-      }
-      jacobian.col(j) = (e.residuals - base.residuals) / h;
+    for (std::size_t t = first; t < end; ++t) {
+      results[t] = running[t - first].get();
+      if (!results[t].ok) *ok = false;
+    }
+  }
+  Eigen::MatrixXd jacobian(base.residuals.size(), p);
+  if (!*ok) return jacobian;
+  for (int j = 0; j < p; ++j) {
+    if (central) {
+      const Evaluation& up = results[static_cast<std::size_t>(2 * j)];
+      const Evaluation& down = results[static_cast<std::size_t>(2 * j + 1)];
+      jacobian.col(j) = (up.residuals - down.residuals) / (2.0 * tasks[2 * j].step);
+    } else {
+      jacobian.col(j) =
+          (results[static_cast<std::size_t>(j)].residuals - base.residuals) / tasks[j].step;
     }
   }
   return jacobian;
@@ -347,7 +369,7 @@ class SimulationCost : public ceres::CostFunction {
     Eigen::Map<Eigen::VectorXd>(residuals, num_residuals()) = e.residuals;
     if (jacobians && jacobians[0]) {
       bool ok = false;
-      const Eigen::MatrixXd j = Jacobian(problem_, x, e, options_, &ok);
+      const Eigen::MatrixXd j = Jacobian(problem_, x, e, options_, false, &ok);
       if (!ok) return false;
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           jacobians[0], num_residuals(), problem_.parameter_count()) = j;
@@ -424,7 +446,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   result.termination = summary.message;
   const Evaluation last = problem.Evaluate(x);
   bool ok = false;
-  const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, &ok);
+  const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, true, &ok);
   const int p = problem.parameter_count();
   result.chi2 = last.residuals.squaredNorm();
   result.dof = std::max(1, problem.residual_count() - p);
@@ -509,9 +531,10 @@ std::string TwoLinkFitResult::Summary() const {
                     p.value.value, p.value.sigma, p.std_error_scaled, p.determined ? "yes" : "no");
   }
   for (const UndeterminedCombination& u : undetermined) {
-    out +=
-        fmt::format("\nNot determined by these data: {} (singular value {:.1e} of the largest)\n",
-                    u.combination, u.singular_value_ratio);
+    out += fmt::format(
+        "\nNot determined by these data: the fit does not change along {} (singular value "
+        "{:.1e} of the largest); only combinations across it are fixed\n",
+        u.combination, u.singular_value_ratio);
   }
   out +=
       "\n| channel | RMS at start | RMS fitted | noise sigma | samples |\n"

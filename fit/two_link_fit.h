@@ -6,22 +6,24 @@
 //
 // Each residual is (simulated - measured) / sigma, sigma the channel's noise
 // estimated from the record itself (second differences, robust; an encoder's
-// at least its count / sqrt 12). Accelerometer samples within two samples of
-// an impact (the simulation's, or a spike in the record) are left out: a
-// one-sample spike's height says where in the sample the impact fell, not how
-// the arm moves. An encoder's reading is taken at the centre of its count.
-// Each channel's rows are weighted down by its residuals' correlation
-// inflation (model/estimate.h) for the covariance. Positive parameters are fitted as logarithms;
-// derivatives are forward differences of whole simulations, run side by side. The fit runs in two
-// stages: the encoders alone first (their cost is smooth in the impact instant), then every channel
-// from there.
+// at least its count / sqrt 12). An encoder's reading is taken at the centre
+// of its count. Accelerometer samples within five samples of a simulated
+// impact or separation, or of a spike in the record, are left out: a
+// one-sample spike's height says where in the sample the impact fell, not
+// how the arm moves. Positive parameters are fitted as logarithms;
+// derivatives are forward differences of whole simulations run side by side.
+// The fit runs in two stages: the encoders alone first (their cost is smooth
+// in the impact instant, while a ring-down's phase makes the accelerometers'
+// ripple), then every channel from there. For the covariance each channel's
+// rows are weighted down by its residuals' correlation inflation
+// (model/estimate.h).
 //
 // The answer says which combinations the data determine: the singular vectors
-// of the weighted Jacobian whose singular values fall below
-// `undetermined_ratio` of the largest are named as combinations of log
-// parameters (e.g. "ln drive_a.torque_constant_n_m_per_a - ln
-// drive_a.armature_resistance_ohm"), and a parameter in one of them has no
-// standard error of its own.
+// of the weighted Jacobian (central differences) whose singular values fall
+// below `undetermined_ratio` of the largest are directions along which the
+// fit does not change, named as combinations of log parameters (freeing a
+// motor's K_t and R, which enter only as K_t / R: "0.71 ln K_t + 0.71 ln R");
+// a parameter in one of them has no standard error of its own.
 #pragma once
 
 #include <optional>

@@ -55,9 +55,14 @@ std::vector<VibrationMode> LinearisedModes(const TwoLinkModel& model, const TwoL
     jacobian.col(j) = (rate(up) - rate(down)) / (2.0 * h);
   }
   const Eigen::EigenSolver<Eigen::MatrixXd> solver(jacobian, false);
+  // Rigid-body motions (the arm turning freely in flight) are zero
+  // eigenvalues, which the differences split into tiny spurious pairs: left out.
+  double largest = 0.0;
+  for (const std::complex<double>& s : solver.eigenvalues())
+    largest = std::max(largest, std::abs(s));
   std::vector<VibrationMode> oscillatory, real;
   for (const std::complex<double>& s : solver.eigenvalues()) {
-    if (s.imag() < 0.0) continue;
+    if (s.imag() < 0.0 || std::abs(s) < 1e-6 * largest) continue;
     VibrationMode mode;
     mode.frequency_hz = s.imag() / (2.0 * std::numbers::pi);
     mode.decay_rate_per_s = -s.real();

@@ -19,7 +19,8 @@ struct VibrationMode {
   double decay_rate_per_s = 0.0;
 };
 
-// Oscillatory modes (Im s > 0) by frequency, then real poles. Throws
+// Oscillatory modes (Im s > 0) by frequency, then real poles; rigid-body
+// zero eigenvalues (|s| below 1e-6 of the largest) are left out. Throws
 // std::domain_error when the loop closure fails.
 std::vector<VibrationMode> LinearisedModes(const TwoLinkModel& model, const TwoLinkVector& q,
                                            const TwoLinkVector& v, const DriveVoltages& voltages,

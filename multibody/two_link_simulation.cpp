@@ -155,7 +155,7 @@ TwoLinkRecord Simulation::Run() {
   q(kLink1Angle) = q(kGearboxAAngle) = case_.q1_rad;
   q(kLink2Angle) = q(kGearboxBAngle) = case_.q4_rad;
   if (!(model_.Gap(q) > 0.0)) {
-    throw std::invalid_argument(
+    throw std::domain_error(
         fmt::format("two-link: the tool's tip starts {:.4g} m inside the surface", -model_.Gap(q)));
   }
   Regime regime;
@@ -274,7 +274,7 @@ TwoLinkRecord SimulateTwoLink(const TwoLinkModel& model, const TwoLinkCase& expe
                               const TwoLinkSimulationOptions& options) {
   if (!(options.relative_tolerance > 0.0) || !(options.absolute_tolerance > 0.0) ||
       !(options.max_step_s > 0.0) || options.sample_rate_hz < 0.0 || options.duration_s < 0.0) {
-    throw std::invalid_argument("two-link simulation: tolerances and steps must be positive");
+    throw std::domain_error("two-link simulation: tolerances and steps must be positive");
   }
   Simulation simulation(model, experiment, options);
   return simulation.Run();

@@ -54,9 +54,9 @@ struct TwoLinkRecord {
   double FirstImpact() const;  // s; NaN-free: -1 when there was none
 };
 
-// Throws std::invalid_argument for bad options or a tip that starts inside the
-// surface, std::domain_error when the motion leaves what the model can
-// integrate (step collapse, chatter, loop closure), with the time.
+// Throws std::invalid_argument for bad options; std::domain_error for a tip
+// that starts inside the surface or a motion the model cannot integrate (step
+// collapse, chatter, loop closure), with the time.
 TwoLinkRecord SimulateTwoLink(const TwoLinkModel& model, const TwoLinkCase& experiment,
                               const TwoLinkSimulationOptions& options = {});
 

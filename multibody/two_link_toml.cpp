@@ -1,5 +1,6 @@
 #include "multibody/two_link_toml.h"
 
+#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
@@ -22,16 +23,23 @@ TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::files
   }
   TwoLinkParameters p = TwoLinkParameters::Nominal();
   std::map<std::string, std::set<std::string>> known;
-  VisitTwoLinkKeys(
-      p, [&](const char* section, const char* key, double& value, TwoLinkKeyRule, const char*) {
-        known[section].insert(key);
-        const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
-        if (!node) return;
-        const std::string where = fmt::format("{}.{}", section, key);
-        const auto line = static_cast<long long>(node->source().begin.line);
-        if (!node->is_number()) throw InputError({file, where, line}, "must be a number");
-        value = node->value<double>().value();
-      });
+  VisitTwoLinkKeys(p, [&](const char* section, const char* key, double& value, TwoLinkKeyRule rule,
+                          const char*) {
+    known[section].insert(key);
+    const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
+    if (!node) return;
+    const std::string where = fmt::format("{}.{}", section, key);
+    const auto line = static_cast<long long>(node->source().begin.line);
+    if (!node->is_number()) throw InputError({file, where, line}, "must be a number");
+    value = node->value<double>().value();
+    if (!std::isfinite(value)) throw InputError({file, where, line}, "must be finite");
+    if (rule == TwoLinkKeyRule::kPositive && !(value > 0.0)) {
+      throw InputError({file, where, line}, "must be positive");
+    }
+    if (rule == TwoLinkKeyRule::kNonNegative && !(value >= 0.0)) {
+      throw InputError({file, where, line}, "must be >= 0");
+    }
+  });
   for (const auto& [section, node] : table) {
     const std::string name(section.str());
     const auto line = static_cast<long long>(node.source().begin.line);

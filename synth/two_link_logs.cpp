@@ -1,5 +1,6 @@
 #include "synth/two_link_logs.h"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -30,6 +31,10 @@ double CountsPerRad(const TwoLinkSensors& sensors, const TwoLinkDrive& drive) {
 
 bool IsBeamSensor(int s) { return s == 0 || s == 2; }
 
+double Sensitivity(const TwoLinkSensors& s, int accelerometer) {
+  return IsBeamSensor(accelerometer) ? s.beam_sensitivity_v_per_g : s.body_sensitivity_v_per_g;
+}
+
 std::ofstream OpenCsv(const fs::path& file, const std::string& header) {
   std::ofstream out(file, std::ios::binary);
   if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
@@ -44,25 +49,41 @@ void Close(std::ofstream& out, const fs::path& file) {
 
 std::string LogHeader() { return "t,enc1,enc2,acc1,acc2,acc3,acc4"; }
 
-// The logger: whole encoder counts, accelerometer volts with noise in ADC steps.
-void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r, const TwoLinkParameters& p,
-                        std::uint64_t seed) {
+// What the logger records of a clean record: whole encoder counts and
+// accelerometer volts with noise in ADC steps.
+struct LoggedRecord {
+  std::vector<long long> counts_a, counts_b;
+  std::array<std::vector<double>, kTwoLinkAccelerometers> volts;
+};
+
+LoggedRecord RecordWithLogger(const TwoLinkRecord& r, const TwoLinkParameters& p,
+                              std::uint64_t seed) {
   const TwoLinkSensors& s = p.sensors;
   synth_detail::Gaussian noise(seed);
+  LoggedRecord logged;
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    logged.counts_a.push_back(
+        static_cast<long long>(std::floor(r.gearbox_a_rad[i] * CountsPerRad(s, p.drive_a))));
+    logged.counts_b.push_back(
+        static_cast<long long>(std::floor(r.gearbox_b_rad[i] * CountsPerRad(s, p.drive_b))));
+    for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
+      const double sigma = IsBeamSensor(a) ? s.beam_noise_v : s.body_noise_v;
+      double volts =
+          r.acceleration_m_s2[a][i] / kStandardGravity * Sensitivity(s, a) + sigma * noise();
+      if (s.adc_lsb_v > 0.0) volts = std::round(volts / s.adc_lsb_v) * s.adc_lsb_v;
+      logged.volts[a].push_back(volts);
+    }
+  }
+  return logged;
+}
+
+void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r, const LoggedRecord& logged) {
   std::ofstream out = OpenCsv(file, LogHeader());
   for (std::size_t i = 0; i < r.time_s.size(); ++i) {
-    const auto counts_a =
-        static_cast<long long>(std::floor(r.gearbox_a_rad[i] * CountsPerRad(s, p.drive_a)));
-    const auto counts_b =
-        static_cast<long long>(std::floor(r.gearbox_b_rad[i] * CountsPerRad(s, p.drive_b)));
-    std::string row = fmt::format("{:.6f},{},{}", r.time_s[i], counts_a, counts_b);
+    std::string row =
+        fmt::format("{:.6f},{},{}", r.time_s[i], logged.counts_a[i], logged.counts_b[i]);
     for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
-      const double sensitivity =
-          IsBeamSensor(a) ? s.beam_sensitivity_v_per_g : s.body_sensitivity_v_per_g;
-      const double sigma = IsBeamSensor(a) ? s.beam_noise_v : s.body_noise_v;
-      double volts = r.acceleration_m_s2[a][i] / kStandardGravity * sensitivity + sigma * noise();
-      if (s.adc_lsb_v > 0.0) volts = std::round(volts / s.adc_lsb_v) * s.adc_lsb_v;
-      row += fmt::format(",{:.6f}", volts);
+      row += fmt::format(",{:.6f}", logged.volts[a][i]);
     }
     out << row << "\n";
   }
@@ -126,8 +147,7 @@ Log CaseLog(int number, const TwoLinkParameters& p) {
     LogChannel c;
     c.name = kAccelerometerChannels[a];
     c.column = kAccelerometerColumns[a];
-    c.sensitivity =
-        IsBeamSensor(a) ? p.sensors.beam_sensitivity_v_per_g : p.sensors.body_sensitivity_v_per_g;
+    c.sensitivity = Sensitivity(p.sensors, a);
     log.channels.push_back(c);
   }
   return log;
@@ -144,6 +164,32 @@ void WriteTwoLinkSimulationCsv(const fs::path& file, const TwoLinkRecord& r) {
                    r.acceleration_m_s2[1][i], r.acceleration_m_s2[2][i], r.acceleration_m_s2[3][i]);
   }
   Close(out, file);
+}
+
+TwoLinkMeasurement LoggedMeasurement(const TwoLinkParameters& p, const TwoLinkRecord& r,
+                                     std::uint64_t seed) {
+  const LoggedRecord logged = RecordWithLogger(r, p, seed);
+  TwoLinkMeasurement m;
+  m.time_s = r.time_s;
+  m.encoder_a_step_rad = 1.0 / CountsPerRad(p.sensors, p.drive_a);
+  m.encoder_b_step_rad = 1.0 / CountsPerRad(p.sensors, p.drive_b);
+  std::vector<double> q1, q4;
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    q1.push_back(static_cast<double>(logged.counts_a[i]) * m.encoder_a_step_rad);
+    q4.push_back(static_cast<double>(logged.counts_b[i]) * m.encoder_b_step_rad);
+  }
+  m.q1_rad = std::move(q1);
+  m.q4_rad = std::move(q4);
+  for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
+    std::vector<double> values = logged.volts[a];
+    for (double& v : values) v *= kStandardGravity / Sensitivity(p.sensors, a);
+    m.acceleration_m_s2[a] = std::move(values);
+  }
+  return m;
+}
+
+std::uint64_t CaseSeed(std::uint64_t seed, int case_number) {
+  return seed + static_cast<std::uint64_t>(case_number);
 }
 
 TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
@@ -188,8 +234,9 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
     const TwoLinkRecord simulation =
         SimulateTwoLink(simulation_model, simulation_case, integration);
     const Log log = CaseLog(number, options.experiment);
-    WriteExperimentCsv(folder / log.experiment, experiment, options.experiment,
-                       options.seed + static_cast<std::uint64_t>(number));
+    WriteExperimentCsv(
+        folder / log.experiment, experiment,
+        RecordWithLogger(experiment, options.experiment, CaseSeed(options.seed, number)));
     WriteTwoLinkSimulationCsv(folder / *log.simulation, simulation);
     if (options.write_state) {
       WriteStateCsv(folder / "state" / fmt::format("case{}-experiment.csv", number), experiment);

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fit/two_link_fit.h"
 #include "multibody/two_link_parameters.h"
 #include "multibody/two_link_simulation.h"
 
@@ -41,6 +42,14 @@ struct TwoLinkLogSummary {
 // folder that cannot be written, std::runtime_error when a simulation fails.
 TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
                                       const TwoLinkLogOptions& options);
+
+// What the experiment's logger records of a record (the counts and volts
+// caseN-experiment.csv holds, noise from `seed`), in SI as `reduce` reads
+// them: the fit's input without the files. A session's case N uses the seed
+// CaseSeed(seed, N).
+TwoLinkMeasurement LoggedMeasurement(const TwoLinkParameters& parameters,
+                                     const TwoLinkRecord& record, std::uint64_t seed);
+std::uint64_t CaseSeed(std::uint64_t seed, int case_number);
 
 // A simulation's log in SI (angles in rad, accelerations in m/s^2), the
 // columns above. Throws InputError when the file cannot be written.

@@ -2,39 +2,15 @@
 // changes (fit/two_link_fit.h): what the data determine comes back within
 // its stated sigma.
 #include <cmath>
-#include <random>
 
 #include <catch2/catch.hpp>
 
 #include "fit/two_link_fit.h"
 #include "multibody/two_link_simulation.h"
+#include "synth/two_link_logs.h"
 
 namespace impactlab {
 namespace {
-
-// The logger's view of a simulated record: whole encoder counts, noisy
-// accelerometers (sigma 0.2 m/s^2).
-TwoLinkMeasurement Logged(const TwoLinkParameters& p, const TwoLinkRecord& r) {
-  TwoLinkMeasurement m;
-  m.time_s = r.time_s;
-  m.encoder_a_step_rad = 2.0 * M_PI / (p.sensors.counts_per_rev * p.drive_a.gear_ratio);
-  m.encoder_b_step_rad = 2.0 * M_PI / (p.sensors.counts_per_rev * p.drive_b.gear_ratio);
-  std::vector<double> q1, q4;
-  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
-    q1.push_back(std::floor(r.gearbox_a_rad[i] / m.encoder_a_step_rad) * m.encoder_a_step_rad);
-    q4.push_back(std::floor(r.gearbox_b_rad[i] / m.encoder_b_step_rad) * m.encoder_b_step_rad);
-  }
-  m.q1_rad = q1;
-  m.q4_rad = q4;
-  std::mt19937_64 engine(7);
-  std::normal_distribution<double> noise(0.0, 0.2);
-  for (int a = 0; a < 4; ++a) {
-    std::vector<double> values = r.acceleration_m_s2[a];
-    for (double& v : values) v += noise(engine);
-    m.acceleration_m_s2[a] = values;
-  }
-  return m;
-}
 
 TEST_CASE("A hidden beam stiffness and start delay come back within their stated sigma",
           "[two_link_fit]") {
@@ -46,7 +22,8 @@ TEST_CASE("A hidden beam stiffness and start delay come back within their stated
   const TwoLinkRecord record = SimulateTwoLink(TwoLinkModel(hidden), hidden.cases[0]);
   TwoLinkFitOptions options;
   options.free = {"beam1.flexural_rigidity_n_m2", "case1.start_delay_s"};
-  const TwoLinkFitResult fit = FitTwoLinkSimulation(nominal, Logged(hidden, record), options);
+  const TwoLinkFitResult fit =
+      FitTwoLinkSimulation(nominal, LoggedMeasurement(hidden, record, 7), options);
   INFO(fit.Summary());
   REQUIRE(fit.parameters.size() == 2);
   const double truths[2] = {3.0, 0.15};
@@ -60,6 +37,28 @@ TEST_CASE("A hidden beam stiffness and start delay come back within their stated
   }
   CHECK(fit.birge_ratio < 1.5);
   CHECK(std::abs(fit.fitted_impact_s - record.FirstImpact()) < 1e-3);
+}
+
+TEST_CASE("A motor's K_t and R, which enter only as K_t / R, are named as not determined",
+          "[two_link_fit]") {
+  TwoLinkParameters nominal = TwoLinkParameters::Nominal();
+  nominal.cases[0].duration_s = 2.5;
+  const TwoLinkRecord record = SimulateTwoLink(TwoLinkModel(nominal), nominal.cases[0]);
+  TwoLinkFitOptions options;
+  options.free = {"beam1.flexural_rigidity_n_m2", "drive_a.torque_constant_n_m_per_a",
+                  "drive_a.armature_resistance_ohm"};
+  options.max_iterations = 2;
+  const TwoLinkFitResult fit =
+      FitTwoLinkSimulation(nominal, LoggedMeasurement(nominal, record, 7), options);
+  INFO(fit.Summary());
+  REQUIRE(fit.undetermined.size() == 1);
+  CHECK_THAT(fit.undetermined[0].combination,
+             Catch::Contains("ln drive_a.torque_constant_n_m_per_a") &&
+                 Catch::Contains("ln drive_a.armature_resistance_ohm") &&
+                 !Catch::Contains("beam1"));
+  CHECK(fit.parameters[0].determined);
+  CHECK_FALSE(fit.parameters[1].determined);
+  CHECK_FALSE(fit.parameters[2].determined);
 }
 
 TEST_CASE("The two-link fit refuses an unknown parameter, naming it", "[two_link_fit]") {

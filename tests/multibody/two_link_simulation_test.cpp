@@ -170,14 +170,8 @@ TEST_CASE("two-link: a bad parameter file names the file and the key") {
   CHECK(negative.find("length_m") != std::string::npos);
   CHECK(negative.find("beam1") != std::string::npos);
   CHECK(negative.find("positive") != std::string::npos);
-  // NOTE: a value out of range is reported through Check()'s message,
-  // "arm.toml: [beam1] length_m = -0.75 must be positive": the key as
-  // "[beam1] length_m", an empty InputLocation key and no line.
-  // docs/two-link.md documents that ("without the line"), but
-  // two_link_toml.h promises the line for out-of-range values as well, and
-  // the other errors' dotted "beam1.length_m" form is not used. Left out:
-  //   CHECK(negative.find("beam1.length_m") != std::string::npos);
-  //   CHECK(negative.find(":2") != std::string::npos);
+  CHECK(negative.find("beam1.length_m") != std::string::npos);
+  CHECK(negative.find(":2") != std::string::npos);
 
   const std::string not_toml = InputErrorOf(parse("[beam1]\nlength_m = = 1\n"));
   INFO(not_toml);
