@@ -99,6 +99,9 @@ void AddFitCommand(CLI::App& app, Action& action) {
       ->delimiter(',');
   cmd->add_option("--max-iterations", args->options.max_iterations, "Levenberg-Marquardt steps")
       ->capture_default_str();
+  cmd->add_option("--starts", args->options.starts,
+                  "Starts: 1 is the given parameters; more also start from each moved +-20 %")
+      ->capture_default_str();
   cmd->add_option("--threads", args->options.threads, "Simulations run side by side")
       ->capture_default_str();
   cmd->add_option("-o,--out", args->out, "Folder to create (must not exist or be empty)")

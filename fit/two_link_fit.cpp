@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <stdexcept>
 
 #include <ceres/ceres.h>
+#include <ceres/normal_prior.h>
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
@@ -405,8 +407,8 @@ bool TwoLinkFitOptions::Check(std::string* error) const {
   };
   if (free.empty()) return fail("two-link fit: name at least one parameter to free");
   if (case_number < 1 || case_number > 3) return fail("two-link fit: case must be 1, 2 or 3");
-  if (max_iterations < 1 || !(relative_step > 0.0) || !(absolute_step > 0.0) || threads < 1 ||
-      !(tolerance > 0.0) || !(undetermined_ratio > 0.0)) {
+  if (max_iterations < 1 || starts < 1 || !(relative_step > 0.0) || !(absolute_step > 0.0) ||
+      threads < 1 || !(tolerance > 0.0) || !(undetermined_ratio > 0.0)) {
     return fail("two-link fit: iterations, steps, tolerance and threads must be positive");
   }
   return true;
@@ -422,28 +424,47 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   const Evaluation first = problem.Evaluate(problem.StartPoint());
   if (!first.ok) throw std::domain_error("two-link fit: the start parameters cannot be simulated");
 
-  Eigen::VectorXd x = problem.StartPoint();
-  ceres::Solver::Summary summary;
+  // Each start: the encoders alone, then every channel. Start 0 is the given
+  // parameters; start k > 0 moves parameter (k - 1) / 2 by +-20 % (+-30 ms
+  // for a time) from them, and the lowest chi2 wins.
+  TwoLinkFitResult result;
+  Eigen::VectorXd x;
+  double best_cost = std::numeric_limits<double>::infinity();
   int iterations = 0;
+  ceres::Solver::Summary summary;
+  std::string best_message;
   const bool staged = measurement.q1_rad || measurement.q4_rad;
-  for (int stage = staged ? 0 : 1; stage < 2; ++stage) {
-    problem.set_encoders_only(stage == 0);
-    ceres::Problem ceres_problem;
-    ceres_problem.AddResidualBlock(new SimulationCost(problem, options), nullptr, x.data());
-    ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = options.max_iterations;
-    solver_options.function_tolerance = stage == 0 ? 1e-6 : 1e-8;
-    solver_options.parameter_tolerance = 1e-8;
-    solver_options.logging_type = ceres::SILENT;
-    ceres::Solve(solver_options, &ceres_problem, &summary);
-    iterations += static_cast<int>(summary.iterations.size());
+  for (int k = 0; k < options.starts; ++k) {
+    Eigen::VectorXd trial = problem.StartPoint();
+    if (k > 0) {
+      const int j = ((k - 1) / 2) % problem.parameter_count();
+      const double sign = (k % 2 == 1) ? 1.0 : -1.0;
+      trial(j) += sign * (problem.free()[static_cast<std::size_t>(j)].logarithmic ? 0.2 : 0.03);
+    }
+    for (int stage = staged ? 0 : 1; stage < 2; ++stage) {
+      problem.set_encoders_only(stage == 0);
+      ceres::Problem ceres_problem;
+      ceres_problem.AddResidualBlock(new SimulationCost(problem, options), nullptr, trial.data());
+      ceres::Solver::Options solver_options;
+      solver_options.linear_solver_type = ceres::DENSE_QR;
+      solver_options.max_num_iterations = options.max_iterations;
+      solver_options.function_tolerance = stage == 0 ? 1e-6 : 1e-8;
+      solver_options.parameter_tolerance = 1e-8;
+      solver_options.logging_type = ceres::SILENT;
+      ceres::Solve(solver_options, &ceres_problem, &summary);
+      iterations += static_cast<int>(summary.iterations.size());
+    }
+    result.start_costs.push_back(2.0 * summary.final_cost);
+    if (2.0 * summary.final_cost < best_cost) {
+      best_cost = 2.0 * summary.final_cost;
+      x = trial;
+      best_message = summary.message;
+    }
   }
 
-  TwoLinkFitResult result;
   result.fitted = problem.ParametersAt(x);
   result.iterations = iterations;
-  result.termination = summary.message;
+  result.termination = best_message;
   const Evaluation last = problem.Evaluate(x);
   bool ok = false;
   const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, true, &ok);
@@ -556,6 +577,11 @@ std::string TwoLinkFitResult::Summary() const {
   }
   out += fmt::format("first impact: measured {:.4f} s; start {:.4f} s; fitted {:.4f} s\n",
                      measured_impact_s, start_impact_s, fitted_impact_s);
+  if (start_costs.size() > 1) {
+    std::string costs;
+    for (double c : start_costs) costs += fmt::format(" {:.6g}", c);
+    out += fmt::format("chi2 from each start:{}\n", costs);
+  }
   out += fmt::format("{} iterations, {} simulations, {:.1f} s; {}\n", iterations, simulations,
                      seconds, termination);
   return out;

@@ -50,6 +50,8 @@ struct TwoLinkFitOptions {
   std::vector<std::string> free;  // keys of the parameter file, "section.key"
   int case_number = 1;
   int max_iterations = 40;
+  int starts = 1;  // > 1: also from each free parameter moved +-20 % (a time +-30 ms), best
+                   // chi2 kept: the histories' cost has side minima (docs/two-link-fit.md)
   double relative_step = 1e-4;          // forward difference in log parameters
   double absolute_step = 1e-5;          // ... for a parameter that may be <= 0
   double undetermined_ratio = 1e-3;     // singular value / largest below this: not
@@ -96,6 +98,7 @@ struct TwoLinkFitResult {
   std::optional<Estimate> measured_frequency_hz;  // a1's ring-down
   double start_frequency_hz = 0.0, fitted_frequency_hz = 0.0;
   double measured_impact_s = -1.0, start_impact_s = -1.0, fitted_impact_s = -1.0;
+  std::vector<double> start_costs;  // chi2 reached from each start
   int iterations = 0;
   int simulations = 0;
   double seconds = 0.0;

@@ -106,6 +106,12 @@ class DampedModesCost : public ceres::CostFunction {
     if (offset_ && jacobians && jacobians[modes_ + decays_]) {
       std::fill_n(jacobians[modes_ + decays_], n, 1.0);
     }
+    // A trial step with a growing decay (r < 0) overflows: say the step is
+    // infeasible, as Ceres then expects, rather than hand it inf (which it
+    // rejects the same way, but only after logging the whole block).
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(residuals[i])) return false;
+    }
     return true;
   }
 
