@@ -1,7 +1,7 @@
 // `impactlab fit two-link PARAMS.toml SESSION --log ID --free KEY,... -o DIR`:
 // the two-link simulation fitted to one `[[log]]` of a session
 // (docs/two-link-fit.md). DIR gets fitted.toml (the parameter file with the
-// fitted values), fit.md (what was determined, with uncertainties, and what
+// fitted values), fit.txt (what was determined, with uncertainties, and what
 // was not) and a session whose log pairs the experiment with the fitted
 // simulation, so `impactlab reduce DIR` shows fitted against measured.
 #include <filesystem>
@@ -139,7 +139,7 @@ void AddFitCommand(CLI::App& app, Action& action) {
       WriteText(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
       const std::string summary = fmt::format("# Two-link simulation fitted to log {} of {}\n\n{}",
                                               log->id, args->session.string(), result.Summary());
-      WriteText(args->out / "fit.md", summary);
+      WriteText(args->out / "fit.txt", summary);
       // The session: the experiment as recorded beside the fitted simulation.
       Log pair = *log;
       pair.experiment = fs::path("logs") / (log->id + "-experiment.csv");
@@ -153,13 +153,13 @@ void AddFitCommand(CLI::App& app, Action& action) {
       WriteTwoLinkSimulationCsv(args->out / *pair.simulation, record);
       SessionManifest out;
       out.comment = {"The experiment of " + args->session.string() + " against the fitted",
-                     "two-link simulation (impactlab fit two-link; see fit.md)."};
+                     "two-link simulation (impactlab fit two-link; see fit.txt)."};
       out.title = "Two-link simulation fitted to log " + log->id;
       out.units = UnitSystem::kSI;
       out.logs.push_back(pair);
       WriteManifest(args->out / "session.toml", out);
       fmt::print("{}", summary);
-      fmt::print(stderr, "written: {}/fitted.toml, fit.md, session.toml (impactlab reduce {})\n",
+      fmt::print(stderr, "written: {}/fitted.toml, fit.txt, session.toml (impactlab reduce {})\n",
                  args->out.string(), args->out.string());
       return kExitOk;
     };

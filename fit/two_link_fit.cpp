@@ -76,6 +76,7 @@ struct Evaluation {
   double impact_s = -1.0;
   std::vector<double> channel_rms;
   std::vector<bool> near_event;  // accelerometer samples left out next to simulated impacts
+  int used = 0;                  // residuals that count (the rest are left out, 0)
 };
 
 class Problem {
@@ -225,6 +226,7 @@ class Problem {
         if (c >= 2 && (encoders_only_ || channel.spike[i] || near_event[i])) continue;
         const double d = (*simulated[c])[k] - channel.values()[i];
         e.residuals(row) = d / channel.sigma;
+        ++e.used;
         sum += d * d;
         ++count;
       }
@@ -236,6 +238,7 @@ class Problem {
       if (!fit.ok || fit.modes.empty()) return e;
       e.frequency_hz = NearestFrequency(fit, measured_frequency_->value);
       e.residuals(row) = (e.frequency_hz - measured_frequency_->value) / measured_frequency_->sigma;
+      ++e.used;
     }
     e.ok = true;
     return e;
@@ -470,7 +473,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, true, &ok);
   const int p = problem.parameter_count();
   result.chi2 = last.residuals.squaredNorm();
-  result.dof = std::max(1, problem.residual_count() - p);
+  result.dof = std::max(1, last.used - p);
   result.birge_ratio = std::sqrt(result.chi2 / result.dof);
   const double scale = std::max(1.0, result.birge_ratio);
 

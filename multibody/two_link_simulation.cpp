@@ -9,28 +9,13 @@
 #include "model/ode_integrator.h"
 #include "multibody/two_link_dynamics.h"
 #include "multibody/two_link_kinematics.h"
+#include "multibody/two_link_state.h"
 
 namespace impactlab {
 namespace {
 
 using Integrator = OdeIntegrator<2 * kTwoLinkCoordinates>;
 using State = Integrator::State;
-
-void Split(const State& y, TwoLinkVector* q, TwoLinkVector* v) {
-  for (int i = 0; i < kTwoLinkCoordinates; ++i) {
-    (*q)(i) = y[i];
-    (*v)(i) = y[i + kTwoLinkCoordinates];
-  }
-}
-
-State Join(const TwoLinkVector& q, const TwoLinkVector& v) {
-  State y;
-  for (int i = 0; i < kTwoLinkCoordinates; ++i) {
-    y[i] = q(i);
-    y[i + kTwoLinkCoordinates] = v(i);
-  }
-  return y;
-}
 
 // The tip strikes when it is this far into the surface: a separated tip
 // starts at gap 0 (the loop closure's), and rounding alone must not strike it
@@ -66,7 +51,7 @@ class Simulation {
   void Sample(double t, const State& y, const Regime& regime);
   double NormalForce(double t, const State& y) const {
     TwoLinkVector q, v;
-    Split(y, &q, &v);
+    SplitState(y, &q, &v);
     return ConstrainedMotion(model_, q, v, Voltages(t, q)).normal_force_n;
   }
 
@@ -86,18 +71,18 @@ Integrator::System Simulation::SystemFor(const Regime& regime) {
   return [this, regime](const State& y, State& dydt, double t) {
     ++record_.rhs_evaluations;
     TwoLinkVector q, v;
-    Split(y, &q, &v);
+    SplitState(y, &q, &v);
     const DriveVoltages voltages = Voltages(t, q);
     const TwoLinkVector a = regime.constrained
                                 ? ConstrainedMotion(model_, q, v, voltages).acceleration
                                 : FreeAcceleration(model_, q, v, voltages);
-    dydt = Join(v, a);
+    dydt = JoinState(v, a);
   };
 }
 
 void Simulation::Sample(double t, const State& y, const Regime& regime) {
   TwoLinkVector q, v;
-  Split(y, &q, &v);
+  SplitState(y, &q, &v);
   if (regime.constrained) {
     CloseLoop(model_, regime.dependent, &q, &v);
     record_.max_loop_closure_m = std::max(record_.max_loop_closure_m, std::abs(model_.Gap(q)));
@@ -160,7 +145,7 @@ TwoLinkRecord Simulation::Run() {
   }
   Regime regime;
   double t = 0.0;
-  State y = Join(q, v);
+  State y = JoinState(q, v);
   double first_step = 1e-4;
   while (t < end_) {
     const double limit = t < case_.start_delay_s ? case_.start_delay_s : end_;
@@ -186,7 +171,7 @@ TwoLinkRecord Simulation::Run() {
       auto event = [&](const State& s) {
         if (!regime.constrained) {
           TwoLinkVector qs, vs;
-          Split(s, &qs, &vs);
+          SplitState(s, &qs, &vs);
           return model_.Gap(qs) + kContactTolerance;
         }
         return NormalForce(t_lo, s);  // the drive law's time dependence is smooth
@@ -196,9 +181,9 @@ TwoLinkRecord Simulation::Run() {
       if (!crossed) {
         Emit(t_hi, regime);
         if (regime.constrained) {
-          Split(y_hi, &q, &v);
+          SplitState(y_hi, &q, &v);
           CloseLoop(model_, regime.dependent, &q, &v);
-          integrator_.ReplaceState(Join(q, v));
+          integrator_.ReplaceState(JoinState(q, v));
         }
         continue;
       }
@@ -208,7 +193,7 @@ TwoLinkRecord Simulation::Run() {
                                  : integrator_.RefineRoot(event, e_lo, t_hi, e_hi);
       Emit(t_event, regime);
       const State y_event = integrator_.Exact(t_event);
-      Split(y_event, &q, &v);
+      SplitState(y_event, &q, &v);
       TwoLinkEvent record_event;
       record_event.time_s = t_event;
       if (!regime.constrained) {
@@ -232,7 +217,7 @@ TwoLinkRecord Simulation::Run() {
                         options_.max_events, t_event));
       }
       t = t_event;
-      y = Join(q, v);
+      y = JoinState(q, v);
       first_step = std::max(1e-7, 0.1 * integrator_.suggested_step());
       switched = true;
     }

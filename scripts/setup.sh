@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs impactlab's dependencies from Debian (only those missing) and builds
 # it into ./build. Safe to run again.
-# Usage: scripts/setup.sh [--cli | --no-build]
-#   (none)      build everything: the command, the tests and the benchmarks
+# Usage: scripts/setup.sh [--cli | --bench | --no-build]
+#   (none)      build the command and the tests
+#   --bench     build everything: the command, the tests and the benchmarks (bench/)
 #   --cli       build only the command (build/cli/impactlab) and its libraries
 #   --no-build  install the dependencies only
 set -euo pipefail
@@ -27,11 +28,15 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
+# The benchmarks are developers' programs (docs/benchmarks.md): left out of the
+# test build, which they would lengthen by a fifth.
+bench=OFF
 case "${1:-}" in
   --no-build) exit 0 ;;
   --cli) target=(--target impactlab) ;;
+  --bench) target=() bench=ON ;;
   "") target=() ;;
-  *) echo "setup: unknown option $1 (expected --cli or --no-build)" >&2; exit 2 ;;
+  *) echo "setup: unknown option $1 (expected --cli, --bench or --no-build)" >&2; exit 2 ;;
 esac
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DIMPACTLAB_BUILD_BENCH=$bench >&2
 cmake --build build -j2 "${target[@]}" >&2

@@ -264,15 +264,7 @@ TEST_CASE("two-link: free vibration frequencies at rest solve det(K - w^2 M) = 0
   // Undamped, motors off: the linearised modes at rest are the generalized
   // eigenvalues of the stiffness (beams' closed form, meshes' k_g) and the
   // reference mass matrix.
-  TwoLinkParameters p = TwoLinkParameters::Nominal();
-  for (TwoLinkDrive* d : {&p.drive_a, &p.drive_b}) {
-    d->torque_constant_n_m_per_a = 0.0;
-    d->equivalent_damping_n_m_s = 0.0;
-    d->mesh_damping_n_m_s = 0.0;
-    d->backlash_rad = 0.0;
-  }
-  p.beam1.damping_n_s_per_m2 = 0.0;
-  p.beam2.damping_n_s_per_m2 = 0.0;
+  const TwoLinkParameters p = testing::ConservativeParameters();
   const TwoLinkModel model(p);
   Vec8 q;
   q << 0.9, 0.0, 0.0, 0.5, 0.0, 0.0, 0.9, 0.5;

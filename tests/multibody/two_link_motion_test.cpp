@@ -13,6 +13,8 @@
 #include "model/ode_integrator.h"
 #include "multibody/two_link_dynamics.h"
 #include "multibody/two_link_model.h"
+#include "multibody/two_link_state.h"
+#include "tests/multibody/two_link_reference.h"
 
 namespace impactlab {
 namespace {
@@ -20,50 +22,21 @@ namespace {
 using Integrator = OdeIntegrator<2 * kTwoLinkCoordinates>;
 using State = Integrator::State;
 
-State Join(const TwoLinkVector& q, const TwoLinkVector& v) {
-  State y;
-  for (int i = 0; i < kTwoLinkCoordinates; ++i) {
-    y[i] = q(i);
-    y[i + kTwoLinkCoordinates] = v(i);
-  }
-  return y;
-}
-void Split(const State& y, TwoLinkVector* q, TwoLinkVector* v) {
-  for (int i = 0; i < kTwoLinkCoordinates; ++i) {
-    (*q)(i) = y[i];
-    (*v)(i) = y[i + kTwoLinkCoordinates];
-  }
-}
-
 Integrator::System FreeFlight(const TwoLinkModel& model) {
   return [&model](const State& y, State& dydt, double) {
     TwoLinkVector q, v;
-    Split(y, &q, &v);
-    dydt = Join(v, FreeAcceleration(model, q, v, DriveVoltages{}));
+    SplitState(y, &q, &v);
+    dydt = JoinState(v, FreeAcceleration(model, q, v, DriveVoltages{}));
   };
 }
 
-// Motors off and every dissipation removed; the meshes stay (no play): a
-// conservative system. (Its mesh modes ring at ~370 and ~610 Hz, the arm's
-// own at 3-27 Hz.)
-TwoLinkParameters Conservative() {
-  TwoLinkParameters p = TwoLinkParameters::Nominal();
-  for (TwoLinkDrive* d : {&p.drive_a, &p.drive_b}) {
-    d->torque_constant_n_m_per_a = 0.0;
-    d->back_emf_v_s_per_rad = 0.0;
-    d->equivalent_damping_n_m_s = 0.0;
-    d->mesh_damping_n_m_s = 0.0;
-    d->backlash_rad = 0.0;
-  }
-  p.beam1.damping_n_s_per_m2 = 0.0;
-  p.beam2.damping_n_s_per_m2 = 0.0;
-  return p;
-}
-
-// The same with the meshes disengaged (stiffness 0): the gearboxes coast and
-// the arm's own modes (5-43 Hz) are the fastest, so that long runs stay cheap.
+// testing::ConservativeParameters(): motors off and every dissipation
+// removed; the meshes stay (no play). Its mesh modes ring at ~370 and ~610 Hz,
+// the arm's own at 3-27 Hz. ConservativeArm(): the same with the meshes disengaged (stiffness 0):
+// the gearboxes coast and the arm's own modes (5-43 Hz) are the fastest, so that long runs stay
+// cheap.
 TwoLinkParameters ConservativeArm() {
-  TwoLinkParameters p = Conservative();
+  TwoLinkParameters p = testing::ConservativeParameters();
   p.drive_a.mesh_stiffness_n_m_per_rad = 0.0;
   p.drive_b.mesh_stiffness_n_m_per_rad = 0.0;
   return p;
@@ -78,7 +51,7 @@ void SwingingStart(TwoLinkVector* q, TwoLinkVector* v) {
 
 double Energy(const TwoLinkModel& model, const State& y) {
   TwoLinkVector q, v;
-  Split(y, &q, &v);
+  SplitState(y, &q, &v);
   return model.KineticEnergy(q, v) + model.PotentialEnergy(q);
 }
 
@@ -91,7 +64,7 @@ TEST_CASE("two-link: free flight without motors or damping conserves T + V") {
   TwoLinkVector q, v;
   SwingingStart(&q, &v);
   Integrator integrator({1e-12, 1e-15, 0.01});
-  integrator.Reset(FreeFlight(model), Join(q, v), 0.0, 1e-5);
+  integrator.Reset(FreeFlight(model), JoinState(q, v), 0.0, 1e-5);
   const double e0 = Energy(model, integrator.state());
   double worst = 0.0;
   const auto start = std::chrono::steady_clock::now();
@@ -106,7 +79,7 @@ TEST_CASE("two-link: free flight without motors or damping conserves T + V") {
   CHECK(worst <= 1e-9);
   // The motion did exercise every coordinate (it is not a trivial rest).
   TwoLinkVector q_end, v_end;
-  Split(integrator.state(), &q_end, &v_end);
+  SplitState(integrator.state(), &q_end, &v_end);
   CHECK(std::abs(q_end(kLink1Angle) - q(kLink1Angle)) > 1.0);
 }
 
@@ -115,7 +88,7 @@ TEST_CASE("two-link: mesh twist and beam deflection trade energy but the sum is 
   // flows out of the meshes into motion and the beams, and T + V holds.
   // (The tolerance is relative to the gearbox angles, ~1 rad, while the
   // energy sits in twists of a few mrad: 1e-12 keeps the drift below 1e-9.)
-  const TwoLinkModel model(Conservative());
+  const TwoLinkModel model(testing::ConservativeParameters());
   TwoLinkVector q = TwoLinkVector::Zero(), v = TwoLinkVector::Zero();
   q(kLink1Angle) = 1.2;
   q(kGearboxAAngle) = 1.2 + 0.003;
@@ -123,7 +96,7 @@ TEST_CASE("two-link: mesh twist and beam deflection trade energy but the sum is 
   q(kGearboxBAngle) = -0.4 - 0.004;
   // (0.1 s: some 40 periods of the mesh modes)
   Integrator integrator({1e-12, 1e-15, 0.01});
-  integrator.Reset(FreeFlight(model), Join(q, v), 0.0, 1e-5);
+  integrator.Reset(FreeFlight(model), JoinState(q, v), 0.0, 1e-5);
   const double e0 = Energy(model, integrator.state());
   double worst = 0.0, max_kinetic = 0.0;
   const auto start = std::chrono::steady_clock::now();
@@ -131,7 +104,7 @@ TEST_CASE("two-link: mesh twist and beam deflection trade energy but the sum is 
     integrator.Step(0.1);
     worst = std::max(worst, std::abs(Energy(model, integrator.state()) - e0) / e0);
     TwoLinkVector qs, vs;
-    Split(integrator.state(), &qs, &vs);
+    SplitState(integrator.state(), &qs, &vs);
     max_kinetic = std::max(max_kinetic, model.KineticEnergy(qs, vs));
   }
   WARN("energy with the meshes wound up: E0 = " << e0 << " J, worst relative drift over 0.1 s "
@@ -207,7 +180,7 @@ Trajectory RigidTrajectory(const TwoLinkParameters& p, double q1, double q4, dou
 // The flexible arm with its beams `factor` times stiffer, the drives decoupled.
 Trajectory StiffenedTrajectory(double factor, double q1, double q4, double w1, double w4,
                                long* steps) {
-  TwoLinkParameters p = Conservative();
+  TwoLinkParameters p = testing::ConservativeParameters();
   p.beam1.flexural_rigidity_n_m2 *= factor;
   p.beam2.flexural_rigidity_n_m2 *= factor;
   for (TwoLinkDrive* d : {&p.drive_a, &p.drive_b}) {
@@ -221,7 +194,7 @@ Trajectory StiffenedTrajectory(double factor, double q1, double q4, double w1, d
   v(kLink1Angle) = w1;
   v(kLink2Angle) = w4;
   Integrator integrator({1e-9, 1e-12, 0.01});
-  integrator.Reset(FreeFlight(model), Join(q, v), 0.0, 1e-6);
+  integrator.Reset(FreeFlight(model), JoinState(q, v), 0.0, 1e-6);
   Trajectory out;
   for (int k = 1; k <= kRigidSamples; ++k) {
     const double t = kRigidSpan * k / kRigidSamples;
@@ -245,7 +218,7 @@ double WorstDifference(const Trajectory& a, const Trajectory& b) {
 TEST_CASE(
     "two-link: with stiff beams the arm moves as the classical rigid two-link, error ~ 1/EI") {
   const double q1 = 0.3, q4 = 0.8, w1 = 2.0, w4 = -3.0;
-  const Trajectory rigid = RigidTrajectory(Conservative(), q1, q4, w1, w4);
+  const Trajectory rigid = RigidTrajectory(testing::ConservativeParameters(), q1, q4, w1, w4);
   // The rigid arm itself moves well away from a uniform rotation.
   CHECK(std::abs(rigid.q4.back() - (q4 + w4 * kRigidSpan)) > 0.1);
   const double factors[2] = {1e2, 1e3};
@@ -277,7 +250,7 @@ TEST_CASE("two-link: the Dormand-Prince integration converges at fifth order") {
   const double span = 0.5;
   auto run = [&](double rtol, long* steps) {
     Integrator integrator({rtol, 1e-3 * rtol, 1.0});
-    integrator.Reset(FreeFlight(model), Join(q, v), 0.0, 1e-4);
+    integrator.Reset(FreeFlight(model), JoinState(q, v), 0.0, 1e-4);
     while (integrator.time() < span) integrator.Step(span);
     *steps = integrator.accepted_steps();
     return integrator.state();

@@ -245,4 +245,19 @@ inline double PotentialReference(const TwoLinkParameters& p, const Vec8& q) {
          0.5 * p.drive_b.mesh_stiffness_n_m_per_rad * tb * tb;
 }
 
+// Motors, damping and backlash off: a conservative arm.
+inline TwoLinkParameters ConservativeParameters() {
+  TwoLinkParameters p = TwoLinkParameters::Nominal();
+  for (TwoLinkDrive* d : {&p.drive_a, &p.drive_b}) {
+    d->torque_constant_n_m_per_a = 0.0;
+    d->back_emf_v_s_per_rad = 0.0;
+    d->equivalent_damping_n_m_s = 0.0;
+    d->mesh_damping_n_m_s = 0.0;
+    d->backlash_rad = 0.0;
+  }
+  p.beam1.damping_n_s_per_m2 = 0.0;
+  p.beam2.damping_n_s_per_m2 = 0.0;
+  return p;
+}
+
 }  // namespace impactlab::testing
