@@ -431,7 +431,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   // parameters; start k > 0 moves parameter (k - 1) / 2 by +-20 % (+-30 ms
   // for a time) from them, and the lowest chi2 wins.
   TwoLinkFitResult result;
-  Eigen::VectorXd x;
+  Eigen::VectorXd x = problem.StartPoint();  // kept if no start gets anywhere
   double best_cost = std::numeric_limits<double>::infinity();
   int iterations = 0;
   ceres::Solver::Summary summary;
