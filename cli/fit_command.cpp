@@ -15,6 +15,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/two_link_parameter_file.h"
 #include "fit/two_link_fit.h"
 #include "io/errors.h"
 #include "io/log_reader.h"
@@ -28,14 +29,6 @@ namespace impactlab::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-TwoLinkParameters ReadParameterFile(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError({file, "", std::nullopt}, "cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseTwoLinkParameters(text.str(), file);
-}
 
 void WriteText(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
@@ -113,7 +106,7 @@ void AddFitCommand(CLI::App& app, Action& action) {
         throw InputError({args->out, "", std::nullopt},
                          "the output folder exists and is not empty");
       }
-      const TwoLinkParameters start = ReadParameterFile(args->parameters);
+      const TwoLinkParameters start = ReadTwoLinkParameterFile(args->parameters);
       const ManifestReadResult manifest = ReadManifest(args->session);
       const Log* log = nullptr;
       for (const Log& l : manifest.session.logs) {

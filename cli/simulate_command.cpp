@@ -12,22 +12,12 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/two_link_parameter_file.h"
 #include "io/errors.h"
 #include "multibody/two_link_toml.h"
 #include "synth/two_link_logs.h"
 
 namespace impactlab::cli {
-namespace {
-
-TwoLinkParameters ReadParameters(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError({file, "", std::nullopt}, "cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseTwoLinkParameters(text.str(), file);
-}
-
-}  // namespace
 
 void AddSimulateCommand(CLI::App& app, Action& action) {
   struct Args {
@@ -65,14 +55,14 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
       TwoLinkLogOptions options = args->options;
       options.cases = args->cases;
       options.simulation = args->parameters.empty() ? TwoLinkParameters::Nominal()
-                                                    : ReadParameters(args->parameters);
+                                                    : ReadTwoLinkParameterFile(args->parameters);
       if (args->print) {
         fmt::print("{}", TwoLinkParametersText(options.simulation));
         return kExitOk;
       }
       if (args->out.empty()) throw std::invalid_argument("simulate two-link: -o DIR is required");
-      options.experiment =
-          args->experiment.empty() ? options.simulation : ReadParameters(args->experiment);
+      options.experiment = args->experiment.empty() ? options.simulation
+                                                    : ReadTwoLinkParameterFile(args->experiment);
       options.write_state = !args->no_state;
       const TwoLinkLogSummary summary = WriteTwoLinkSession(args->out, options);
       std::filesystem::path truth = args->truth;

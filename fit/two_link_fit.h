@@ -8,7 +8,7 @@
 // estimated from the record itself (second differences, robust; an encoder's
 // at least its count / sqrt 12). An encoder's reading is taken at the centre
 // of its count. Accelerometer samples within five samples of a simulated
-// impact or separation, or of a spike in the record, are left out: a
+// impact or separation, or within two of a spike in the record, are left out: a
 // one-sample spike's height says where in the sample the impact fell, not
 // how the arm moves. Positive parameters are fitted as logarithms;
 // derivatives are forward differences of whole simulations run side by side.
