@@ -26,6 +26,23 @@ constexpr const char* kChannelNames[6] = {"q1", "q4", "a1", "a2", "a3", "a4"};
 // left out (an impact's one-sample spike moves with it).
 constexpr long long kEventGuard = 5;
 
+// The free-flight stage ends this long before the measured impact, so that
+// a start whose impact comes a few ms early is still in free flight there.
+constexpr double kFreeFlightGuard_s = 0.01;
+
+// The encoders' windows after the impact: the first this long, each next
+// twice as long, until the record's end.
+constexpr double kFirstWindow_s = 0.1;
+
+// The free-flight stage's prior at its start: this wide in a logarithm, or in
+// a parameter's own unit. Free flight hardly sees some parameters (a tool's
+// inertia trades with its drive's, J_eq: both turn with link 2), and without
+// it Levenberg-Marquardt's scaling runs such a one off to 1e-22.
+constexpr double kAnchorLog = 0.5, kAnchorAbsolute = 0.05;
+
+// A trial simulation may take this many times the start's integration steps.
+constexpr long kStepBudget = 10;
+
 // A free parameter: where it lives and how it is varied.
 struct FreeParameter {
   std::string name;
@@ -68,6 +85,14 @@ struct Channel {
   const std::vector<double>& values() const { return centred.empty() ? *measured : centred; }
 };
 
+// What a stage of the fit compares: the encoders alone or every channel,
+// up to a time or (until_s < 0) to the record's end.
+struct Stage {
+  bool encoders_only = false;
+  double until_s = -1.0;
+  bool anchored = false;  // a weak prior at the stage's start holds what its data do not fix
+};
+
 // What one simulation gives the fit.
 struct Evaluation {
   bool ok = false;
@@ -77,6 +102,7 @@ struct Evaluation {
   std::vector<double> channel_rms;
   std::vector<bool> near_event;  // accelerometer samples left out next to simulated impacts
   int used = 0;                  // residuals that count (the rest are left out, 0)
+  long steps = 0;                // the simulation's integration steps
 };
 
 class Problem {
@@ -127,8 +153,20 @@ class Problem {
       }
       channels_.push_back(channel);
     }
+    // The impact: the first spike at least half as high as the largest, in
+    // the accelerometer whose spikes stand highest above its noise (a gear
+    // mesh engaging at the motors' start also makes one; a bounce after the
+    // impact may make a higher one in some channel).
+    double largest = 0.0;
+    for (int c = 2; c < 6; ++c) {
+      const Channel& channel = channels_[static_cast<std::size_t>(c)];
+      const double height = LargestSpike(channel);
+      if (height > largest) {
+        largest = height;
+        measured_impact_ = FirstSpikeAbove(channel, 0.5 * height);
+      }
+    }
     if (o.use_ring_down_frequency && m.acceleration_m_s2[0]) {
-      measured_impact_ = LargestSpike(channels_[2]);
       if (measured_impact_ >= 0.0) {
         const DampedModeFit fit = RingDown(*m.acceleration_m_s2[0], measured_impact_);
         if (fit.ok && !fit.modes.empty() && fit.modes[0].frequency_hz.sigma > 0.0) {
@@ -169,10 +207,15 @@ class Problem {
     return p;
   }
 
-  // Stage 1 fits the encoders alone: their cost is smooth in the impact
-  // instant, while a ring-down's phase makes the accelerometers' cost ripple
-  // with it (a start more than a period off lands in a side minimum).
-  void set_encoders_only(bool encoders_only) { encoders_only_ = encoders_only; }
+  // What a stage fits (FitTwoLinkSimulation's stages).
+  void set_stage(const Stage& stage) { stage_ = stage; }
+  // A trial point whose simulation needs more steps than this is rejected
+  // (a parameter driven to an extreme can make the motion arbitrarily stiff).
+  void set_max_steps(long steps) { max_steps_ = steps; }
+  // The free flight ends a little before the measured impact (-1: no impact seen).
+  double free_flight_end() const {
+    return measured_impact_ < 0.0 ? -1.0 : measured_impact_ - kFreeFlightGuard_s;
+  }
 
   // `mask`: the samples to leave out next to impacts, when a difference
   // quotient needs its base point's (a mask that moved with the impacts
@@ -191,11 +234,16 @@ class Problem {
       options.relative_tolerance = options_.tolerance;
       options.absolute_tolerance = options_.tolerance * 1e-3;
       options.keep_state = false;
+      options.max_steps = max_steps_;
+      // A stage that looks at the record's start simulates no further.
+      if (stage_.until_s >= 0.0)
+        options.duration_s = std::min(measurement_.time_s.back(), stage_.until_s + 2.0 / rate_);
       record = SimulateTwoLink(model, p.cases[options_.case_number - 1], options);
     } catch (const std::exception&) {
       return e;
     }
     ++simulations_;
+    e.steps = record.steps;
     const std::size_t n = measurement_.time_s.size();
     const std::vector<double>* simulated[6] = {
         &record.gearbox_a_rad,        &record.gearbox_b_rad,        &record.acceleration_m_s2[0],
@@ -223,7 +271,8 @@ class Problem {
       for (std::size_t i = 0; i < n; ++i, ++row) {
         const auto k = static_cast<std::size_t>(std::llround(measurement_.time_s[i] * rate_));
         if (k >= simulated[c]->size()) continue;
-        if (c >= 2 && (encoders_only_ || channel.spike[i] || near_event[i])) continue;
+        if (stage_.until_s >= 0.0 && measurement_.time_s[i] >= stage_.until_s) continue;
+        if (c >= 2 && (stage_.encoders_only || channel.spike[i] || near_event[i])) continue;
         const double d = (*simulated[c])[k] - channel.values()[i];
         e.residuals(row) = d / channel.sigma;
         ++e.used;
@@ -233,7 +282,7 @@ class Problem {
       e.channel_rms[c] = count > 0 ? std::sqrt(sum / count) : 0.0;
     }
     e.impact_s = record.FirstImpact();
-    if (measured_frequency_ && e.impact_s >= 0.0 && !encoders_only_) {
+    if (measured_frequency_ && e.impact_s >= 0.0 && !stage_.encoders_only) {
       const DampedModeFit fit = RingDown(record.acceleration_m_s2[0], e.impact_s);
       if (!fit.ok || fit.modes.empty()) return e;
       e.frequency_hz = NearestFrequency(fit, measured_frequency_->value);
@@ -260,20 +309,26 @@ class Problem {
     }
   }
 
-  // The impact: the record's largest departure from its neighbours' median.
-  double LargestSpike(const Channel& channel) const {
+  // A sample's departure from its neighbours' median, in noise sigma.
+  static double SpikeHeight(const Channel& channel, std::size_t i) {
     const std::vector<double>& x = *channel.measured;
+    const double a = x[i - 1], b = x[i], c = x[i + 1];
+    const double median = std::max(std::min(a, b), std::min(std::max(a, b), c));
+    return std::abs(b - median) / channel.sigma;
+  }
+  static double LargestSpike(const Channel& channel) {
     double largest = 0.0;
-    double when = -1.0;
-    for (std::size_t i = 1; i + 1 < x.size(); ++i) {
-      const double a = x[i - 1], b = x[i], c = x[i + 1];
-      const double median = std::max(std::min(a, b), std::min(std::max(a, b), c));
-      if (channel.spike[i] && std::abs(b - median) > largest) {
-        largest = std::abs(b - median);
-        when = measurement_.time_s[i];
-      }
+    if (!channel.measured) return largest;
+    for (std::size_t i = 1; i + 1 < channel.measured->size(); ++i) {
+      if (channel.spike[i]) largest = std::max(largest, SpikeHeight(channel, i));
     }
-    return when;
+    return largest;
+  }
+  double FirstSpikeAbove(const Channel& channel, double height) const {
+    for (std::size_t i = 1; i + 1 < channel.measured->size(); ++i) {
+      if (channel.spike[i] && SpikeHeight(channel, i) >= height) return measurement_.time_s[i];
+    }
+    return -1.0;
   }
 
   DampedModeFit RingDown(const std::vector<double>& x, double impact_s) const {
@@ -302,7 +357,8 @@ class Problem {
   std::vector<Channel> channels_;
   std::optional<Estimate> measured_frequency_;
   double measured_impact_ = -1.0;
-  bool encoders_only_ = false;
+  Stage stage_;
+  long max_steps_ = 0;
   mutable std::atomic<int> simulations_{0};
 };
 
@@ -387,6 +443,39 @@ class SimulationCost : public ceres::CostFunction {
   const TwoLinkFitOptions& options_;
 };
 
+// The stages of one start (docs/two-link-fit.md, "Stages"). The encoders'
+// cost is smooth before the impact; after it, the micro-bounces make the
+// response to a parameter change grow along the record, with side minima
+// in the whole record's cost that a window over its first 0.1 s does not
+// have. So: the encoders in free flight, then in windows doubling from
+// the impact, then whole, then every channel. A log without encoders, or
+// without an impact, has fewer stages.
+std::vector<Stage> Stages(const Problem& problem, double record_end_s) {
+  const bool encoders = problem.channels()[0].measured || problem.channels()[1].measured;
+  std::vector<Stage> stages;
+  if (encoders && problem.free_flight_end() > 0.0) {
+    stages.push_back({true, problem.free_flight_end(), true});
+    for (double after = kFirstWindow_s; problem.measured_impact() + after < record_end_s;
+         after *= 2.0) {
+      stages.push_back({true, problem.measured_impact() + after, false});
+    }
+  }
+  if (encoders) stages.push_back({true, -1.0, false});
+  stages.push_back({false, -1.0, false});
+  return stages;
+}
+
+// A weak Gaussian prior centred at `at` (kAnchorLog, kAnchorAbsolute wide).
+ceres::CostFunction* Anchor(const Problem& problem, const Eigen::VectorXd& at) {
+  const int p = problem.parameter_count();
+  Eigen::MatrixXd inverse_width = Eigen::MatrixXd::Zero(p, p);
+  for (int j = 0; j < p; ++j) {
+    const bool log = problem.free()[static_cast<std::size_t>(j)].logarithmic;
+    inverse_width(j, j) = 1.0 / (log ? kAnchorLog : kAnchorAbsolute);
+  }
+  return new ceres::NormalPrior(inverse_width, at);
+}
+
 std::string Combination(const Eigen::VectorXd& direction, const std::vector<FreeParameter>& free) {
   std::string out;
   for (Eigen::Index j = 0; j < direction.size(); ++j) {
@@ -426,8 +515,9 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   Problem problem(start, measurement, options);
   const Evaluation first = problem.Evaluate(problem.StartPoint());
   if (!first.ok) throw std::domain_error("two-link fit: the start parameters cannot be simulated");
+  problem.set_max_steps(kStepBudget * first.steps);
 
-  // Each start: the encoders alone, then every channel. Start 0 is the given
+  // Each start runs the stages. Start 0 is the given
   // parameters; start k > 0 moves parameter (k - 1) / 2 by +-20 % (+-30 ms
   // for a time) from them, and the lowest chi2 wins.
   TwoLinkFitResult result;
@@ -436,7 +526,6 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   int iterations = 0;
   ceres::Solver::Summary summary;
   std::string best_message;
-  const bool staged = measurement.q1_rad || measurement.q4_rad;
   for (int k = 0; k < options.starts; ++k) {
     Eigen::VectorXd trial = problem.StartPoint();
     if (k > 0) {
@@ -444,14 +533,16 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
       const double sign = (k % 2 == 1) ? 1.0 : -1.0;
       trial(j) += sign * (problem.free()[static_cast<std::size_t>(j)].logarithmic ? 0.2 : 0.03);
     }
-    for (int stage = staged ? 0 : 1; stage < 2; ++stage) {
-      problem.set_encoders_only(stage == 0);
+    for (const Stage& stage : Stages(problem, measurement.time_s.back())) {
+      problem.set_stage(stage);
       ceres::Problem ceres_problem;
       ceres_problem.AddResidualBlock(new SimulationCost(problem, options), nullptr, trial.data());
+      if (stage.anchored)
+        ceres_problem.AddResidualBlock(Anchor(problem, trial), nullptr, trial.data());
       ceres::Solver::Options solver_options;
       solver_options.linear_solver_type = ceres::DENSE_QR;
       solver_options.max_num_iterations = options.max_iterations;
-      solver_options.function_tolerance = stage == 0 ? 1e-6 : 1e-8;
+      solver_options.function_tolerance = stage.encoders_only ? 1e-6 : 1e-8;
       solver_options.parameter_tolerance = 1e-8;
       solver_options.logging_type = ceres::SILENT;
       ceres::Solve(solver_options, &ceres_problem, &summary);

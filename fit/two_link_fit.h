@@ -12,11 +12,11 @@
 // one-sample spike's height says where in the sample the impact fell, not
 // how the arm moves. Positive parameters are fitted as logarithms;
 // derivatives are forward differences of whole simulations run side by side.
-// The fit runs in two stages: the encoders alone first (their cost is smooth
-// in the impact instant, while a ring-down's phase makes the accelerometers'
-// ripple), then every channel from there. For the covariance each channel's
-// rows are weighted down by its residuals' correlation inflation
-// (model/estimate.h).
+// The fit runs in stages, because the whole record's cost has side minima:
+// the encoders in free flight (with a weak prior at the start), the encoders
+// in windows from the impact that double until they reach the record's end,
+// then every channel. For the covariance each channel's rows are weighted
+// down by its residuals' correlation inflation (model/estimate.h).
 //
 // The answer says which combinations the data determine: the singular vectors
 // of the weighted Jacobian (central differences) whose singular values fall
@@ -51,7 +51,7 @@ struct TwoLinkFitOptions {
   int case_number = 1;
   int max_iterations = 40;
   int starts = 1;  // > 1: also from each free parameter moved +-20 % (a time +-30 ms), best
-                   // chi2 kept: the histories' cost has side minima (docs/two-link-fit.md)
+                   // chi2 kept (docs/two-link-fit.md)
   double relative_step = 1e-4;          // forward difference in log parameters
   double absolute_step = 1e-5;          // ... for a parameter that may be <= 0
   double undetermined_ratio = 1e-3;     // singular value / largest below this: not

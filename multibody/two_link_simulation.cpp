@@ -162,7 +162,11 @@ TwoLinkRecord Simulation::Run() {
                                             regime.constrained ? "constrained" : "free",
                                             integrator_.time(), e.what()));
       }
-      ++record_.steps;
+      if (++record_.steps > options_.max_steps && options_.max_steps > 0) {
+        throw std::domain_error(fmt::format(
+            "two-link: more than {} integration steps by t = {:.6f} s (too stiff for the budget)",
+            options_.max_steps, integrator_.time()));
+      }
       const double t_lo = integrator_.previous_time(), t_hi = integrator_.time();
       const State& y_lo = integrator_.previous_state();
       const State& y_hi = integrator_.state();

@@ -29,6 +29,7 @@ struct TwoLinkSimulationOptions {
   double sample_rate_hz = 0.0;  // 0: the parameters' sensors.sample_rate_hz
   double duration_s = 0.0;      // 0: the case's
   int max_events = 10000;       // impacts and separations; more is reported as chatter
+  long max_steps = 0;           // integration steps; more is reported as too stiff (0: no limit)
   bool keep_state = true;       // the full state history per sample
 };
 

@@ -109,6 +109,17 @@ std::vector<double> Values(const TwoLinkParameters& p) {
   return out;
 }
 
+TEST_CASE("two-link: a simulation over its step budget stops with the budget and the time") {
+  const TwoLinkParameters p = TwoLinkParameters::Nominal();
+  TwoLinkSimulationOptions options;
+  options.max_steps = 200;
+  CHECK_THROWS_WITH(SimulateTwoLink(TwoLinkModel(p), p.cases[0], options),
+                    Catch::Contains("more than 200 integration steps by t ="));
+  options.max_steps = 0;  // no limit
+  options.duration_s = 0.3;
+  CHECK(SimulateTwoLink(TwoLinkModel(p), p.cases[0], options).steps > 200);
+}
+
 TEST_CASE("two-link: the written parameter file reads back to identical values") {
   const TwoLinkParameters nominal = TwoLinkParameters::Nominal();
   const TwoLinkParameters parsed =
