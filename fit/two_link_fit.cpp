@@ -425,7 +425,13 @@ class SimulationCost : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const Eigen::Map<const Eigen::VectorXd> x(parameters[0], problem_.parameter_count());
-    const Evaluation e = problem_.Evaluate(x);
+    // Levenberg-Marquardt asks for the residuals at a trial point, and once
+    // the step is taken for them again with the Jacobian: one simulation saved.
+    if (last_x_.size() != x.size() || last_x_ != x) {
+      last_ = problem_.Evaluate(x);
+      last_x_ = x;
+    }
+    const Evaluation& e = last_;
     if (!e.ok) return false;
     Eigen::Map<Eigen::VectorXd>(residuals, num_residuals()) = e.residuals;
     if (jacobians && jacobians[0]) {
@@ -441,6 +447,8 @@ class SimulationCost : public ceres::CostFunction {
  private:
   const Problem& problem_;
   const TwoLinkFitOptions& options_;
+  mutable Eigen::VectorXd last_x_;  // Ceres evaluates one point at a time
+  mutable Evaluation last_;
 };
 
 // The stages of one start (docs/two-link-fit.md, "Stages"). The encoders'
