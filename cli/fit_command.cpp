@@ -30,7 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteText(const fs::path& file, const std::string& text) {
+void WriteTextFile(const fs::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;
   out.close();
@@ -39,7 +39,7 @@ void WriteText(const fs::path& file, const std::string& text) {
 
 // The experiment's channels by the simulator's names (q1, q4, a1..a4), in SI.
 TwoLinkMeasurement Measurement(const Log& log) {
-  const LogSeries series = ReadLogSeries(log.folder / log.experiment, log.time_column, log.channels,
+  const LogSeries series = ReadLogSeries(log.experiment, log.time_column, log.channels,
                                          LogSource::kExperiment);
   TwoLinkMeasurement m;
   m.time_s = series.time_s;
@@ -129,16 +129,16 @@ void AddFitCommand(CLI::App& app, Action& action) {
 
       fs::create_directories(args->out / "logs", ec);
       if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());
-      WriteText(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
+      WriteTextFile(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
       const std::string summary = fmt::format("# Two-link simulation fitted to log {} of {}\n\n{}",
                                               log->id, args->session.string(), result.Summary());
-      WriteText(args->out / "fit.txt", summary);
+      WriteTextFile(args->out / "fit.txt", summary);
       // The session: the experiment as recorded beside the fitted simulation.
       Log pair = *log;
       pair.experiment = fs::path("logs") / (log->id + "-experiment.csv");
       pair.simulation = fs::path("logs") / (log->id + "-fitted.csv");
-      fs::copy_file(log->folder / log->experiment, args->out / pair.experiment, ec);
-      if (ec) throw InputError({log->folder / log->experiment, "", std::nullopt}, ec.message());
+      fs::copy_file(log->experiment, args->out / pair.experiment, ec);
+      if (ec) throw InputError({log->experiment, "", std::nullopt}, ec.message());
       TwoLinkParameters fitted = result.fitted;
       const TwoLinkModel model(fitted);
       const TwoLinkRecord record =
