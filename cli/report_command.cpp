@@ -18,7 +18,7 @@ namespace impactlab::cli {
 namespace {
 
 // Atomically: a failed write leaves an earlier report as it was.
-void WriteText(const std::filesystem::path& path, const std::string& text) {
+void WriteTextAtomically(const std::filesystem::path& path, const std::string& text) {
   WriteFileAtomically(path, text);
 }
 
@@ -77,7 +77,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       const SessionResult result = ReadResults(args->results);
       if (!args->figures.empty()) {
         for (const auto& [name, svg] : RenderStaticFigures(result)) {
-          WriteText(args->figures / name, svg);
+          WriteTextAtomically(args->figures / name, svg);
         }
       }
       std::vector<Table> tables = BuildTables(result);
@@ -97,7 +97,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       }
       if (csv_folder) {
         for (const Table& t : tables) {
-          WriteText(args->output / (t.name + ".csv"), RenderTable(t, format));
+          WriteTextAtomically(args->output / (t.name + ".csv"), RenderTable(t, format));
         }
         return kExitOk;
       }
@@ -107,7 +107,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       if (args->output.empty()) {
         fmt::print("{}", text);
       } else {
-        WriteText(args->output, text);
+        WriteTextAtomically(args->output, text);
       }
       return kExitOk;
     };

@@ -58,7 +58,7 @@ struct PulseEdge {
                             // between the last samples of each level
 };
 
-double Quantile(std::vector<double> values, double q) {
+double QuantileOfCopy(std::vector<double> values, double q) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
   return digitize::SelectNth(values.begin(), at, values.end());
 }
@@ -188,7 +188,7 @@ class RowReader {
 
 // The straight background of a profile through the medians of its outer
 // fifths, at each sample.
-std::vector<double> Background(const std::vector<double>& v) {
+std::vector<double> LinearBackground(const std::vector<double>& v) {
   const int n = static_cast<int>(v.size()), fifth = std::max(1, n / 5);
   const double left = Median(std::vector<double>(v.begin(), v.begin() + fifth));
   const double right = Median(std::vector<double>(v.end() - fifth, v.end()));
@@ -215,13 +215,13 @@ std::vector<double> LineTemplate(const std::vector<Rows>& sources, const Profile
   if (sources.empty()) return {};
   for (const Rows& rows : sources) {
     for (const std::vector<double>& v : rows.values) {
-      std::vector<double> b = Background(v);
+      std::vector<double> b = LinearBackground(v);
       backgrounds.push_back(0.5 * (b.front() + b.back()));
       candidates.emplace_back(&v, std::move(b));
     }
   }
   if (static_cast<int>(candidates.size()) < kLeastRows) return {};
-  const double limit = Quantile(backgrounds, 0.25) + tolerance;
+  const double limit = QuantileOfCopy(backgrounds, 0.25) + tolerance;
   std::vector<const std::pair<const std::vector<double>*, std::vector<double>>*> clear;
   for (std::size_t r = 0; r < candidates.size(); ++r) {
     if (backgrounds[r] <= limit) clear.push_back(&candidates[r]);

@@ -18,11 +18,6 @@ constexpr double kRestartCost = 3.0;   // a trace reappearing off its course aft
 constexpr double kJumpCost = 2.0;      // a contact trace's step, whatever its height
 constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to pay
 
-double MedianOf(std::vector<float>& values) {
-  if (values.empty()) return 0.0;
-  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
-}
-
 }  // namespace
 
 // The best-scoring course through the columns' candidates by dynamic

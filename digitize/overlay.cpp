@@ -48,7 +48,7 @@ cv::Mat EightBitColour(const cv::Mat& image) {
 // OpenCV's area resampling on its fast path (a plain block average, 15x
 // cheaper than a fractional shrink of a colour photo) and converts only the
 // small result. The last f - 1 columns and rows at most are left out.
-cv::Mat Background(const cv::Mat& photo, int f) {
+cv::Mat ScaledBackground(const cv::Mat& photo, int f) {
   if (f == 1) return EightBitColour(photo);
   const cv::Rect whole(0, 0, photo.cols / f * f, photo.rows / f * f);
   cv::Mat small;
@@ -79,7 +79,7 @@ struct Canvas {
 Canvas OverlayCanvas(const cv::Mat& photo, int max_width_px) {
   const int f = max_width_px > 0 ? std::max(1, (photo.cols + max_width_px - 1) / max_width_px) : 1;
   Canvas canvas;
-  canvas.image = Background(photo, f);
+  canvas.image = ScaledBackground(photo, f);
   canvas.scale_x = canvas.scale_y = 1.0 / f;
   return canvas;
 }

@@ -73,7 +73,7 @@ void CheckUsable(const std::filesystem::path& path, const cv::Mat& image) {
 
 // The value of rank q (0..1) among `values`, looked for in [first, last)
 // only: those must be the values of ranks first .. last - 1, in some order.
-double Quantile(std::vector<float>& values, double q, std::size_t first, std::size_t last) {
+double QuantileInRange(std::vector<float>& values, double q, std::size_t first, std::size_t last) {
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
   return digitize::SelectNth(values.begin() + first, at, values.begin() + last);
 }
@@ -91,9 +91,9 @@ bool LooksNegative(const cv::Mat1f& grey) {
   // The median first: it splits the values, and each outer quantile is then
   // looked for in its half only.
   const std::size_t n = values.size(), mid = static_cast<std::size_t>(0.5 * (n - 1));
-  const double median = Quantile(values, 0.5, 0, n);
-  const double low = Quantile(values, 0.01, 0, mid + 1);
-  const double high = Quantile(values, 0.99, mid, n);
+  const double median = QuantileInRange(values, 0.5, 0, n);
+  const double low = QuantileInRange(values, 0.01, 0, mid + 1);
+  const double high = QuantileInRange(values, 0.99, mid, n);
   return median - low > high - median;
 }
 

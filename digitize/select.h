@@ -55,6 +55,13 @@ auto SelectNth(Iterator first, Iterator nth, Iterator last) {
   return *nth;
 }
 
+// The median of `values` by SelectNth (the upper middle one of an even count),
+// 0 for none; rearranges `values`.
+inline double MedianOf(std::vector<float>& values) {
+  if (values.empty()) return 0.0;
+  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
+}
+
 // The median of `values` (the upper middle one of an even count), 0 for none.
 // std::nth_element: these vectors are short, and GCC 12 warns, wrongly, on
 // SelectNth inlined into a caller that then frees the copy.

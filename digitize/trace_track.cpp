@@ -35,11 +35,6 @@ constexpr double kHintReward = 10.0;
 // moves fast across the columns beside it.
 constexpr double kHintReachDiv = 0.05;
 
-double MedianOf(std::vector<float>& values) {
-  if (values.empty()) return 0.0;
-  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
-}
-
 double QuantileOf(std::vector<float>& values, double q) {
   if (values.empty()) return 0.0;
   const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));

@@ -18,9 +18,9 @@ namespace {
 using fit_internal::AmplitudeAndSlope;
 
 // (A(exp(w + n q)) - X)/sigma for theta = (q, w) = (ln e, ln v0).
-class MaximumCost final : public ceres::SizedCostFunction<1, 2> {
+class KelvinVoigtMaximumCost final : public ceres::SizedCostFunction<1, 2> {
  public:
-  MaximumCost(const Pendulum& pendulum, int rebound, double measured, double sigma)
+  KelvinVoigtMaximumCost(const Pendulum& pendulum, int rebound, double measured, double sigma)
       : pendulum_(pendulum), n_(rebound), measured_(measured), sigma_(sigma) {}
 
   bool Evaluate(double const* const* parameters, double* residuals,
@@ -115,7 +115,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   ceres::Problem problem;
   for (const int n : used) {
     const auto i = static_cast<std::size_t>(n);
-    problem.AddResidualBlock(new MaximumCost(pendulum, n, measured.xmax[i], sigmas[i]),
+    problem.AddResidualBlock(new KelvinVoigtMaximumCost(pendulum, n, measured.xmax[i], sigmas[i]),
                              fit_internal::MakeLoss(options.loss), theta);
   }
   fit_internal::Solve(problem, options.solver, &fit.status);

@@ -92,9 +92,10 @@ class ResponseModel {
 };
 
 // Maximum of rebound n of a run: (A(v_r e^n) - X)/sigma over (theta, ln v_r).
-class MaximumCost final : public ceres::SizedCostFunction<1, 3, 1> {
+class PoyntingThomsonMaximumCost final : public ceres::SizedCostFunction<1, 3, 1> {
  public:
-  MaximumCost(const ResponseModel& model, const Pendulum& pendulum, int n, double x, double sigma)
+  PoyntingThomsonMaximumCost(const ResponseModel& model, const Pendulum& pendulum, int n, double x,
+                             double sigma)
       : model_(model), pendulum_(pendulum), n_(n), x_(x), sigma_(sigma) {}
   bool Evaluate(double const* const* p, double* r, double** jac) const override {
     Response resp;
@@ -365,7 +366,8 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     const PoyntingThomsonRun& run = runs[r];
     for (const auto& [n, x] : UsableMaxima(run)) {
       problem.AddResidualBlock(
-          new MaximumCost(model, run.pendulum, n, x, sigmas[r][static_cast<std::size_t>(n)]),
+          new PoyntingThomsonMaximumCost(model, run.pendulum, n, x,
+                                         sigmas[r][static_cast<std::size_t>(n)]),
           fit_internal::MakeLoss(options.loss), theta.data(), &log_speed[r]);
       ++residual_count;
     }

@@ -9,7 +9,11 @@
 #include "io/errors.h"
 
 namespace impactlab {
-namespace {
+
+// Not in the anonymous namespace: Hdf5File::Impl, a class with linkage, holds a
+// Handle, which GCC warns of where this file is included in another (a unity
+// build, -Wsubobject-linkage).
+namespace hdf5_file_internal {
 
 // Owns one HDF5 identifier. Close() reports the status; the destructor closes
 // quietly, for error paths only (an exception is already on its way).
@@ -40,6 +44,12 @@ class Handle {
   hid_t id_ = -1;
   herr_t (*close_)(hid_t) = nullptr;
 };
+
+}  // namespace hdf5_file_internal
+
+namespace {
+
+using hdf5_file_internal::Handle;
 
 // HDF5 prints its error stack to stderr by default; we report our own errors.
 // (Nothing to do if even that fails: the messages are only noise.)

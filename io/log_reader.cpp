@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kReadChunkBytes = std::size_t{1} << 22;
 
-std::string_view Trim(std::string_view s) {
+std::string_view TrimAndUnquote(std::string_view s) {
   while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) {
     s.remove_suffix(1);
   }
@@ -231,7 +231,7 @@ ColumnMap MapHeader(std::string_view header, const fs::path& file, const std::st
   std::vector<std::string> names;
   while (true) {
     const std::size_t comma = header.find(',');
-    names.emplace_back(Trim(header.substr(0, comma)));
+    names.emplace_back(TrimAndUnquote(header.substr(0, comma)));
     if (comma == std::string_view::npos) break;
     header.remove_prefix(comma + 1);
   }
@@ -391,8 +391,9 @@ LogReadReport ReadLogCsv(const fs::path& file, const std::string& time_column,
         const std::string& column =
             slot == 0 ? time_column : channels[static_cast<std::size_t>(slot - 1)].column;
         sequencer.Report(LogIssueKind::kBadValue, line_number, column, [&] {
-          return fmt::format("expected a finite number, found \"{}\" (row dropped)",
-                             Trim(std::string_view(p, static_cast<std::size_t>(comma - p))));
+          return fmt::format(
+              "expected a finite number, found \"{}\" (row dropped)",
+              TrimAndUnquote(std::string_view(p, static_cast<std::size_t>(comma - p))));
         });
         return;
       }

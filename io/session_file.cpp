@@ -50,7 +50,7 @@ std::optional<fs::path> RelativeToFolder(const fs::path& folder, const fs::path&
   return relative;
 }
 
-std::string KindOf(mode_t mode) {
+std::string FileTypeName(mode_t mode) {
   if (S_ISDIR(mode)) return "a folder";
   if (S_ISFIFO(mode)) return "a named pipe";
   if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
@@ -123,7 +123,8 @@ SessionFile::SessionFile(const fs::path& folder, const fs::path& file) : path_(f
     Refuse(file, fmt::format("cannot read the file's status: {}", std::strerror(errno)));
   }
   if (!S_ISREG(status.st_mode)) {
-    Refuse(file, fmt::format("refused: expected a regular file, found {}", KindOf(status.st_mode)));
+    Refuse(file,
+           fmt::format("refused: expected a regular file, found {}", FileTypeName(status.st_mode)));
   }
   // Reads of a regular file never block; clear the flag all the same.
   ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);

@@ -14,7 +14,7 @@
 namespace impactlab {
 namespace {
 
-std::string_view Trim(std::string_view s) {
+std::string_view TrimBlanks(std::string_view s) {
   while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t'))
     s.remove_suffix(1);
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -28,7 +28,7 @@ std::string_view Field(std::string_view line, int index) {
     if (comma == std::string_view::npos) return {};
     line.remove_prefix(comma + 1);
   }
-  return Trim(line.substr(0, line.find(',')));
+  return TrimBlanks(line.substr(0, line.find(',')));
 }
 
 double ParseNumber(std::string_view text, const std::filesystem::path& path, long long line,
@@ -57,14 +57,15 @@ Trace ParseTraceCsv(std::istream& in, const std::filesystem::path& path) {
                      "the file is empty; expected the header \"time_s,volts\" and samples");
   }
   if (Field(line, 0) != "time_s" || Field(line, 1) != "volts") {
-    throw InputError({path, "header", 1},
-                     fmt::format("expected the header \"time_s,volts\", found \"{}\"", Trim(line)));
+    throw InputError(
+        {path, "header", 1},
+        fmt::format("expected the header \"time_s,volts\", found \"{}\"", TrimBlanks(line)));
   }
   Trace trace;
   long long number = 1;
   while (std::getline(in, line)) {
     ++number;
-    if (Trim(line).empty()) continue;
+    if (TrimBlanks(line).empty()) continue;
     const double t = ParseNumber(Field(line, 0), path, number, "time_s");
     const double v = ParseNumber(Field(line, 1), path, number, "volts");
     if (!trace.time_s.empty() && !(t > trace.time_s.back())) {

@@ -9,23 +9,19 @@
 #include <boost/math/special_functions/sinc.hpp>
 #include <boost/math/tools/roots.hpp>
 
+#include "model/impact_speed_internal.h"
+
 namespace impactlab {
 namespace {
 
 using std::numbers::pi;
 
-void CheckRates(const KelvinVoigtRates& r) {
+void CheckKelvinVoigtRates(const KelvinVoigtRates& r) {
   if (!(r.natural_frequency > 0.0) || !std::isfinite(r.natural_frequency) ||
       !(r.damping_ratio >= 0.0) || !std::isfinite(r.damping_ratio)) {
     throw std::invalid_argument(
         fmt::format("Kelvin-Voigt needs wn > 0 and zeta >= 0, got wn = {}, zeta = {}",
                     r.natural_frequency, r.damping_ratio));
-  }
-}
-
-void CheckSpeed(double v) {
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    throw std::invalid_argument(fmt::format("an impact speed must be > 0, got {}", v));
   }
 }
 
@@ -51,7 +47,7 @@ double PeakPhaseRatio(double zeta) {
   return (std::log1p(zeta - 1.0) + std::log1p(s / zeta)) / s;
 }
 
-void ThrowNoKinematicSeparation(double zeta) {
+void ThrowKelvinVoigtNoKinematicSeparation(double zeta) {
   throw NoSeparationError(
       fmt::format("damping ratio zeta = {} >= 1: with kinematic separation the compression never "
                   "returns to 0, so contact never ends; use force separation",
@@ -80,13 +76,13 @@ double LogRestitutionFromDampingRatio(double zeta, Separation separation) {
     throw std::invalid_argument(fmt::format("a damping ratio must be >= 0, got {}", zeta));
   }
   if (separation == Separation::kForce) return -2.0 * (zeta * PeakPhaseRatio(zeta));
-  if (zeta >= 1.0) ThrowNoKinematicSeparation(zeta);
+  if (zeta >= 1.0) ThrowKelvinVoigtNoKinematicSeparation(zeta);
   return -pi * zeta / SqrtOneMinusZetaSquared(zeta);
 }
 
 ContactResponse KelvinVoigtContact(const KelvinVoigtRates& r, double v, Separation separation) {
-  CheckRates(r);
-  CheckSpeed(v);
+  CheckKelvinVoigtRates(r);
+  model_internal::CheckImpactSpeed(v);
   const double zeta = r.damping_ratio;
   const double wn = r.natural_frequency;
   const double h = PeakPhaseRatio(zeta);
@@ -107,7 +103,7 @@ ContactResponse KelvinVoigtContact(const KelvinVoigt& model, double v, Separatio
 }
 
 double KelvinVoigtCompression(const KelvinVoigtRates& r, double v, double t) {
-  CheckRates(r);
+  CheckKelvinVoigtRates(r);
   const double zeta = r.damping_ratio;
   const double wn = r.natural_frequency;
   // x = v exp(-zeta wn t) S(t), S = sin(wd t)/wd, t or sinh(b t)/b: written as
@@ -165,7 +161,7 @@ double StiffnessFromContactTime(double mass, double contact_time, double zeta,
     const double wn = 2.0 * PeakPhaseRatio(zeta) / contact_time;
     return mass * wn * wn;
   }
-  if (zeta >= 1.0) ThrowNoKinematicSeparation(zeta);
+  if (zeta >= 1.0) ThrowKelvinVoigtNoKinematicSeparation(zeta);
   // Eq. 37: K = M pi^2 / (tau_c^2 (1 - zeta^2)).
   return mass * pi * pi / (contact_time * contact_time * (1.0 - zeta) * (1.0 + zeta));
 }

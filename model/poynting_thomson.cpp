@@ -13,6 +13,8 @@
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <boost/multiprecision/cpp_int.hpp>
 
+#include "model/impact_speed_internal.h"
+
 namespace impactlab {
 namespace {
 
@@ -34,19 +36,13 @@ void CheckModel(const PoyntingThomson& m) {
   }
 }
 
-void CheckRates(const PoyntingThomsonRates& r) {
+void CheckPoyntingThomsonRates(const PoyntingThomsonRates& r) {
   const auto bad = [](double x) { return !(x > 0.0) || !std::isfinite(x); };
   if (bad(r.natural_frequency) || bad(r.kappa1) || bad(r.kappa2) || bad(r.beta)) {
     throw std::invalid_argument(fmt::format(
         "Poynting-Thomson rates must be > 0 and finite, got wn = {}, kappa1 = {}, kappa2 = {}, "
         "beta = {}",
         r.natural_frequency, r.kappa1, r.kappa2, r.beta));
-  }
-}
-
-void CheckSpeed(double v) {
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    throw std::invalid_argument(fmt::format("an impact speed must be > 0, got {}", v));
   }
 }
 
@@ -595,8 +591,8 @@ struct ScaledResponse {
   double peak_u = 0.0;  // u at the peak
 };
 
-[[noreturn]] void ThrowNoKinematicSeparation(const PoyntingThomsonRates& r,
-                                             const std::string& why) {
+[[noreturn]] void ThrowPoyntingThomsonNoKinematicSeparation(const PoyntingThomsonRates& r,
+                                                            const std::string& why) {
   throw NoSeparationError(fmt::format(
       "Poynting-Thomson with kappa1 = K1/(K1+K2) = {:.6g}, beta = K2/(C wn) = {:.6g}: with "
       "kinematic separation the compression never returns to 0 ({}), so contact never ends; use "
@@ -612,17 +608,17 @@ void RequireComplexPair(const ScaledSystem& sys, const PoyntingThomsonRates& r) 
     case Regime::kComplexPair:
       return;
     case Regime::kThreeReal:
-      ThrowNoKinematicSeparation(
+      ThrowPoyntingThomsonNoKinematicSeparation(
           r,
           "the characteristic cubic has three real roots: x1 is a sum of three decaying "
           "exponentials that stays positive");
     case Regime::kDoubleRoot:
-      ThrowNoKinematicSeparation(
+      ThrowPoyntingThomsonNoKinematicSeparation(
           r,
           "the characteristic cubic has three real roots, two of them equal: x1 is a sum of "
           "decaying exponentials, one times a polynomial in t, that stays positive");
     case Regime::kTripleRoot:
-      ThrowNoKinematicSeparation(
+      ThrowPoyntingThomsonNoKinematicSeparation(
           r,
           "the characteristic cubic has three real roots, all equal: x1 is a decaying "
           "exponential times a polynomial in t that stays positive");
@@ -662,12 +658,12 @@ double KinematicEnd(const ScaledSystem& sys, const PoyntingThomsonRates& r, doub
     z = z_next;
   }
   if (sys.pair_is_slowest()) {
-    ThrowNoKinematicSeparation(
+    ThrowPoyntingThomsonNoKinematicSeparation(
         r, fmt::format("it has not returned after 200 periods of the slow oscillation, tau = {:.6g}"
                        "; e would be below exp({:.6g})",
                        end, -sys.pair_decay() * end));
   }
-  ThrowNoKinematicSeparation(
+  ThrowPoyntingThomsonNoKinematicSeparation(
       r,
       "the real root decays more slowly than the complex pair and x1 reaches a positive "
       "minimum before the dip that could take it below 0");
@@ -739,21 +735,21 @@ PoyntingThomsonRoots CharacteristicRoots(const PoyntingThomson& m) {
 
 ContactResponse PoyntingThomsonContact(const PoyntingThomsonRates& r, double v,
                                        Separation separation) {
-  CheckRates(r);
-  CheckSpeed(v);
+  CheckPoyntingThomsonRates(r);
+  model_internal::CheckImpactSpeed(v);
   return ToPhysical(Solve(r, ExactOf(r), separation), r, v, separation);
 }
 
 ContactResponse PoyntingThomsonContact(const PoyntingThomson& m, double v, Separation separation) {
   const PoyntingThomsonRates r = RatesOf(m);
-  CheckRates(r);
-  CheckSpeed(v);
+  CheckPoyntingThomsonRates(r);
+  model_internal::CheckImpactSpeed(v);
   return ToPhysical(Solve(r, ExactOf(m), separation), r, v, separation);
 }
 
 PoyntingThomsonState PoyntingThomsonStateAt(const PoyntingThomson& m, double v, double t) {
   const PoyntingThomsonRates r = RatesOf(m);
-  CheckSpeed(v);
+  model_internal::CheckImpactSpeed(v);
   if (!(t >= 0.0)) throw std::invalid_argument(fmt::format("time must be >= 0, got {}", t));
   const ScaledSystem sys(r, ExactOf(m));
   const double tau = r.natural_frequency * t;
@@ -769,7 +765,7 @@ PoyntingThomsonState PoyntingThomsonStateAt(const PoyntingThomson& m, double v, 
 }
 
 double PoyntingThomsonCompression(const PoyntingThomsonRates& r, double v, double t) {
-  CheckRates(r);
+  CheckPoyntingThomsonRates(r);
   const ScaledSystem sys(r, ExactOf(r));
   const double tau = r.natural_frequency * t;
   return v / r.natural_frequency * sys.At(tau).u * std::exp(-sys.mu() * tau);
@@ -787,7 +783,7 @@ PoyntingThomsonContactLaw::PoyntingThomsonContactLaw(const PoyntingThomson& mode
 }
 
 ContactResponse PoyntingThomsonContactLaw::Respond(double v) const {
-  CheckSpeed(v);
+  model_internal::CheckImpactSpeed(v);
   if (!unit_response_) throw NoSeparationError(no_separation_);
   ContactResponse out = *unit_response_;
   out.peak_compression *= v;

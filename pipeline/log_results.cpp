@@ -5,7 +5,7 @@
 namespace impactlab {
 namespace {
 
-LogChannelResult Summarise(const ChannelAnalysis& c) {
+LogChannelResult SummariseChannel(const ChannelAnalysis& c) {
   LogChannelResult out;
   out.channel = c.name;
   out.units = c.units;
@@ -28,7 +28,7 @@ LogChannelResult Summarise(const ChannelAnalysis& c) {
   return out;
 }
 
-LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
+LogSourceResult SummariseSource(const SourceAnalysis& s, const char* name) {
   LogSourceResult out;
   out.source = name;
   if (s.impact.found) {
@@ -37,7 +37,7 @@ LogSourceResult Summarise(const SourceAnalysis& s, const char* name) {
   } else {
     out.impact_method = s.impact.reason;
   }
-  for (const ChannelAnalysis& c : s.channels) out.channels.push_back(Summarise(c));
+  for (const ChannelAnalysis& c : s.channels) out.channels.push_back(SummariseChannel(c));
   return out;
 }
 
@@ -50,8 +50,8 @@ LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
   out.ok = a.ok;
   out.reason = a.reason;
   if (!a.ok) return out;
-  out.sources.push_back(Summarise(a.experiment, "experiment"));
-  if (a.simulation) out.sources.push_back(Summarise(*a.simulation, "simulation"));
+  out.sources.push_back(SummariseSource(a.experiment, "experiment"));
+  if (a.simulation) out.sources.push_back(SummariseSource(*a.simulation, "simulation"));
   if (a.comparison) {
     out.impact_offset_s = a.comparison->impact_offset_s;
     for (const ChannelComparison& c : a.comparison->channels) {

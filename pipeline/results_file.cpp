@@ -11,6 +11,7 @@
 #include "io/hdf5_extras.h"
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
+#include "pipeline/setting_key_internal.h"
 
 namespace impactlab {
 namespace {
@@ -34,7 +35,6 @@ struct In {
 // A result's stage settings (pipeline/stage_options.h): the attributes of its
 // `settings` group, one per key, each the value as session.toml or the
 // command line writes it ("gaussian", "0.15", "true").
-std::string StageOf(const std::string& key) { return key.substr(0, key.find('.')); }
 
 // The session's settings, every one an attribute of /settings.
 void WriteSessionSettings(Hdf5File& f, const SettingValues& settings) {
@@ -53,7 +53,7 @@ void WriteSettings(Out& out, const std::string& group, const SettingValues& sett
   f.CreateGroup(group);
   std::set<std::string> stages;
   for (const auto& [key, value] : settings) {
-    stages.insert(StageOf(key));
+    stages.insert(pipeline_internal::StageOf(key));
     const auto session = out.session_settings.find(key);
     if (session == out.session_settings.end() ||
         SettingText(session->second) != SettingText(value)) {
@@ -81,7 +81,7 @@ SettingValues ReadSettings(const In& in, const std::string& group) {
     std::istringstream stages(f.ReadStringAttribute(group, "stages"));
     for (std::string stage; stages >> stage;) {
       for (const auto& [key, value] : in.session_settings) {
-        if (StageOf(key) == stage) settings[key] = value;
+        if (pipeline_internal::StageOf(key) == stage) settings[key] = value;
       }
     }
   }

@@ -7,14 +7,9 @@
 #include "io/errors.h"
 #include "io/manifest.h"
 #include "io/spelling.h"
+#include "pipeline/setting_key_internal.h"
 
 namespace impactlab {
-namespace {
-
-// The stage a key belongs to: "digitize" for "digitize.traces.method".
-std::string StageOf(const std::string& key) { return key.substr(0, key.find('.')); }
-
-}  // namespace
 
 bool StageOptions::Check(std::string* why) const {
   std::string inner;
@@ -30,16 +25,16 @@ bool StageOptions::Check(std::string* why) const {
 StageOptions WithSettings(StageOptions options, const StageSettings& settings) {
   for (const auto& [key, setting] : settings) {
     if (const auto problem = ApplySetting(options, key, setting.value)) {
-      const std::string known = SettingKeys(options, StageOf(key));
+      const std::string known = SettingKeys(options, pipeline_internal::StageOf(key));
       std::vector<std::string> every;
       ForEachSetting(options,
                      [&](const std::string& k, const auto&, const char*) { every.push_back(k); });
-      throw InputError(
-          setting.where,
-          problem->problem == "no such setting"
-              ? fmt::format("no such setting{}; the {} settings are: {}", DidYouMean(key, every),
-                            StageOf(key), known.empty() ? "(none: no such stage)" : known)
-              : problem->problem);
+      throw InputError(setting.where,
+                       problem->problem == "no such setting"
+                           ? fmt::format("no such setting{}; the {} settings are: {}",
+                                         DidYouMean(key, every), pipeline_internal::StageOf(key),
+                                         known.empty() ? "(none: no such stage)" : known)
+                           : problem->problem);
     }
   }
   if (std::string why; !options.Check(&why)) {
@@ -47,7 +42,7 @@ StageOptions WithSettings(StageOptions options, const StageSettings& settings) {
     const std::string stage = why.substr(0, why.find(':'));
     const StageSetting* culprit = nullptr;
     for (const auto& [key, setting] : settings) {
-      if (StageOf(key) != stage) continue;
+      if (pipeline_internal::StageOf(key) != stage) continue;
       const std::string field = key.substr(key.rfind('.') + 1);
       if (culprit == nullptr || why.find(field) != std::string::npos) culprit = &setting;
       if (why.find(field) != std::string::npos) break;
@@ -73,7 +68,8 @@ SettingValues SettingsOfStages(const StageOptions& options,
                                std::initializer_list<std::string_view> stages) {
   SettingValues all = SettingsOf(options);
   std::erase_if(all, [&](const auto& entry) {
-    return std::find(stages.begin(), stages.end(), StageOf(entry.first)) == stages.end();
+    return std::find(stages.begin(), stages.end(), pipeline_internal::StageOf(entry.first)) ==
+           stages.end();
   });
   return all;
 }

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/camera.h"
+#include "render/rectangles.h"
 
 namespace impactlab::render {
 
@@ -17,7 +18,7 @@ namespace {
 
 // Coverage of an anti-aliased edge: 1 inside, 0 outside, a linear ramp
 // 1 / `inv_edge` wide across it.
-float Ramp(double signed_distance, double inv_edge) {
+float EdgeCoverageFromInverseWidth(double signed_distance, double inv_edge) {
   return static_cast<float>(std::clamp(0.5 - signed_distance * inv_edge, 0.0, 1.0));
 }
 
@@ -108,10 +109,6 @@ class LightField {
   double col_scale_, row_scale_;
 };
 
-cv::Rect2d Grow(const cv::Rect2d& r, double by) {
-  return {r.x - by, r.y - by, r.width + 2 * by, r.height + 2 * by};
-}
-
 // Writes one pixel's display values (BGR in [0, 1]) in the file's format.
 template <typename Sample>
 void Store(const cv::Vec3f& bgr, bool grey, float full_scale, Sample* out) {
@@ -198,7 +195,7 @@ class Darkroom {
   cv::Vec3f Develop(int col, int row, const cv::Vec4f& noise) const {
     const cv::Point2d p = to_screen_(col, row);
     const double face_d = RoundedRectDistance(p, layout_.face_div, layout_.face_corner_div);
-    const float face_alpha = Ramp(face_d, inv_edge_);
+    const float face_alpha = EdgeCoverageFromInverseWidth(face_d, inv_edge_);
     cv::Vec3f exposure = Light(Scene(p, face_alpha), p, face_alpha, col, row);
     cv::Vec3f value = Tone(exposure);
     AddNoise(col, row, noise, value);
@@ -301,8 +298,8 @@ class Darkroom {
     const double image_d = RoundedRectDistance(p, look_.print_image_div, 0.05);
     if (image_d <= -edge_div_) return 1.0f;
     const double print_d = RoundedRectDistance(p, print_div_, 0.15);
-    const float in_image = Ramp(image_d, inv_edge_);
-    const float on_print = Ramp(print_d, inv_edge_);
+    const float in_image = EdgeCoverageFromInverseWidth(image_d, inv_edge_);
+    const float on_print = EdgeCoverageFromInverseWidth(print_d, inv_edge_);
     const float shadow =
         1.0f - 0.35f * static_cast<float>(std::exp(-std::max(print_d, 0.0) / 0.08));
     const cv::Vec3f scanner_bed_bgr(0.80f, 0.80f, 0.79f);

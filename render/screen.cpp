@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "render/rectangles.h"
+
 namespace impactlab::render {
 
 namespace {
@@ -12,11 +14,7 @@ namespace {
 constexpr double kFaceMarginDiv = 0.3;   // visible phosphor beyond the graticule
 constexpr double kBezelWidthDiv = 0.75;  // the bezel's width around the face
 
-cv::Rect2d Grow(const cv::Rect2d& r, double by) {
-  return {r.x - by, r.y - by, r.width + 2 * by, r.height + 2 * by};
-}
-
-double Ramp(double signed_distance, double edge) {
+double EdgeCoverage(double signed_distance, double edge) {
   return std::clamp(0.5 - signed_distance / edge, 0.0, 1.0);
 }
 
@@ -109,7 +107,7 @@ PhosphorCanvas RenderPhosphor(const ScreenLayout& layout, const std::vector<Trac
 cv::Vec3f SurroundExposure(cv::Point2d p, const ScreenLayout& layout, const SurroundLook& look,
                            double edge_div) {
   const double bezel_d = RoundedRectDistance(p, layout.bezel_div, layout.bezel_corner_div);
-  const float bezel_alpha = static_cast<float>(Ramp(bezel_d, edge_div));
+  const float bezel_alpha = static_cast<float>(EdgeCoverage(bezel_d, edge_div));
   cv::Vec3f exposure(0.0f, 0.0f, 0.0f);
   if (bezel_alpha > 0.0f) {
     // The bezel's inner lip catches the room light, more so at the bottom,
@@ -137,7 +135,7 @@ cv::Vec3f SurroundExposure(cv::Point2d p, const ScreenLayout& layout, const Surr
       const cv::Point2d d(p.x - knob_x_div, p.y - knob_y_div);
       if (std::max(std::abs(d.x), std::abs(d.y)) > kKnobRadiusDiv + edge_div) continue;
       const double r = std::sqrt(d.dot(d));
-      const double alpha = Ramp(r - kKnobRadiusDiv, edge_div);
+      const double alpha = EdgeCoverage(r - kKnobRadiusDiv, edge_div);
       const double rim = std::exp(-std::abs(r - 0.8 * kKnobRadiusDiv) / 0.04) *
                          std::clamp(d.y / kKnobRadiusDiv, 0.0, 1.0);
       const cv::Vec3f knob = look.knob_bgr * static_cast<float>(1.0 + 3.0 * rim);

@@ -11,13 +11,14 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "signal/signal_internal.h"
 #include "signal/singular_vectors.h"
 #include "signal/spectrum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using signal_internal::kTwoPi;
 constexpr double kMaxDampingRatio = 0.95;
 constexpr double kMinDampingRatio = -0.3;  // allows growth, so light damping is not biased up
 

@@ -8,10 +8,12 @@
 
 #include <unsupported/Eigen/FFT>
 
+#include "signal/signal_internal.h"
+
 namespace impactlab {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using signal_internal::kTwoPi;
 
 std::size_t NextPowerOfTwo(double n) {
   std::size_t p = 1;

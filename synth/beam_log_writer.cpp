@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "io/errors.h"
+#include "synth/log_file_internal.h"
 
 namespace impactlab {
 namespace {
@@ -18,11 +19,6 @@ std::ofstream OpenLog(const std::filesystem::path& file) {
   return out;
 }
 
-void Close(std::ofstream& out, const std::filesystem::path& file) {
-  out.close();
-  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
-}
-
 }  // namespace
 
 void WriteSimulationLog(const std::filesystem::path& file, const BeamRecord& record) {
@@ -31,7 +27,7 @@ void WriteSimulationLog(const std::filesystem::path& file, const BeamRecord& rec
     fmt::format_to(std::ostreambuf_iterator<char>(out), "{:.6f},{:.10g},{:.10g},{:.10g}\n",
                    record.time_s[i], record.angle_rad[i], record.a1_m_s2[i], record.a2_m_s2[i]);
   }
-  Close(out, file);
+  synth_detail::CloseLog(out, file);
 }
 
 nlohmann::json WriteExperimentLog(const std::filesystem::path& file, const LoggedSamples& samples,
@@ -61,7 +57,7 @@ nlohmann::json WriteExperimentLog(const std::filesystem::path& file, const Logge
       defects.push_back({{"kind", "duplicated time"}, {"line", line}});
     }
   }
-  Close(out, file);
+  synth_detail::CloseLog(out, file);
   return defects;
 }
 

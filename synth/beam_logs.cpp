@@ -12,9 +12,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json ModesJson(const std::vector<BeamMode>& modes) {
+nlohmann::json ModesJson(const std::vector<BeamPole>& modes) {
   nlohmann::json out = nlohmann::json::array();
-  for (const BeamMode& m : modes) {
+  for (const BeamPole& m : modes) {
     out.push_back({{"frequency_hz", m.frequency_hz},
                    {"natural_frequency_hz", m.natural_frequency_hz},
                    {"damping_ratio", m.damping_ratio},

@@ -55,7 +55,7 @@ struct BeamSensors {
 // One pole of a phase: a damped mode (a complex pair) or, with frequency 0, an
 // overdamped decay (a real pole). Each phase is linear with constant
 // coefficients, so its poles, the roots of det(M s^2 + C s + K), are the truth.
-struct BeamMode {
+struct BeamPole {
   double frequency_hz = 0.0;          // damped; 0 for a real pole
   double natural_frequency_hz = 0.0;  // |s| / 2 pi
   double damping_ratio = 0.0;         // -Re s / |s|; 1 for a real pole

@@ -44,7 +44,7 @@ LinearEquations<2> OnTheWallEquations(const LinearEquations<3>& free, double len
 // Poles of det(M s^2 + C s + K), each complex pair once, real poles with
 // frequency 0 first, then modes by frequency; the rigid rotation's root at 0
 // is no mode.
-std::vector<BeamMode> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+std::vector<BeamPole> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
                             const Eigen::MatrixXd& stiffness);
 
 }  // namespace impactlab::beam_internal

@@ -27,7 +27,7 @@ typename Matrix::Scalar Determinant(const Matrix& a) {
 
 // The polynomial's coefficients by interpolation on a circle, its roots by
 // Durand-Kerner iteration, each root polished by Newton on the determinant.
-std::vector<BeamMode> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+std::vector<BeamPole> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
                             const Eigen::MatrixXd& stiffness) {
   const auto degree = static_cast<std::size_t>(2 * mass.rows());
   // s = scale u keeps |u| ~ 1: the roots' geometric mean when K is regular.
@@ -73,7 +73,7 @@ std::vector<BeamMode> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& 
     }
     if (change < 1e-15) break;
   }
-  std::vector<BeamMode> modes;
+  std::vector<BeamPole> modes;
   for (const Complex& u : roots) {
     // Newton on the determinant itself: the coefficients lose digits when the
     // roots spread over decades, the determinant does not.
@@ -88,7 +88,7 @@ std::vector<BeamMode> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& 
     }
     // The rigid rotation's root at 0 is no mode; a conjugate pair counts once.
     if (!(std::abs(s) > 1e-6 * scale) || s.imag() < -1e-9 * std::abs(s)) continue;
-    BeamMode mode;
+    BeamPole mode;
     const bool real = std::abs(s.imag()) <= 1e-9 * std::abs(s);
     mode.frequency_hz = real ? 0.0 : s.imag() / (2.0 * kPi);
     mode.natural_frequency_hz = std::abs(s) / (2.0 * kPi);
@@ -96,7 +96,7 @@ std::vector<BeamMode> Poles(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& 
     mode.decay_rate_per_s = -s.real();
     modes.push_back(mode);
   }
-  std::sort(modes.begin(), modes.end(), [](const BeamMode& a, const BeamMode& b) {
+  std::sort(modes.begin(), modes.end(), [](const BeamPole& a, const BeamPole& b) {
     return std::pair(a.frequency_hz, a.decay_rate_per_s) <
            std::pair(b.frequency_hz, b.decay_rate_per_s);
   });

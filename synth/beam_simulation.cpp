@@ -69,7 +69,7 @@ class LinearPhase {
 // `first` on, by linear least squares: the normal equations, accumulated a
 // sample at a time so that a long record needs no design matrix.
 std::vector<double> ModeAmplitudes(const std::vector<double>& y, std::size_t first, double rate_hz,
-                                   const std::vector<BeamMode>& modes) {
+                                   const std::vector<BeamPole>& modes) {
   // Columns: the constant, then per mode e^(-sigma t) (real pole) or
   // e^(-sigma t) cos and sin (pair).
   std::vector<Eigen::Index> column_of(modes.size());

@@ -29,8 +29,8 @@ struct BeamRecord {
   double impact_time_s = 0.0;
   double impact_speed_m_s = 0.0;     // tip speed into the wall
   double min_contact_force_n = 0.0;  // after the impact; < 0 would mean the tip pulls
-  std::vector<BeamMode> free_modes;  // free flight: real poles, then modes by frequency
-  std::vector<BeamMode> post_modes;  // tip on the wall, the same
+  std::vector<BeamPole> free_modes;  // free flight: real poles, then modes by frequency
+  std::vector<BeamPole> post_modes;  // tip on the wall, the same
   // Per channel (angle, a1, a2) and post-impact pole: amplitude at the first
   // sample whose interval lies after the impact, SI.
   std::vector<std::vector<double>> post_mode_amplitudes;

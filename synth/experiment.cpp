@@ -25,7 +25,7 @@ using std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The three displacement traces whose maxima are reported.
-enum Trace : int { kTraceRight = 0, kTraceLeft = 1, kTraceAverage = 2 };
+enum ReportedTrace : int { kTraceRight = 0, kTraceLeft = 1, kTraceAverage = 2 };
 
 struct PeakCandidate {
   double xmax = -kInf;
@@ -33,9 +33,9 @@ struct PeakCandidate {
   bool refined = false;
 };
 
-class SimulatedRun {
+class ExperimentSimulation {
  public:
-  explicit SimulatedRun(const ExperimentOptions& options);
+  explicit ExperimentSimulation(const ExperimentOptions& options);
   ExperimentResult Finish() &&;
   void Simulate();
 
@@ -69,7 +69,7 @@ class SimulatedRun {
   bool finished_ = false;
 };
 
-SimulatedRun::SimulatedRun(const ExperimentOptions& o)
+ExperimentSimulation::ExperimentSimulation(const ExperimentOptions& o)
     : o_(o),
       wall_(o.arrangement == Arrangement::kWall),
       integrator_({o.integration.relative_tolerance, o.integration.absolute_tolerance,
@@ -93,19 +93,19 @@ SimulatedRun::SimulatedRun(const ExperimentOptions& o)
   release_time_s_ = {0.0, wall_ ? kInf : o.left_release_delay_s};
 }
 
-double SimulatedRun::TraceX(const State& y, int trace) const {
+double ExperimentSimulation::TraceX(const State& y, int trace) const {
   if (trace == kTraceAverage) {
     return 0.5 * (dyn_.Displacement(y, kRight) + dyn_.Displacement(y, kLeft));
   }
   return dyn_.Displacement(y, trace);
 }
 
-double SimulatedRun::TraceRate(const State& y, int trace) const {
+double ExperimentSimulation::TraceRate(const State& y, int trace) const {
   if (trace == kTraceAverage) return 0.5 * (dyn_.Velocity(y, kRight) + dyn_.Velocity(y, kLeft));
   return dyn_.Velocity(y, trace);
 }
 
-double SimulatedRun::ContactTimescale() const {
+double ExperimentSimulation::ContactTimescale() const {
   // 1 / omega of the relative motion on the stiffest path (K1 + K2 per face).
   const double k = (dyn_.element.k1 + dyn_.element.k2) / dyn_.elements;
   const double mr = dyn_.bars[kRight].mass;
@@ -114,7 +114,7 @@ double SimulatedRun::ContactTimescale() const {
   return std::sqrt(reduced_mass / k);
 }
 
-double SimulatedRun::NextBoundary(double t) const {
+double ExperimentSimulation::NextBoundary(double t) const {
   double next = kInf;
   for (double release : release_time_s_) {
     if (release > t) next = std::min(next, release);
@@ -123,7 +123,7 @@ double SimulatedRun::NextBoundary(double t) const {
   return next;
 }
 
-void SimulatedRun::CrossBoundary(double t) {
+void ExperimentSimulation::CrossBoundary(double t) {
   for (int bar : {kRight, kLeft}) {
     if (release_time_s_[bar] <= t) dyn_.held[bar] = false;
   }
@@ -135,7 +135,7 @@ void SimulatedRun::CrossBoundary(double t) {
                 [t](const Sawtooth& s) { return s.decay_rate * (t - s.start_s) > 40.0; });
 }
 
-void SimulatedRun::EmitSamples(double t_stop) {
+void ExperimentSimulation::EmitSamples(double t_stop) {
   SampledRun& out = result_.samples;
   for (;;) {
     const double t = static_cast<double>(next_sample_) / o_.sample_rate_hz;  // no drift
@@ -150,7 +150,7 @@ void SimulatedRun::EmitSamples(double t_stop) {
 }
 
 // Maxima of each trace inside [previous_time, t_hi]: the rate falls through 0.
-void SimulatedRun::TrackPeaks(double t_hi, const State& y_hi) {
+void ExperimentSimulation::TrackPeaks(double t_hi, const State& y_hi) {
   const State& y_lo = integrator_.previous_state();
   for (int trace = 0; trace < TraceCount(); ++trace) {
     const double rate_lo = TraceRate(y_lo, trace);
@@ -167,7 +167,7 @@ void SimulatedRun::TrackPeaks(double t_hi, const State& y_hi) {
   }
 }
 
-void SimulatedRun::CloseRebound(double end_time_s) {
+void ExperimentSimulation::CloseRebound(double end_time_s) {
   std::array<std::vector<ReboundTruth>*, 3> lists = {
       &result_.rebounds_right, &result_.rebounds_left, &result_.rebounds_average};
   for (int trace = 0; trace < TraceCount(); ++trace) {
@@ -198,7 +198,7 @@ void SimulatedRun::CloseRebound(double end_time_s) {
   best_ = {};
 }
 
-State SimulatedRun::StartContact(double t, State y) {
+State ExperimentSimulation::StartContact(double t, State y) {
   CloseRebound(t);
   if (rebound_ == o_.impact_count) {  // impact impact_count + 1 begins: the run is complete
     finished_ = true;
@@ -243,7 +243,7 @@ State SimulatedRun::StartContact(double t, State y) {
   return y;
 }
 
-State SimulatedRun::EndContact(double t, State y) {
+State ExperimentSimulation::EndContact(double t, State y) {
   ImpactTruth& impact = result_.impacts.back();
   impact.end_time_s = t;
   impact.duration_s = t - impact.start_time_s;
@@ -262,7 +262,7 @@ State SimulatedRun::EndContact(double t, State y) {
   return y;
 }
 
-void SimulatedRun::Simulate() {
+void ExperimentSimulation::Simulate() {
   const double t_first = std::min(release_time_s_[kRight], release_time_s_[kLeft]);
   State y{};
   for (int bar : {kRight, kLeft}) {
@@ -357,13 +357,13 @@ void SimulatedRun::Simulate() {
   result_.integrator_steps = integrator_.accepted_steps();
 }
 
-ExperimentResult SimulatedRun::Finish() && { return std::move(result_); }
+ExperimentResult ExperimentSimulation::Finish() && { return std::move(result_); }
 
 }  // namespace
 
 ExperimentResult SimulateExperiment(const ExperimentOptions& options) {
   options.Check();
-  SimulatedRun run(options);
+  ExperimentSimulation run(options);
   run.Simulate();
   return std::move(run).Finish();
 }

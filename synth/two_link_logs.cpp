@@ -14,6 +14,7 @@
 #include "io/log_reader.h"  // kStandardGravity
 #include "multibody/two_link_toml.h"
 #include "synth/gaussian.h"
+#include "synth/log_file_internal.h"
 #include "synth/manifest_writer.h"
 
 namespace impactlab {
@@ -40,11 +41,6 @@ std::ofstream OpenCsv(const fs::path& file, const std::string& header) {
   if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
   out << header << "\n";
   return out;
-}
-
-void Close(std::ofstream& out, const fs::path& file) {
-  out.close();
-  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
 }
 
 std::string LogHeader() { return "t,enc1,enc2,acc1,acc2,acc3,acc4"; }
@@ -87,7 +83,7 @@ void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r, const Logg
     }
     out << row << "\n";
   }
-  Close(out, file);
+  synth_detail::CloseLog(out, file);
 }
 
 void WriteStateCsv(const fs::path& file, const TwoLinkRecord& r) {
@@ -105,7 +101,7 @@ void WriteStateCsv(const fs::path& file, const TwoLinkRecord& r) {
                        r.voltage_a_v[i], r.voltage_b_v[i]);
     out << row;
   }
-  Close(out, file);
+  synth_detail::CloseLog(out, file);
 }
 
 nlohmann::json RecordJson(const TwoLinkRecord& r, const std::string& parameters_text) {
@@ -163,7 +159,7 @@ void WriteTwoLinkSimulationCsv(const fs::path& file, const TwoLinkRecord& r) {
                    r.gearbox_a_rad[i], r.gearbox_b_rad[i], r.acceleration_m_s2[0][i],
                    r.acceleration_m_s2[1][i], r.acceleration_m_s2[2][i], r.acceleration_m_s2[3][i]);
   }
-  Close(out, file);
+  synth_detail::CloseLog(out, file);
 }
 
 TwoLinkMeasurement LoggedMeasurement(const TwoLinkParameters& p, const TwoLinkRecord& r,

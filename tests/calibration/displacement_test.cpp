@@ -5,12 +5,14 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/calibration/linear_cell.h"
+#include "tests/support/thesis_pendulum.h"
+
 namespace impactlab {
 namespace {
 
-const Pendulum kPendulum{22.0, 385.644, PendulumConvention::kExact};
-
-double LinearCell(double x, double x0) { return 0.3 + 1.7 * x / x0; }
+using testing::kPendulum;
+using testing::LinearCell;
 
 // A noiseless release swing of a linear cell: its calibration is exact.
 CalibrationResult LinearCalibration(double x0) {

@@ -5,10 +5,13 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/calibration/linear_cell.h"
+#include "tests/support/thesis_pendulum.h"
+
 namespace impactlab {
 namespace {
 
-const Pendulum kPendulum{22.0, 385.644, PendulumConvention::kExact};
+using testing::kPendulum;
 
 // A calibration sweep of a cell with a known curve, sampled every `dt` from
 // release through a little past the equilibrium crossing, with noise.
@@ -32,7 +35,7 @@ double NonlinearCell(double x, double x0) {
   const double s = x / x0;
   return 2.4 - 1.9 * s + 0.45 * s * s - 0.12 * s * s * s;
 }
-double LinearCell(double x, double x0) { return 0.3 + 1.7 * x / x0; }  // inverted amplifier
+using testing::LinearCell;                 // inverted amplifier
 double FoldingCell(double x, double x0) {  // not monotone: saturates and turns back
   const double s = x / x0;
   return 2.0 - 3.0 * s + 2.0 * s * s;

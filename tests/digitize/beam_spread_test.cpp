@@ -12,10 +12,10 @@
 namespace impactlab::digitize {
 namespace {
 
-constexpr double kSpreadPx2 = 1.7, kBackground = 0.05, kStepPx = 0.5;
+constexpr double kSpreadPx2 = 1.7, kSpreadBackground = 0.05, kStepPx = 0.5;
 
 // A film's shoulder and toe: (1 - exp(-3 E))^0.6.
-double Tone(double exposure) { return std::pow(1.0 - std::exp(-3.0 * exposure), 0.6); }
+double FilmTone(double exposure) { return std::pow(1.0 - std::exp(-3.0 * exposure), 0.6); }
 
 // The profile across a trace written `speed` times faster than the sweep.
 Profile Across(double speed, double noise, std::mt19937& random) {
@@ -26,7 +26,8 @@ Profile Across(double speed, double noise, std::mt19937& random) {
   profile.start_px = -10.0;
   for (double u = -10.0; u <= 10.0 + 1e-9; u += kStepPx) {
     const double exposure = std::exp(-0.5 * u * u / kSpreadPx2) / speed;
-    profile.values.push_back(static_cast<float>(kBackground + Tone(exposure) + normal(random)));
+    profile.values.push_back(
+        static_cast<float>(kSpreadBackground + FilmTone(exposure) + normal(random)));
   }
   return profile;
 }
@@ -35,15 +36,15 @@ LineCentre CentreOf(double speed) {
   LineCentre centre;
   centre.found = true;
   centre.offset_px = 0.0;
-  centre.background = kBackground;
-  centre.height = Tone(1.0 / speed);
+  centre.background = kSpreadBackground;
+  centre.height = FilmTone(1.0 / speed);
   return centre;
 }
 
 std::vector<SpreadPoint> Points(double fastest, double noise, unsigned seed) {
   std::mt19937 random(seed);
   std::vector<SpreadPoint> points;
-  const double typical = Tone(1.0);
+  const double typical = FilmTone(1.0);
   for (int i = 0; i < 200; ++i) {
     const double speed = std::pow(fastest, i / 199.0);
     points.push_back(
@@ -61,7 +62,7 @@ TEST_CASE("beam spread: the width's fall with writing speed gives the spread, wh
   // is half its height)...
   std::mt19937 random(1);
   const double half_max_px =
-      MeasureLevelHalfWidths(Across(1.0, 0.0, random), CentreOf(1.0), Tone(1.0))[6];
+      MeasureLevelHalfWidths(Across(1.0, 0.0, random), CentreOf(1.0), FilmTone(1.0))[6];
   CHECK(std::pow(2.0 * half_max_px / 2.3548, 2) > 1.5 * kSpreadPx2);
   // ...but the spread comes out to the reading's interpolation.
   CHECK(estimate.variance_px2 == Approx(kSpreadPx2).epsilon(0.02));

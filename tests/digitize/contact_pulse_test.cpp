@@ -18,22 +18,22 @@
 namespace impactlab {
 namespace {
 
-constexpr double kTimePerDiv = 50e-6;
-constexpr double kStartS = 0.01;  // the contact's start, on the run's clock
+using testing::kContactStartS;
+using testing::kContactTimePerDiv;
 
 // The standard run photo with the session generator's contact trace: a
 // 50 us/div delayed sweep, levels 0.05 and 2.45 V at 2 V/div, the rise at
 // screen x `rise_div` and the fall at `fall_div`, both exactly vertical.
 testing::RunScene ContactScene(double rise_div, double fall_div) {
   testing::RunScene run = testing::StandardRunScene();
-  TraceSettings settings = testing::Settings(kTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kStartS / kTimePerDiv;
+  TraceSettings settings = testing::Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
+  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
   settings.impact = 2;
-  const double window_start = kStartS - rise_div * kTimePerDiv;
-  const double fall_s = kStartS + (fall_div - rise_div) * kTimePerDiv;
+  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
+  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
   ScreenTrace& contact = run.scene.traces[2];
-  contact.time_s = {window_start, kStartS, kStartS,
-                    fall_s,       fall_s,  window_start + 10.5 * kTimePerDiv};
+  contact.time_s = {window_start, kContactStartS, kContactStartS,
+                    fall_s,       fall_s,         window_start + 10.5 * kContactTimePerDiv};
   contact.volts = {0.05, 0.05, 2.45, 2.45, 0.05, 0.05};
   contact.settings = settings;
   run.requests[2].settings = settings;
@@ -89,13 +89,14 @@ TEST_CASE(
     INFO(PhotoStyleName(c.style) << ", edges " << c.offset_div << " division right of a line");
     REQUIRE(result.pulses[2]);
     const ContactPulseFit& fit = *result.pulses[2];
-    const double px_per_s = result.graticule.px_per_div / kTimePerDiv;
-    const double fall_s = kStartS + (fall_div - rise_div) * kTimePerDiv;
+    const double px_per_s = result.graticule.px_per_div / kContactTimePerDiv;
+    const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
     const struct {
       Estimate time_s;
       PulseEdgeInPhoto in_photo;
       double truth;
-    } edges[] = {{fit.pulse.rise_s, fit.rise, kStartS}, {fit.pulse.fall_s, fit.fall, fall_s}};
+    } edges[] = {{fit.pulse.rise_s, fit.rise, kContactStartS},
+                 {fit.pulse.fall_s, fit.fall, fall_s}};
     for (const auto& edge : edges) {
       const double error_px = (edge.time_s.value - edge.truth) * px_per_s;
       INFO("edge at " << edge.truth * 1e6 << " us: " << error_px << " px, sigma "

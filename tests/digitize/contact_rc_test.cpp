@@ -25,29 +25,31 @@
 namespace impactlab {
 namespace {
 
-constexpr double kTimePerDiv = 50e-6;
-constexpr double kStartS = 0.01;  // the contact's start, on the run's clock
+using testing::kContactStartS;
+using testing::kContactTimePerDiv;
 
 // The standard run photo with a contact trace at 50 us/div, levels 0.05 and
 // 2.45 V at 2 V/div, switched at screen x `rise_div` and `fall_div`, each
 // edge an RC exponential of time constant `rc_s`.
 testing::RunScene RcScene(double rise_div, double fall_div, double rc_s) {
   testing::RunScene run = testing::StandardRunScene();
-  TraceSettings settings = testing::Settings(kTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kStartS / kTimePerDiv;
+  TraceSettings settings = testing::Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
+  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
   settings.impact = 2;
-  const double window_start = kStartS - rise_div * kTimePerDiv;
-  const double fall_s = kStartS + (fall_div - rise_div) * kTimePerDiv;
+  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
+  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
   const double low = 0.05, high = 2.45;
   ScreenTrace& contact = run.scene.traces[2];
   contact.time_s.clear();
   contact.volts.clear();
-  const double end = window_start + 10.5 * kTimePerDiv;
+  const double end = window_start + 10.5 * kContactTimePerDiv;
   for (double t = window_start; t <= end; t += 0.05e-6) {
     double v = low;
-    if (t >= kStartS) v = low + (high - low) * (1.0 - std::exp(-(t - kStartS) / rc_s));
+    if (t >= kContactStartS)
+      v = low + (high - low) * (1.0 - std::exp(-(t - kContactStartS) / rc_s));
     if (t >= fall_s) {
-      const double at_fall = low + (high - low) * (1.0 - std::exp(-(fall_s - kStartS) / rc_s));
+      const double at_fall =
+          low + (high - low) * (1.0 - std::exp(-(fall_s - kContactStartS) / rc_s));
       v = low + (at_fall - low) * std::exp(-(t - fall_s) / rc_s);
     }
     contact.time_s.push_back(t);
@@ -130,7 +132,7 @@ TEST_CASE("digitize: a pulse with RC edges on a phone photo is timed between lik
                      << " us, seed " << c.seed);
     REQUIRE(result.pulses[2]);
     const ContactPulseFit& pulse = *result.pulses[2];
-    const double truth_s = (c.fall_div - c.rise_div) * kTimePerDiv;
+    const double truth_s = (c.fall_div - c.rise_div) * kContactTimePerDiv;
     const double error = pulse.pulse.width_s.value - truth_s;
     INFO("width " << pulse.pulse.width_s.value * 1e6 << " us, error " << 100.0 * error / truth_s
                   << " %, sigma " << 100.0 * pulse.pulse.width_s.sigma / truth_s << " %");

@@ -14,10 +14,10 @@ namespace impactlab::digitize {
 namespace {
 
 constexpr double kBeamSigmaPx = 1.5;
-constexpr double kBackground = 0.1, kLevel = 1.0, kLineHeight = 0.35, kLineSigmaPx = 0.8;
+constexpr double kJumpBackground = 0.1, kLevel = 1.0, kLineHeight = 0.35, kLineSigmaPx = 0.8;
 
 // A photo's saturating response to exposure.
-double Tone(double exposure) { return 1.0 - std::exp(-1.5 * exposure); }
+double SaturatingTone(double exposure) { return 1.0 - std::exp(-1.5 * exposure); }
 
 // The beam's exposure `beyond_px` past its level's end (negative: on it).
 double Cap(double beyond_px) {
@@ -43,9 +43,11 @@ Rows MakeRows(double edge_px, double line_px, double noise, unsigned seed) {
   for (double u = -20.0; u <= 20.0; u += 0.5) {
     const double line = Line(u, line_px);
     rows.offsets.push_back(u);
-    rows.leaving.push_back(Tone(kBackground + kLevel * Cap(u - edge_px) + line) + normal(random));
-    rows.reaching.push_back(Tone(kBackground + kLevel * Cap(edge_px - u) + line) + normal(random));
-    rows.line.push_back(Tone(kBackground + line) - Tone(kBackground));
+    rows.leaving.push_back(SaturatingTone(kJumpBackground + kLevel * Cap(u - edge_px) + line) +
+                           normal(random));
+    rows.reaching.push_back(SaturatingTone(kJumpBackground + kLevel * Cap(edge_px - u) + line) +
+                            normal(random));
+    rows.line.push_back(SaturatingTone(kJumpBackground + line) - SaturatingTone(kJumpBackground));
   }
   return rows;
 }

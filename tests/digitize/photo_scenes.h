@@ -56,6 +56,11 @@ struct RunScene {
   std::vector<TraceRequest> requests;  // what the manifest would say
 };
 
+// The contact trace's sweep in the contact pulse tests: 50 us/div, the
+// contact starting 10 ms into the run's clock.
+inline constexpr double kContactTimePerDiv = 50e-6;
+inline constexpr double kContactStartS = 0.01;
+
 // A run photo as the thesis's: the right and left displacement traces chopped
 // on one beam in their own bands, the contact pulse on a delayed sweep below.
 inline RunScene StandardRunScene() {

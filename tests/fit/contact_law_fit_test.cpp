@@ -10,12 +10,13 @@
 #include "model/kelvin_voigt.h"
 #include "model/power_law_contact.h"
 #include "synth/law_session.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-const Pendulum kPendulum{22.0, 385.644};
-const double kMass = 2.23 / 385.644;  // lbf s^2/in
+using testing::kBarMass;
+using testing::kPendulum;
 
 std::vector<LawRun> AsLawRuns(const std::vector<LawSessionRun>& drawn) {
   std::vector<LawRun> runs;
@@ -23,7 +24,7 @@ std::vector<LawRun> AsLawRuns(const std::vector<LawSessionRun>& drawn) {
     LawRun r;
     r.name = std::to_string(d.initial_displacement);
     r.pendulum = kPendulum;
-    r.mass = kMass;
+    r.mass = kBarMass;
     r.initial_displacement = d.initial_displacement;
     r.measured.xmax = d.xmax;
     r.measured.xmax_sigma = d.xmax_sigma;
@@ -50,7 +51,7 @@ double Pull(const NamedEstimate& p, double truth) {
 }
 
 // A steel-like Hunt-Crossley contact: tau_c ~ 350 us at 1 in/s, e ~ 0.8.
-const HuntCrossley kTruth{kMass, 4.7e7, 1.5, 0.3};
+const HuntCrossley kHuntCrossleyTruth{kBarMass, 4.7e7, 1.5, 0.3};
 
 }  // namespace
 
@@ -58,12 +59,13 @@ TEST_CASE("Hunt-Crossley across runs recovers chi and k within their sigmas", "[
   LawSessionOptions options;
   options.xmax_sigma = 2e-4;
   options.seed = 7;
-  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const auto runs =
+      AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kHuntCrossleyTruth), options));
   const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, {});
   REQUIRE(fit.ok);
   INFO(fit.identifiability);
-  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kTruth.damping_factor)) < 4.0);
-  CHECK(std::abs(Pull(Parameter(fit, "hertz_stiffness"), kTruth.stiffness)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kHuntCrossleyTruth.damping_factor)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(fit, "hertz_stiffness"), kHuntCrossleyTruth.stiffness)) < 4.0);
   CHECK(fit.maxima == 30);
   CHECK(fit.contact_times == 6);
   CHECK(fit.dof == 36 - 8);
@@ -78,11 +80,12 @@ TEST_CASE("Without contact times only chi is fitted, and the sentence says why k
           "[contact_law]") {
   LawSessionOptions options;
   options.contact_time_sigma = 0.0;
-  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const auto runs =
+      AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kHuntCrossleyTruth), options));
   const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, {});
   REQUIRE(fit.ok);
   CHECK(fit.parameters.size() == 1);
-  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kTruth.damping_factor)) < 4.0);
+  CHECK(std::abs(Pull(Parameter(fit, "damping_factor"), kHuntCrossleyTruth.damping_factor)) < 4.0);
   CHECK(fit.identifiability.find("k not determined") != std::string::npos);
 }
 
@@ -91,7 +94,8 @@ TEST_CASE("Hunt-Crossley with a free exponent recovers n from contact times at s
   LawSessionOptions options;
   options.contact_time_sigma = 0.5e-6;
   options.seed = 11;
-  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const auto runs =
+      AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kHuntCrossleyTruth), options));
   const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossleyExponent, runs, {});
   REQUIRE(fit.ok);
   CHECK(std::abs(Pull(Parameter(fit, "exponent"), 1.5)) < 4.0);
@@ -100,7 +104,7 @@ TEST_CASE("Hunt-Crossley with a free exponent recovers n from contact times at s
 
 TEST_CASE("Kelvin-Voigt across runs recovers zeta and K; the elastic Hertz law is rejected",
           "[contact_law]") {
-  const KelvinVoigt truth = KelvinVoigtFromRates(kMass, {std::sqrt(4.6e5 / kMass), 0.07});
+  const KelvinVoigt truth = KelvinVoigtFromRates(kBarMass, {std::sqrt(4.6e5 / kBarMass), 0.07});
   LawSessionOptions options;
   options.seed = 3;
   const auto runs = AsLawRuns(
@@ -117,7 +121,7 @@ TEST_CASE("Kelvin-Voigt across runs recovers zeta and K; the elastic Hertz law i
 
 TEST_CASE("On Hunt-Crossley data with strong speed dependence the comparison prefers it",
           "[contact_law]") {
-  HuntCrossley strong = kTruth;
+  HuntCrossley strong = kHuntCrossleyTruth;
   strong.damping_factor = 1.5;  // e from ~0.6 to ~0.9 over the runs' speeds
   LawSessionOptions options;
   options.xmax_sigma = 2e-4;
@@ -160,7 +164,7 @@ namespace impactlab {
 
 TEST_CASE("A Hertz spring with a damper across runs recovers c and k within their sigmas",
           "[contact_law]") {
-  const HertzDamper truth{kMass, 4.7e7, 1.5, 0.6};
+  const HertzDamper truth{kBarMass, 4.7e7, 1.5, 0.6};
   LawSessionOptions options;
   options.xmax_sigma = 2e-4;
   options.seed = 13;
@@ -194,7 +198,8 @@ TEST_CASE("Each parameter's 68 % interval: linear where chi2 is quadratic, else 
           "[contact_law]") {
   LawSessionOptions options;
   options.seed = 7;
-  const auto runs = AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kTruth), options));
+  const auto runs =
+      AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kHuntCrossleyTruth), options));
   ContactLawFitOptions fit_options;
   fit_options.leave_one_out = false;
   const ContactLawFit fit = FitContactLaw(ContactLawKind::kHuntCrossley, runs, fit_options);

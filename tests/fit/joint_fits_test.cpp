@@ -10,13 +10,13 @@
 
 #include "model/kelvin_voigt.h"
 #include "model/pendulum.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;
+using testing::kPendulum;
 constexpr double kSigma = 0.0005;
-const Pendulum kPendulum{22.0, kG, PendulumConvention::kExact};
 const std::vector<double> kReleases = {0.115, 0.234, 0.323, 0.405, 0.478, 0.598, 0.713, 1.519};
 
 const JointModelFit& Model(const SessionModelComparison& c, const std::string& name) {
@@ -233,7 +233,7 @@ TEST_CASE("joint: subsets and bad input") {
 }
 
 // Not run by default: prints the comparison table for docs/fitting.md
-// (test_fit_joint "[.print]").
+// (test_fit "[.print]").
 TEST_CASE("joint: print the thesis comparison", "[.print]") {
   const SessionModelComparison c = CompareRestitutionModels(ThesisRuns(), {});
   std::printf("%-16s %3s %3s %8s %8s %8s %8s %10s %10s %9s\n", "model", "k", "dof", "chi2", "AIC",

@@ -8,12 +8,13 @@
 #include "fit/uncertainty.h"
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;
-const double kMass = 2.23 / kG;
+using testing::kBarMass;
+using testing::kG;
 
 // Ground truth: maxima and contact time simulated by the model from known K, C.
 struct Truth {
@@ -21,7 +22,7 @@ struct Truth {
   ReboundSequence sequence;
 };
 Truth Simulate(const Pendulum& p, double stiffness, double damping, Separation sep, double x0) {
-  const KelvinVoigt kv{kMass, stiffness, damping};
+  const KelvinVoigt kv{kBarMass, stiffness, damping};
   return {kv, SimulateRebounds(p, KelvinVoigtContactLaw(kv, sep), x0, 6)};
 }
 
@@ -39,7 +40,7 @@ TEST_CASE("two_point: recovers K and C from the model's own maxima for any pair"
         // is linear: ln e is biased by (X_b/2L)^2/6 per impact, which the
         // extrapolation over six rebounds compounds to ~2e-3.
         const double tol = convention == PendulumConvention::kExact ? 1e-12 : 3e-3;
-        const KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(p, kMass, m, options);
+        const KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(p, kBarMass, m, options);
         REQUIRE(fit.ok);
         CHECK(fit.stiffness->value == Approx(462000.0).epsilon(tol));
         CHECK(fit.damping->value == Approx(9.0).epsilon(tol * 10));
@@ -56,15 +57,15 @@ TEST_CASE("two_point: equal maxima are the elastic limit (a note), growing maxim
   ReboundMeasurements m;
   m.xmax = {0.3, 0.3, 0.35};
   m.contact_time = 350e-6;
-  KelvinVoigtTwoPointFit equal = FitKelvinVoigtTwoPoint(p, kMass, m, {{0, 1}});
+  KelvinVoigtTwoPointFit equal = FitKelvinVoigtTwoPoint(p, kBarMass, m, {{0, 1}});
   CHECK(equal.ok);
   CHECK(equal.damping_ratio.value == 0.0);
   CHECK(equal.damping->value == 0.0);
   CHECK_THAT(equal.note, Catch::Contains("no measurable dissipation"));
-  const KelvinVoigtTwoPointFit grows = FitKelvinVoigtTwoPoint(p, kMass, m, {{1, 2}});
+  const KelvinVoigtTwoPointFit grows = FitKelvinVoigtTwoPoint(p, kBarMass, m, {{1, 2}});
   CHECK_FALSE(grows.ok);
   CHECK_THAT(grows.reason, Catch::Contains("exceeds"));
-  CHECK_THROWS_AS(FitKelvinVoigtTwoPoint(p, kMass, m, {{1, 3}}), std::invalid_argument);
+  CHECK_THROWS_AS(FitKelvinVoigtTwoPoint(p, kBarMass, m, {{1, 3}}), std::invalid_argument);
 }
 
 TEST_CASE("two_point: uncertainties propagate reading errors linearly") {
@@ -74,7 +75,7 @@ TEST_CASE("two_point: uncertainties propagate reading errors linearly") {
   m.xmax_sigma = {0.0005, 0.0005};
   m.contact_time = 353e-6;
   m.contact_time_sigma = 5e-6;
-  const KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(p, kMass, m, {{0, 1}});
+  const KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(p, kBarMass, m, {{0, 1}});
   // Thesis convention, small angles: ln e ~ ln(Xb/Xa), so
   // sigma(ln e) ~ sqrt((sa/Xa)^2 + (sb/Xb)^2).
   const double expected = std::hypot(0.0005 / 0.293, 0.0005 / 0.195);
@@ -131,7 +132,7 @@ TEST_CASE("pendul: option 3 reproduces option 2 with the fitted parameters") {
   ReboundMeasurements m;
   m.xmax = {0.169, 0.110};
   m.contact_time = 353.35e-6;
-  const PendulFit fitted = PendulFromMeasurements(p, kMass, m, {{0, 1}}, 4);
+  const PendulFit fitted = PendulFromMeasurements(p, kBarMass, m, {{0, 1}}, 4);
   CHECK(fitted.response.sequence.xmax[1] == Approx(0.110).epsilon(1e-12));
   const auto predicted = PendulPredict(p, fitted, {0.293}, 4);
   const PendulResponse direct =

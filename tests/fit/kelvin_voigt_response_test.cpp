@@ -6,13 +6,13 @@
 #include <catch2/catch.hpp>
 
 #include "model/kelvin_voigt.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;
-const double kMass = 2.23 / kG;
-const Pendulum kPendulum{22.0, kG, PendulumConvention::kExact};
+using testing::kBarMass;
+using testing::kPendulum;
 
 // A run simulated from known K, C and its two-point fit. Session rebound 0
 // is PENDUL's rebound `first_rebound`.
@@ -22,14 +22,14 @@ struct FittedSimulation {
   KelvinVoigtTwoPointFit fit;
 };
 FittedSimulation Simulated(double x0, int first_rebound) {
-  const KelvinVoigt kv{kMass, 462000.0, 9.0};
+  const KelvinVoigt kv{kBarMass, 462000.0, 9.0};
   FittedSimulation s;
   s.truth = SimulateRebounds(kPendulum, KelvinVoigtContactLaw(kv, Separation::kKinematic), x0, 6);
   s.xmax.assign(s.truth.xmax.begin() + first_rebound, s.truth.xmax.end());
   ReboundMeasurements m;
   m.xmax = s.xmax;
   m.contact_time = s.truth.contact.contact_time;
-  s.fit = FitKelvinVoigtTwoPoint(kPendulum, kMass, m, {{0, 1}, Separation::kKinematic});
+  s.fit = FitKelvinVoigtTwoPoint(kPendulum, kBarMass, m, {{0, 1}, Separation::kKinematic});
   return s;
 }
 
@@ -51,7 +51,7 @@ TEST_CASE("kelvin_voigt_response: the model's history peaks at the measured maxi
   const double x0 = 0.405;
   const FittedSimulation s = Simulated(x0, 1);
   REQUIRE(s.fit.ok);
-  const SampledHistory h = ModelResponse(kPendulum, kMass, {s.xmax, x0, 1}, s.fit);
+  const SampledHistory h = ModelResponse(kPendulum, kBarMass, {s.xmax, x0, 1}, s.fit);
   REQUIRE(h.time.size() == h.displacement.size());
   CHECK(h.time.size() > 2900);
   // Released from the amplitude the fit extrapolates back to: X0 itself.

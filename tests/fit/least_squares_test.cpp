@@ -18,15 +18,16 @@
 #include "model/kelvin_voigt.h"
 #include "model/poynting_thomson.h"
 #include "model/rebound_history.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;   // in/s^2
-const double kMass = 2.23 / kG;  // lbf s^2/in, one thesis bar
-const Pendulum kPendulum{22.0, kG, PendulumConvention::kExact};
+using testing::kBarMass;
+using testing::kG;
+using testing::kPendulum;
 
-double RelErr(double got, double want) { return std::abs(got / want - 1.0); }
+double RatioErr(double got, double want) { return std::abs(got / want - 1.0); }
 
 // Maxima of session rebounds 0..count-1 = the simulation's rebounds 1..count
 // (the release swing is not a rebound the photographs show).
@@ -67,26 +68,26 @@ TEST_CASE("kv_least_squares: recovers zeta, v0, K and C from noiseless maxima to
   for (const auto convention : {PendulumConvention::kExact, PendulumConvention::kThesis}) {
     for (const auto sep : {Separation::kKinematic, Separation::kForce}) {
       const Pendulum p{22.0, kG, convention};
-      const KelvinVoigt truth{kMass, 462000.0, 9.0};
+      const KelvinVoigt truth{kBarMass, 462000.0, 9.0};
       const ReboundSequence seq = SimulateRebounds(p, KelvinVoigtContactLaw(truth, sep), 0.5, 9);
       ReboundMeasurements m = Measure(seq, 8);
       m.xmax_sigma.assign(8, 1e-3);
       m.contact_time_sigma = 2e-6;
       KelvinVoigtLeastSquaresOptions options;
       options.separation = sep;
-      const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(p, kMass, m, options);
+      const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(p, kBarMass, m, options);
       INFO(fit.reason << " / " << fit.status.message);
       REQUIRE(fit.ok);
       CHECK(fit.status.converged);
-      CHECK(RelErr(fit.damping_ratio.value, RatesOf(truth).damping_ratio) < 1e-10);
-      CHECK(RelErr(fit.rebound0_speed.value, seq.exit_speed[0]) < 1e-10);
-      CHECK(RelErr(fit.stiffness->value, truth.stiffness) < 1e-10);
-      CHECK(RelErr(fit.damping->value, truth.damping) < 1e-9);
+      CHECK(RatioErr(fit.damping_ratio.value, RatesOf(truth).damping_ratio) < 1e-10);
+      CHECK(RatioErr(fit.rebound0_speed.value, seq.exit_speed[0]) < 1e-10);
+      CHECK(RatioErr(fit.stiffness->value, truth.stiffness) < 1e-10);
+      CHECK(RatioErr(fit.damping->value, truth.damping) < 1e-9);
       CHECK(fit.chi2 < 1e-16);
       CHECK(fit.dof == 6);
       CHECK(fit.identifiability.identifiable);
       for (std::size_t n = 0; n < 8; ++n)
-        CHECK(RelErr(fit.predicted_xmax[n].value, m.xmax[n]) < 1e-12);
+        CHECK(RatioErr(fit.predicted_xmax[n].value, m.xmax[n]) < 1e-12);
       // sigma(zeta) from 1e-3 in readings over 8 maxima: small but not zero.
       CHECK(fit.damping_ratio.sigma > 0.0);
       CHECK(fit.damping_ratio.sigma < 1e-2 * RatesOf(truth).damping_ratio);
@@ -96,7 +97,7 @@ TEST_CASE("kv_least_squares: recovers zeta, v0, K and C from noiseless maxima to
 }
 
 TEST_CASE("kv_least_squares: unread maxima (NaN) are skipped") {
-  const KelvinVoigt truth{kMass, 462000.0, 9.0};
+  const KelvinVoigt truth{kBarMass, 462000.0, 9.0};
   const ReboundSequence seq =
       SimulateRebounds(kPendulum, KelvinVoigtContactLaw(truth, Separation::kKinematic), 0.5, 9);
   ReboundMeasurements m = Measure(seq, 8);
@@ -104,25 +105,25 @@ TEST_CASE("kv_least_squares: unread maxima (NaN) are skipped") {
   m.xmax[0] = std::numeric_limits<double>::quiet_NaN();
   m.xmax_sigma[0] = 0.0;  // an unread rebound's sigma does not matter
   m.xmax[4] = std::numeric_limits<double>::quiet_NaN();
-  const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
+  const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
   REQUIRE(fit.ok);
   CHECK(fit.residuals.size() == 6);
   CHECK(fit.dof == 4);
-  CHECK(RelErr(fit.damping_ratio.value, RatesOf(truth).damping_ratio) < 1e-10);
+  CHECK(RatioErr(fit.damping_ratio.value, RatesOf(truth).damping_ratio) < 1e-10);
   // Rebound 0 was not read, but its speed and maximum are still the model's.
-  CHECK(RelErr(fit.rebound0_speed.value, seq.exit_speed[0]) < 1e-10);
-  CHECK(RelErr(fit.predicted_xmax[0].value, seq.xmax[1]) < 1e-10);
+  CHECK(RatioErr(fit.rebound0_speed.value, seq.exit_speed[0]) < 1e-10);
+  CHECK(RatioErr(fit.predicted_xmax[0].value, seq.xmax[1]) < 1e-10);
 }
 
 TEST_CASE("kv_least_squares: two maxima reproduce the closed-form two-point fit") {
   ReboundMeasurements m;
   m.xmax = {0.293, 0.195};
   m.contact_time = 353.35e-6;
-  const KelvinVoigtLeastSquaresFit ls = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
-  const KelvinVoigtTwoPointFit two = FitKelvinVoigtTwoPoint(kPendulum, kMass, m, {});
+  const KelvinVoigtLeastSquaresFit ls = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
+  const KelvinVoigtTwoPointFit two = FitKelvinVoigtTwoPoint(kPendulum, kBarMass, m, {});
   REQUIRE(ls.ok);
-  CHECK(RelErr(ls.damping_ratio.value, two.damping_ratio.value) < 1e-12);
-  CHECK(RelErr(ls.stiffness->value, two.stiffness->value) < 1e-12);
+  CHECK(RatioErr(ls.damping_ratio.value, two.damping_ratio.value) < 1e-12);
+  CHECK(RatioErr(ls.stiffness->value, two.stiffness->value) < 1e-12);
   CHECK(ls.dof == 0);
   CHECK_THAT(ls.reason, Catch::Contains("scatter unknown"));
 }
@@ -130,7 +131,7 @@ TEST_CASE("kv_least_squares: two maxima reproduce the closed-form two-point fit"
 // Monte-Carlo: Gaussian reading errors of known sigma; the reported standard
 // errors should contain the truth about 68 % of the time, and chi^2 average dof.
 TEST_CASE("kv_least_squares: reported standard errors cover the truth 68 % of the time") {
-  const KelvinVoigt truth{kMass, 462000.0, 9.0};
+  const KelvinVoigt truth{kBarMass, 462000.0, 9.0};
   const ReboundSequence seq =
       SimulateRebounds(kPendulum, KelvinVoigtContactLaw(truth, Separation::kKinematic), 0.5, 9);
   const ReboundMeasurements clean = Measure(seq, 8);
@@ -144,7 +145,7 @@ TEST_CASE("kv_least_squares: reported standard errors cover the truth 68 % of th
     ReboundMeasurements m = clean;
     m.xmax_sigma.assign(8, 2e-3);
     for (double& x : m.xmax) x += 2e-3 * noise(rng);
-    const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
+    const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
     REQUIRE(fit.ok);
     zeta_in += std::abs(fit.damping_ratio.value - zeta) <= fit.damping_ratio.sigma;
     v0_in += std::abs(fit.rebound0_speed.value - v0) <= fit.rebound0_speed.sigma;
@@ -152,7 +153,7 @@ TEST_CASE("kv_least_squares: reported standard errors cover the truth 68 % of th
     // The same data without uncertainties: covariance scaled by s^2.
     m.xmax_sigma.clear();
     const KelvinVoigtLeastSquaresFit unweighted =
-        FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
+        FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
     REQUIRE(unweighted.covariance.scaled_by_residuals);
     scaled_in += std::abs(unweighted.damping_ratio.value - zeta) <= unweighted.damping_ratio.sigma;
   }
@@ -166,20 +167,20 @@ TEST_CASE("kv_least_squares: reported standard errors cover the truth 68 % of th
 
 TEST_CASE(
     "kv_least_squares: a robust loss resists an outlier rebound that pulls plain least squares") {
-  const KelvinVoigt truth{kMass, 462000.0, 9.0};
+  const KelvinVoigt truth{kBarMass, 462000.0, 9.0};
   const ReboundSequence seq =
       SimulateRebounds(kPendulum, KelvinVoigtContactLaw(truth, Separation::kKinematic), 0.5, 9);
   ReboundMeasurements m = Measure(seq, 8);
   m.xmax_sigma.assign(8, 1e-3);
   m.xmax[5] += 0.03;  // a 30-sigma outlier (the support-wire effect, Appendix F)
   const double zeta = RatesOf(truth).damping_ratio;
-  const KelvinVoigtLeastSquaresFit plain = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
+  const KelvinVoigtLeastSquaresFit plain = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
   CHECK(std::abs(plain.damping_ratio.value - zeta) > 5.0 * plain.damping_ratio.sigma);
   for (const RobustLoss loss : {RobustLoss::kHuber, RobustLoss::kCauchy}) {
     KelvinVoigtLeastSquaresOptions options;
     options.loss = {loss, 2.0};
     const KelvinVoigtLeastSquaresFit robust =
-        FitKelvinVoigtLeastSquares(kPendulum, kMass, m, options);
+        FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, options);
     INFO(RobustLossName(loss));
     REQUIRE(robust.ok);
     CHECK(std::abs(robust.damping_ratio.value - zeta) <
@@ -192,23 +193,24 @@ TEST_CASE("kv_least_squares: growing maxima are a diagnostic, not NaN") {
   ReboundMeasurements m;
   m.xmax = {0.2, 0.21, 0.22, 0.23};
   m.contact_time = 350e-6;
-  const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {});
+  const KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
   CHECK_FALSE(fit.ok);
   CHECK_THAT(fit.reason, Catch::Contains("no dissipation"));
   CHECK(fit.log_restitution.value > 0.0);
   CHECK(std::isfinite(fit.log_restitution.sigma));
   CHECK_FALSE(fit.stiffness.has_value());
   m.xmax = {0.2};
-  CHECK_THROWS_AS(FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {}), std::invalid_argument);
+  CHECK_THROWS_AS(FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {}), std::invalid_argument);
   m.xmax = {0.2, 0.1};
   m.xmax_sigma = {0.001, 0.0};
-  CHECK_THROWS_WITH(FitKelvinVoigtLeastSquares(kPendulum, kMass, m, {}), Catch::Contains("sigma"));
+  CHECK_THROWS_WITH(FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {}),
+                    Catch::Contains("sigma"));
 }
 
 // ---------------------------------------------------------------------------
 // Poynting-Thomson.
 
-const PoyntingThomson kTruth{kMass, 3.0e5, 2.5e5, 9.0};
+const PoyntingThomson kPoyntingThomsonTruth{kBarMass, 3.0e5, 2.5e5, 9.0};
 
 struct PtData {
   std::vector<PoyntingThomsonRun> runs;
@@ -277,18 +279,18 @@ TEST_CASE(
     "pt_least_squares: recovers K1, K2, C from noiseless maxima, contact time and peak "
     "compression") {
   for (const Separation sep : {Separation::kKinematic, Separation::kForce}) {
-    const PtData data = MakeRuns(kTruth, sep, {0.4}, true, true);
+    const PtData data = MakeRuns(kPoyntingThomsonTruth, sep, {0.4}, true, true);
     PoyntingThomsonLeastSquaresOptions options;
-    options.mass = kMass;
+    options.mass = kBarMass;
     options.separation = sep;
     const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
     INFO(SeparationName(sep) << ": " << fit.reason << " / " << fit.status.message << " / "
                              << fit.identifiability.message);
     REQUIRE(fit.ok);
-    CHECK(RelErr(fit.stiffness1.value, kTruth.stiffness1) < 1e-6);
-    CHECK(RelErr(fit.stiffness2.value, kTruth.stiffness2) < 1e-6);
-    CHECK(RelErr(fit.damping.value, kTruth.damping) < 1e-6);
-    CHECK(RelErr(fit.contact_time.value, data.contact.contact_time) < 1e-9);
+    CHECK(RatioErr(fit.stiffness1.value, kPoyntingThomsonTruth.stiffness1) < 1e-6);
+    CHECK(RatioErr(fit.stiffness2.value, kPoyntingThomsonTruth.stiffness2) < 1e-6);
+    CHECK(RatioErr(fit.damping.value, kPoyntingThomsonTruth.damping) < 1e-6);
+    CHECK(RatioErr(fit.contact_time.value, data.contact.contact_time) < 1e-9);
     CHECK(std::isfinite(fit.stiffness1.sigma));
     CHECK(fit.identifiability.rank == 3);
     CHECK(fit.status.seconds < 0.2);
@@ -297,11 +299,11 @@ TEST_CASE(
 
 TEST_CASE(
     "pt_least_squares: from maxima alone it is not identifiable and says only e is determined") {
-  const PtData data = MakeRuns(kTruth, Separation::kForce, {0.4}, false, false);
+  const PtData data = MakeRuns(kPoyntingThomsonTruth, Separation::kForce, {0.4}, false, false);
   PoyntingThomsonLeastSquaresOptions options;
-  options.mass = kMass;
+  options.mass = kBarMass;
   options.separation = Separation::kForce;
-  options.initial = PoyntingThomson{kMass, 2e5, 4e5, 12.0};
+  options.initial = PoyntingThomson{kBarMass, 2e5, 4e5, 12.0};
   const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
   INFO(fit.identifiability.message);
   CHECK(fit.status.usable);
@@ -318,7 +320,7 @@ TEST_CASE(
   CHECK(std::isinf(fit.damping.sigma));
   CHECK(std::isinf(fit.contact_time.sigma));
   CHECK(std::isfinite(fit.log_restitution.sigma));
-  CHECK(RelErr(fit.log_restitution.value, data.contact.log_restitution) < 1e-8);
+  CHECK(RatioErr(fit.log_restitution.value, data.contact.log_restitution) < 1e-8);
 }
 
 TEST_CASE(
@@ -326,9 +328,10 @@ TEST_CASE(
     "undetermined") {
   // A linear contact has the same e and tau_c at every speed: three runs at
   // different releases still give two numbers for three parameters.
-  const PtData data = MakeRuns(kTruth, Separation::kKinematic, {0.2, 0.4, 0.7}, true, false);
+  const PtData data =
+      MakeRuns(kPoyntingThomsonTruth, Separation::kKinematic, {0.2, 0.4, 0.7}, true, false);
   PoyntingThomsonLeastSquaresOptions options;
-  options.mass = kMass;
+  options.mass = kBarMass;
   const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
   INFO(fit.identifiability.message << " at K1 = " << fit.model.stiffness1 << ", K2 = "
                                    << fit.model.stiffness2 << ", C = " << fit.model.damping);
@@ -342,27 +345,28 @@ TEST_CASE(
   CHECK(std::abs(Cosine(null, Gradient(&ContactResponse::log_restitution, sep, fit.model))) < 1e-4);
   CHECK(std::abs(Cosine(null, Gradient(&ContactResponse::contact_time, sep, fit.model))) < 1e-4);
   // What is determined is right and has finite uncertainties.
-  CHECK(RelErr(fit.log_restitution.value, data.contact.log_restitution) < 1e-8);
-  CHECK(RelErr(fit.contact_time.value, data.contact.contact_time) < 1e-8);
+  CHECK(RatioErr(fit.log_restitution.value, data.contact.log_restitution) < 1e-8);
+  CHECK(RatioErr(fit.contact_time.value, data.contact.contact_time) < 1e-8);
   CHECK(std::isfinite(fit.contact_time.sigma));
   CHECK(std::isinf(fit.stiffness2.sigma));
 }
 
 TEST_CASE("pt_least_squares: started a factor 100 away it converges, or says it did not") {
-  const PtData data = MakeRuns(kTruth, Separation::kForce, {0.4}, true, true);
+  const PtData data = MakeRuns(kPoyntingThomsonTruth, Separation::kForce, {0.4}, true, true);
   for (const auto& [f1, f2, fc] : std::vector<std::array<double, 3>>{
            {100.0, 0.01, 100.0}, {0.01, 100.0, 0.01}, {100.0, 100.0, 100.0}, {0.01, 0.01, 0.01}}) {
     PoyntingThomsonLeastSquaresOptions options;
-    options.mass = kMass;
+    options.mass = kBarMass;
     options.separation = Separation::kForce;
     options.initial =
-        PoyntingThomson{kMass, kTruth.stiffness1 * f1, kTruth.stiffness2 * f2, kTruth.damping * fc};
+        PoyntingThomson{kBarMass, kPoyntingThomsonTruth.stiffness1 * f1,
+                        kPoyntingThomsonTruth.stiffness2 * f2, kPoyntingThomsonTruth.damping * fc};
     const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
     INFO("start factors " << f1 << ", " << f2 << ", " << fc << ": " << fit.reason);
     if (fit.ok) {
-      CHECK(RelErr(fit.stiffness1.value, kTruth.stiffness1) < 1e-6);
-      CHECK(RelErr(fit.stiffness2.value, kTruth.stiffness2) < 1e-6);
-      CHECK(RelErr(fit.damping.value, kTruth.damping) < 1e-6);
+      CHECK(RatioErr(fit.stiffness1.value, kPoyntingThomsonTruth.stiffness1) < 1e-6);
+      CHECK(RatioErr(fit.stiffness2.value, kPoyntingThomsonTruth.stiffness2) < 1e-6);
+      CHECK(RatioErr(fit.damping.value, kPoyntingThomsonTruth.damping) < 1e-6);
     } else {
       CHECK_FALSE(fit.reason.empty());
       CHECK(fit.chi2 > 1.0);  // a false minimum shows in the fit, not hidden
@@ -371,11 +375,11 @@ TEST_CASE("pt_least_squares: started a factor 100 away it converges, or says it 
 }
 
 TEST_CASE("pt_least_squares: a start where contact never ends is a status, not a crash") {
-  const PtData data = MakeRuns(kTruth, Separation::kForce, {0.4}, true, true);
+  const PtData data = MakeRuns(kPoyntingThomsonTruth, Separation::kForce, {0.4}, true, true);
   PoyntingThomsonLeastSquaresOptions options;
-  options.mass = kMass;
+  options.mass = kBarMass;
   options.separation = Separation::kKinematic;
-  options.initial = PoyntingThomson{kMass, 1e2, 1e6, 2.0};  // three real roots
+  options.initial = PoyntingThomson{kBarMass, 1e2, 1e6, 2.0};  // three real roots
   const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(data.runs, options);
   CHECK_FALSE(fit.ok);
   CHECK_FALSE(fit.status.usable);
@@ -388,13 +392,13 @@ TEST_CASE("pt_least_squares: a start where contact never ends is a status, not a
 }
 
 TEST_CASE("pt_least_squares: reported standard errors cover the truth about 68 % of the time") {
-  const PtData clean = MakeRuns(kTruth, Separation::kForce, {0.3, 0.5}, true, true);
+  const PtData clean = MakeRuns(kPoyntingThomsonTruth, Separation::kForce, {0.3, 0.5}, true, true);
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 1.0);
   PoyntingThomsonLeastSquaresOptions options;
-  options.mass = kMass;
+  options.mass = kBarMass;
   options.separation = Separation::kForce;
-  options.initial = kTruth;
+  options.initial = kPoyntingThomsonTruth;
   const int reps = 100;
   int in[3] = {0, 0, 0};
   for (int rep = 0; rep < reps; ++rep) {
@@ -406,9 +410,11 @@ TEST_CASE("pt_least_squares: reported standard errors cover the truth about 68 %
     }
     const PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares(runs, options);
     REQUIRE(fit.ok);
-    in[0] += std::abs(fit.stiffness1.value - kTruth.stiffness1) <= fit.stiffness1.sigma;
-    in[1] += std::abs(fit.stiffness2.value - kTruth.stiffness2) <= fit.stiffness2.sigma;
-    in[2] += std::abs(fit.damping.value - kTruth.damping) <= fit.damping.sigma;
+    in[0] +=
+        std::abs(fit.stiffness1.value - kPoyntingThomsonTruth.stiffness1) <= fit.stiffness1.sigma;
+    in[1] +=
+        std::abs(fit.stiffness2.value - kPoyntingThomsonTruth.stiffness2) <= fit.stiffness2.sigma;
+    in[2] += std::abs(fit.damping.value - kPoyntingThomsonTruth.damping) <= fit.damping.sigma;
   }
   // 100 draws at p = 0.683: standard deviation 0.047. The linearisation in log
   // parameters is good to a few percent of sigma here.

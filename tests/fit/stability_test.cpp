@@ -36,15 +36,12 @@
 #include "fit/kelvin_voigt_two_point.h"
 #include "model/contact.h"
 #include "model/pendulum.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
 using namespace testing;
-
-constexpr double kG = 385.644;          // in/s^2, the thesis's g
-constexpr double kL = 22.0;             // in
-constexpr double kBarMass = 2.23 / kG;  // lbf s^2/in
 
 template <class F>
 double LogDerivative(F f, LD x) {

@@ -24,7 +24,7 @@ using Catch::Matchers::Contains;
 using testing::SessionFolder;
 using testing::TempDir;
 
-const std::string& kHeader = testing::kManifestHeader;
+using testing::kManifestHeader;
 
 std::string TypedRun(const std::string& id, const std::string& extra = "") {
   return fmt::format(
@@ -59,7 +59,7 @@ std::string PhotoRun(const std::string& id, const std::string& photo,
 void CheckRejectedAlone(SessionFolder& folder, const std::string& bad, const std::string& table,
                         const std::string& key, const std::string& expected,
                         const std::string& before = "") {
-  const std::string text = kHeader + before + TypedRun("good-1") + bad + TypedRun("good-2");
+  const std::string text = kManifestHeader + before + TypedRun("good-1") + bad + TypedRun("good-2");
   folder.Write(text);
   const ManifestReadResult read = folder.Read();
   const Session& session = read.session;
@@ -162,14 +162,14 @@ TEST_CASE("manifest entries: unsafe ids are refused and the entry is named by it
   SessionFolder folder;
   for (const std::string id : {"a/b", ".", "..", "x/", "", " spaced", "-opt", "<b>", "a\\\\b"}) {
     INFO("id: " << id);
-    folder.Write(kHeader + TypedRun("good-1") + TypedRun(id) + TypedRun("good-2"));
+    folder.Write(kManifestHeader + TypedRun("good-1") + TypedRun(id) + TypedRun("good-2"));
     const Session session = folder.Read().session;
     REQUIRE(session.rejected.size() == 1);
     CHECK(session.rejected[0].id == "#2");
     CHECK(session.rejected[0].position == 1);
     CHECK(session.runs.size() == 2);
   }
-  folder.Write(kHeader + TypedRun("R-0.234_a+b"));
+  folder.Write(kManifestHeader + TypedRun("R-0.234_a+b"));
   CHECK(folder.Read().session.rejected.empty());
 }
 
@@ -177,7 +177,7 @@ TEST_CASE("manifest entries: a bad calibration fails itself and the runs that ne
   SessionFolder folder;
   std::string bad = kCalibration;
   bad.replace(bad.find("volts_per_div = 0.2"), 19, "volts_per_div = -1");
-  folder.Write(kHeader + bad + TypedRun("needs-it", "calibration = { right = \"R\" }\n") +
+  folder.Write(kManifestHeader + bad + TypedRun("needs-it", "calibration = { right = \"R\" }\n") +
                TypedRun("independent"));
   folder.Touch("c.png");
   const Session session = folder.Read().session;
@@ -211,7 +211,7 @@ TEST_CASE("manifest entries: a bad channel in one of two logs fails that log alo
 
 TEST_CASE("manifest entries: a prediction of a rejected run is rejected, saying why") {
   SessionFolder folder;
-  folder.Write(kHeader + TypedRun("good-1") + TypedRun("bad", "contact_time = -1\n") +
+  folder.Write(kManifestHeader + TypedRun("good-1") + TypedRun("bad", "contact_time = -1\n") +
                "\n[[prediction]]\nsource_run = \"good-1\"\ntarget_run = \"bad\"\n");
   const Session session = folder.Read().session;
   REQUIRE(session.rejected.size() == 2);
@@ -252,7 +252,7 @@ TEST_CASE("manifest entries: an implausible apparatus is refused with its range"
 TEST_CASE("manifest entries: a manifest that is a link out of the folder is not read") {
   SessionFolder folder;
   TempDir outside;
-  std::ofstream(outside.path() / "session.toml") << kHeader << TypedRun("outside");
+  std::ofstream(outside.path() / "session.toml") << kManifestHeader << TypedRun("outside");
   fs::create_symlink(outside.path() / "session.toml", folder.manifest());
   try {
     folder.Read();

@@ -179,7 +179,7 @@ void TouchExampleFiles(const SessionFolder& folder) {
 }
 
 // The start of most bad manifests below: valid on its own.
-const std::string& kHeader = testing::kManifestHeader;
+using testing::kManifestHeader;
 
 // A valid run read from a photo, for cases that break one of its keys.
 const std::string kPhotoRun = R"toml(
@@ -467,7 +467,7 @@ TEST_CASE("manifest: the project's sample session reads without warnings") {
 TEST_CASE("manifest: ParseManifest resolves paths against the manifest's folder") {
   SessionFolder folder;
   folder.Touch("runs/a.jpg");
-  const ManifestReadResult result = ParseManifest(kHeader + R"toml(
+  const ManifestReadResult result = ParseManifest(kManifestHeader + R"toml(
 [[run]]
 id = "a"
 initial_displacement = 0.2
@@ -523,7 +523,7 @@ TEST_CASE("manifest: reading never writes into the session folder") {
 TEST_CASE("manifest: unknown keys give warnings and do not stop reading") {
   SessionFolder folder;
   folder.Touch("runs/0.234.jpg");
-  const std::string text = kHeader + "colour = \"red\"\n" + kPhotoRun +
+  const std::string text = kManifestHeader + "colour = \"red\"\n" + kPhotoRun +
                            "volts_per_dvi = 0.3\n"
                            "[run.traces.left]\ntime_per_div = 0.5\nvolts_per_div = 0.2\n"
                            "impact = 2\n" +
@@ -564,7 +564,7 @@ TEST_CASE("manifest: unknown keys give warnings and do not stop reading") {
 
 TEST_CASE("manifest: a mistyped key is answered with the key it was likely meant to be") {
   SessionFolder folder;
-  const std::string text = kHeader + kTypedRun + "contact_tme = 1e-4\n" + R"toml(
+  const std::string text = kManifestHeader + kTypedRun + "contact_tme = 1e-4\n" + R"toml(
 [[run]]
 id = "typo-x0"
 initial_displacment = 0.3
@@ -609,7 +609,7 @@ TEST_CASE("manifest: the session folder or its session.toml reads the same") {
 TEST_CASE("manifest: a negative volts_per_div names the key and line") {
   SessionFolder folder;
   folder.Touch("runs/0.234.jpg");
-  std::string text = kHeader + kPhotoRun;
+  std::string text = kManifestHeader + kPhotoRun;
   text.replace(text.find("volts_per_div = 0.2"), 19, "volts_per_div = -0.2");
   CheckRefused(folder, text, "run \"0.234\".traces.right.volts_per_div",
                LineContaining(text, "-0.2"), "expected a positive number of V/div, found -0.2");
@@ -617,7 +617,8 @@ TEST_CASE("manifest: a negative volts_per_div names the key and line") {
 
 TEST_CASE("manifest: a string where a number belongs is refused") {
   SessionFolder folder;
-  const std::string text = kHeader + "[[run]]\nid = \"x\"\ninitial_displacement = \"abc\"\n";
+  const std::string text =
+      kManifestHeader + "[[run]]\nid = \"x\"\ninitial_displacement = \"abc\"\n";
   CheckRefused(folder, text, "run \"x\".initial_displacement", LineContaining(text, "abc"),
                "expected a positive displacement X0 (in), found string \"abc\"");
 }
@@ -630,7 +631,7 @@ TEST_CASE("manifest: nan and inf are refused although TOML allows them") {
                  "expected a positive length (in), found nan, which is not a finite number");
   }
   SECTION("inf time/div in [scope]") {
-    const std::string text = kHeader + "[scope]\ntime_per_div = inf\n";
+    const std::string text = kManifestHeader + "[scope]\ntime_per_div = inf\n";
     CheckRefused(folder, text, "scope.time_per_div", LineContaining(text, "inf"),
                  "expected a positive number of s/div, found inf");
   }
@@ -661,7 +662,7 @@ TEST_CASE("manifest: an unknown units string is refused") {
 TEST_CASE("manifest: the apparatus needs exactly one of weight and mass") {
   SessionFolder folder;
   SECTION("both") {
-    const std::string text = kHeader + "mass = 0.006\n";
+    const std::string text = kManifestHeader + "mass = 0.006\n";
     CheckRefused(folder, text, "apparatus.mass", LineContaining(text, "mass"),
                  "expected either `weight` or `mass` of one pendulum, found both");
   }
@@ -675,7 +676,7 @@ TEST_CASE("manifest: the apparatus needs exactly one of weight and mass") {
     CheckRefused(folder, text, "apparatus.weight", 4, "expected a positive weight (lbf), found 0");
   }
   SECTION("negative gravity") {
-    const std::string text = kHeader + "gravity = -9.8\n";
+    const std::string text = kManifestHeader + "gravity = -9.8\n";
     CheckRefused(folder, text, "apparatus.gravity", LineContaining(text, "gravity"),
                  "expected a positive acceleration (in/s^2), found -9.8");
   }
@@ -692,7 +693,7 @@ TEST_CASE("manifest: runs without an [apparatus] are refused") {
 
 TEST_CASE("manifest: a required key missing from a run points at the run's header") {
   SessionFolder folder;
-  const std::string text = kHeader + "\n[[run]]\nid = \"x\"\nrebounds = [0.1]\n";
+  const std::string text = kManifestHeader + "\n[[run]]\nid = \"x\"\nrebounds = [0.1]\n";
   CheckRefused(folder, text, "run \"x\".initial_displacement", LineContaining(text, "[[run]]"),
                "required key is missing; expected a positive displacement X0 (in)");
 }
@@ -700,7 +701,7 @@ TEST_CASE("manifest: a required key missing from a run points at the run's heade
 TEST_CASE("manifest: a band_div with lo >= hi is refused") {
   SessionFolder folder;
   folder.Touch("runs/0.234.jpg");
-  std::string text = kHeader + kPhotoRun;
+  std::string text = kManifestHeader + kPhotoRun;
   text.replace(text.find("band_div = [0.0, 4.0]"), 21, "band_div = [4.0, -4.0]");
   CheckRefused(folder, text, "run \"0.234\".traces.right.band_div",
                LineContaining(text, "band_div"), "with lo < hi, found [4, -4]");
@@ -709,7 +710,7 @@ TEST_CASE("manifest: a band_div with lo >= hi is refused") {
 TEST_CASE("manifest: duplicate ids are refused") {
   SessionFolder folder;
   SECTION("runs") {
-    const std::string text = kHeader + kTypedRun + kTypedRun;
+    const std::string text = kManifestHeader + kTypedRun + kTypedRun;
     CheckRefused(folder, text, "run \"0.405\".id", LineContaining(text, "id = ", 2),
                  fmt::format("expected an id no other run has, found \"0.405\", already used by "
                              "the run at line {}",
@@ -740,15 +741,16 @@ TEST_CASE("manifest: a run's calibration must exist and be for the same cell") {
       "\n[[calibration]]\nid = \"R\"\ncell = \"right\"\ninitial_displacement = 0.2\n"
       "photo = \"c.png\"\n[calibration.trace]\ntime_per_div = 0.05\nvolts_per_div = 0.2\n";
   SECTION("unknown id") {
-    const std::string text =
-        kHeader + calibration + kTypedRun + "calibration = { right = \"R\", left = \"L-9\" }\n";
+    const std::string text = kManifestHeader + calibration + kTypedRun +
+                             "calibration = { right = \"R\", left = \"L-9\" }\n";
     CheckRefused(folder, text, "run \"0.405\".calibration.left",
                  LineContaining(text, "calibration = {"),
                  "expected the id of a [[calibration]] for the left cell, found \"L-9\", which no "
                  "calibration has (known: \"R\")");
   }
   SECTION("wrong cell") {
-    const std::string text = kHeader + calibration + kTypedRun + "calibration = { left = \"R\" }\n";
+    const std::string text =
+        kManifestHeader + calibration + kTypedRun + "calibration = { left = \"R\" }\n";
     CheckRefused(folder, text, "run \"0.405\".calibration.left",
                  LineContaining(text, "calibration = {"),
                  "found \"R\", which calibrates the right cell");
@@ -765,23 +767,23 @@ TEST_CASE("manifest: a run's calibration must exist and be for the same cell") {
 TEST_CASE("manifest: fit_rebounds must be increasing and within the typed-in rebounds") {
   SessionFolder folder;
   SECTION("beyond the last rebound") {
-    const std::string text = kHeader + kTypedRun + "fit_rebounds = [0, 5]\n";
+    const std::string text = kManifestHeader + kTypedRun + "fit_rebounds = [0, 5]\n";
     CheckRefused(folder, text, "run \"0.405\".fit_rebounds", LineContaining(text, "fit_rebounds"),
                  "expected two rebound numbers [a, b] with 0 <= a < b < 5 (the run has 5 typed-in "
                  "rebounds, numbered 0 to 4), found [0, 5]");
   }
   SECTION("not increasing") {
-    const std::string text = kHeader + kTypedRun + "fit_rebounds = [1, 1]\n";
+    const std::string text = kManifestHeader + kTypedRun + "fit_rebounds = [1, 1]\n";
     CheckRefused(folder, text, "run \"0.405\".fit_rebounds", LineContaining(text, "fit_rebounds"),
                  "expected two rebound numbers [a, b] with 0 <= a < b, found [1, 1]");
   }
   SECTION("negative") {
-    const std::string text = kHeader + kTypedRun + "fit_rebounds = [-1, 1]\n";
+    const std::string text = kManifestHeader + kTypedRun + "fit_rebounds = [-1, 1]\n";
     CheckRefused(folder, text, "run \"0.405\".fit_rebounds[0]",
                  LineContaining(text, "fit_rebounds"), "expected a rebound number >= 0, found -1");
   }
   SECTION("three numbers") {
-    const std::string text = kHeader + kTypedRun + "fit_rebounds = [0, 1, 2]\n";
+    const std::string text = kManifestHeader + kTypedRun + "fit_rebounds = [0, 1, 2]\n";
     CheckRefused(folder, text, "run \"0.405\".fit_rebounds", LineContaining(text, "fit_rebounds"),
                  "found an array of 3 values");
   }
@@ -789,7 +791,7 @@ TEST_CASE("manifest: fit_rebounds must be increasing and within the typed-in reb
 
 TEST_CASE("manifest: typed-in rebounds must be positive numbers") {
   SessionFolder folder;
-  const std::string text = kHeader + "[[run]]\nid = \"r\"\ninitial_displacement = 0.4\n" +
+  const std::string text = kManifestHeader + "[[run]]\nid = \"r\"\ninitial_displacement = 0.4\n" +
                            "rebounds = [0.29,\n  0.19,\n  -0.1]\n";
   CheckRefused(folder, text, "run \"r\".rebounds[2]", LineContaining(text, "-0.1"),
                "expected a positive rebound amplitude (in), found -0.1");
@@ -797,7 +799,8 @@ TEST_CASE("manifest: typed-in rebounds must be positive numbers") {
 
 TEST_CASE("manifest: a run with nothing to reduce is refused") {
   SessionFolder folder;
-  const std::string text = kHeader + "\n[[run]]\nid = \"empty\"\ninitial_displacement = 0.4\n";
+  const std::string text =
+      kManifestHeader + "\n[[run]]\nid = \"empty\"\ninitial_displacement = 0.4\n";
   CheckRefused(folder, text, "run \"empty\"", LineContaining(text, "[[run]]"),
                "the run has nothing to reduce; expected a `photo`, traces with `csv` files, or "
                "typed-in `rebounds`");
@@ -805,7 +808,7 @@ TEST_CASE("manifest: a run with nothing to reduce is refused") {
 
 TEST_CASE("manifest: a photo trace in a run without a photo is refused") {
   SessionFolder folder;
-  std::string text = kHeader + kPhotoRun;
+  std::string text = kManifestHeader + kPhotoRun;
   text.erase(text.find("photo = "), std::string("photo = \"runs/0.234.jpg\"\n").size());
   CheckRefused(folder, text, "run \"0.234\".traces.right",
                LineContaining(text, "[run.traces.right]"),
@@ -815,7 +818,7 @@ TEST_CASE("manifest: a photo trace in a run without a photo is refused") {
 TEST_CASE("manifest: a photo trace needs its time and voltage scales") {
   SessionFolder folder;
   folder.Touch("runs/0.234.jpg");
-  std::string text = kHeader + kPhotoRun;
+  std::string text = kManifestHeader + kPhotoRun;
   text.erase(text.find("time_per_div = 0.5\n"), std::string("time_per_div = 0.5\n").size());
   CheckRefused(folder, text, "run \"0.234\".traces.right.time_per_div",
                LineContaining(text, "[run.traces.right]"),
@@ -825,7 +828,7 @@ TEST_CASE("manifest: a photo trace needs its time and voltage scales") {
 
 TEST_CASE("manifest: a TOML syntax error gives the file and line") {
   SessionFolder folder;
-  const std::string text = kHeader + "\n[[run]]\nid = \"x\nrebounds = [0.1]\n";
+  const std::string text = kManifestHeader + "\n[[run]]\nid = \"x\nrebounds = [0.1]\n";
   folder.Write(text);
   const Failure failure = ReadFailure(folder);
   CHECK(failure.where.file == folder.manifest());
@@ -836,7 +839,7 @@ TEST_CASE("manifest: a TOML syntax error gives the file and line") {
 
 TEST_CASE("manifest: [[run]] written as a single [run] table is refused") {
   SessionFolder folder;
-  const std::string text = kHeader + "[run]\nid = \"x\"\n";
+  const std::string text = kManifestHeader + "[run]\nid = \"x\"\n";
   CheckRefused(folder, text, "run", LineContaining(text, "[run]"),
                "expected [[run]] tables (an array of tables), found a single [run] table");
 }
@@ -850,12 +853,12 @@ TEST_CASE("manifest: divisions and impact must be whole numbers") {
   }
   SECTION("impact 0") {
     folder.Touch("runs/0.234.jpg");
-    const std::string text = kHeader + kPhotoRun + "[run.traces.contact]\nimpact = 0\n";
+    const std::string text = kManifestHeader + kPhotoRun + "[run.traces.contact]\nimpact = 0\n";
     CheckRefused(folder, text, "run \"0.234\".traces.contact.impact",
                  LineContaining(text, "impact"), "expected an impact number >= 1, found 0");
   }
   SECTION("negative first_rebound") {
-    const std::string text = kHeader + kTypedRun + "first_rebound = -1\n";
+    const std::string text = kManifestHeader + kTypedRun + "first_rebound = -1\n";
     CheckRefused(folder, text, "run \"0.405\".first_rebound", LineContaining(text, "first_"),
                  "expected a rebound number >= 0, found -1");
   }
@@ -864,30 +867,31 @@ TEST_CASE("manifest: divisions and impact must be whole numbers") {
 TEST_CASE("manifest: impactlab extension values are checked") {
   SessionFolder folder;
   SECTION("negative rebound uncertainty") {
-    const std::string text = kHeader + kTypedRun + "rebound_uncertainty = -0.001\n";
+    const std::string text = kManifestHeader + kTypedRun + "rebound_uncertainty = -0.001\n";
     CheckRefused(folder, text, "run \"0.405\".rebound_uncertainty",
                  LineContaining(text, "uncertainty"),
                  "expected a positive length (in), found -0.001");
   }
   SECTION("zero contact-time uncertainty") {
-    const std::string text = kHeader + kTypedRun + "contact_time_uncertainty = 0.0\n";
+    const std::string text = kManifestHeader + kTypedRun + "contact_time_uncertainty = 0.0\n";
     CheckRefused(folder, text, "run \"0.405\".contact_time_uncertainty",
                  LineContaining(text, "uncertainty"), "expected a positive time (s), found 0");
   }
   SECTION("unknown stiffness mode") {
-    const std::string text = kHeader + "[reduction]\nstiffness = \"mean\"\n";
+    const std::string text = kManifestHeader + "[reduction]\nstiffness = \"mean\"\n";
     CheckRefused(folder, text, "reduction.stiffness", LineContaining(text, "mean"),
                  "expected \"per-run\" or \"average\", found \"mean\"");
   }
   SECTION("a prediction from an unknown run") {
-    const std::string text =
-        kHeader + kTypedRun + "[[prediction]]\nsource_run = \"0.9\"\ntarget_run = \"0.405\"\n";
+    const std::string text = kManifestHeader + kTypedRun +
+                             "[[prediction]]\nsource_run = \"0.9\"\ntarget_run = \"0.405\"\n";
     CheckRefused(folder, text, "prediction #1.source_run", LineContaining(text, "source_run"),
                  "expected the id of a [[run]] with rebounds, found \"0.9\", which no run has");
   }
   SECTION("a prediction onto a run without rebounds") {
     folder.Touch("runs/0.234.jpg");
-    const std::string text = kHeader + kTypedRun + kPhotoRun.substr(0, kPhotoRun.find("[run.")) +
+    const std::string text = kManifestHeader + kTypedRun +
+                             kPhotoRun.substr(0, kPhotoRun.find("[run.")) +
                              "[run.traces.contact]\ntime_per_div = 1e-4\nvolts_per_div = 1\n" +
                              "[[prediction]]\nsource_run = \"0.405\"\ntarget_run = \"0.234\"\n";
     CheckRefused(
@@ -895,7 +899,7 @@ TEST_CASE("manifest: impactlab extension values are checked") {
         "found \"0.234\", which has neither typed-in `rebounds` nor a right or left trace");
   }
   SECTION("a prediction starting beyond the target's rebounds") {
-    const std::string text = kHeader + kTypedRun +
+    const std::string text = kManifestHeader + kTypedRun +
                              "[[prediction]]\nsource_run = \"0.405\"\ntarget_run = \"0.405\"\n"
                              "start_rebound = 5\n";
     CheckRefused(folder, text, "prediction #1.start_rebound", LineContaining(text, "start_"),
@@ -920,7 +924,7 @@ TEST_CASE("manifest: a log channel is an encoder or an accelerometer, not both")
 
 TEST_CASE("manifest: a photo path using .. is refused") {
   SessionFolder folder;
-  std::string text = kHeader + kPhotoRun;
+  std::string text = kManifestHeader + kPhotoRun;
   text.replace(text.find("runs/0.234.jpg"), 14, "runs/../../x.jpg");
   CheckRefused(folder, text, "run \"0.234\".photo", LineContaining(text, "photo"),
                "expected a path inside the session folder, found \"runs/../../x.jpg\", which uses "
@@ -950,7 +954,7 @@ TEST_CASE("manifest: a symbolic link leading out of the folder is refused") {
     fs::create_directory_symlink(outside.path(), folder.path() / "runs");
     std::ofstream(outside.path() / "0.234.jpg") << "";
   }
-  const std::string text = kHeader + kPhotoRun;
+  const std::string text = kManifestHeader + kPhotoRun;
   CheckRefused(folder, text, "run \"0.234\".photo", LineContaining(text, "photo"),
                "which leads outside it through a symbolic link");
 }
@@ -960,20 +964,20 @@ TEST_CASE("manifest: a symbolic link inside the folder is accepted") {
   folder.Touch("originals/0.234.jpg");
   fs::create_directories(folder.path() / "runs");
   fs::create_symlink("../originals/0.234.jpg", folder.path() / "runs/0.234.jpg");
-  folder.Write(kHeader + kPhotoRun);
+  folder.Write(kManifestHeader + kPhotoRun);
   CHECK(folder.Read().session.runs.at(0).photo == folder.path() / "runs/0.234.jpg");
 }
 
 TEST_CASE("manifest: a referenced file that does not exist is refused") {
   SessionFolder folder;
   SECTION("a photo") {
-    const std::string text = kHeader + kPhotoRun;
+    const std::string text = kManifestHeader + kPhotoRun;
     CheckRefused(folder, text, "run \"0.234\".photo", LineContaining(text, "photo"),
                  "expected an existing file, found no file at \"runs/0.234.jpg\"");
   }
   SECTION("a csv trace") {
     const std::string text =
-        kHeader + kTypedRun + "[run.traces.left]\ncsv = \"traces/missing.csv\"\n";
+        kManifestHeader + kTypedRun + "[run.traces.left]\ncsv = \"traces/missing.csv\"\n";
     CheckRefused(folder, text, "run \"0.405\".traces.left.csv", LineContaining(text, "csv ="),
                  "expected an existing file, found no file at \"traces/missing.csv\"");
   }
@@ -984,14 +988,15 @@ TEST_CASE("manifest: a referenced file that does not exist is refused") {
   }
   SECTION("a folder instead of a file") {
     fs::create_directories(folder.path() / "runs/0.234.jpg");
-    const std::string text = kHeader + kPhotoRun;
+    const std::string text = kManifestHeader + kPhotoRun;
     CheckRefused(folder, text, "run \"0.234\".photo", LineContaining(text, "photo"),
                  "expected a file, found a folder");
   }
 }
 
 TEST_CASE("manifest: a file missing below a relative, missing folder is reported as missing") {
-  const Session session = ParseManifest(kHeader + kPhotoRun, "no-such-folder/session.toml").session;
+  const Session session =
+      ParseManifest(kManifestHeader + kPhotoRun, "no-such-folder/session.toml").session;
   REQUIRE(session.rejected.size() == 1);
   CHECK(session.rejected[0].where.key == "run \"0.234\".photo");
   CHECK_THAT(session.rejected[0].problem, Contains("expected an existing file"));

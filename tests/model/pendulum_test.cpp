@@ -5,11 +5,13 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/thesis_pendulum.h"
+
 namespace impactlab {
 namespace {
 
 using std::numbers::pi;
-constexpr double kG = 385.644;  // in/s^2, the thesis's g
+using testing::kG;
 
 TEST_CASE("pendulum: small amplitudes approach the small-angle model") {
   const Pendulum exact{22.0, kG, PendulumConvention::kExact};

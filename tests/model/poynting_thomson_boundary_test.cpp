@@ -178,7 +178,7 @@ class RefSignals {
 
 // The zero of g in [lo, hi], g(lo) > 0 >= g(hi), to 2^-80 relative.
 template <class G>
-H Bisect(const G& g, H lo, H hi) {
+H BisectH(const G& g, H lo, H hi) {
   for (int i = 0; i < 400 && hi - lo > ldexp(abs(hi), -80); ++i) {
     const H mid = (lo + hi) / 2;
     (g(mid) > 0 ? lo : hi) = mid;
@@ -193,13 +193,13 @@ std::optional<H> FirstZero(const G& g, const H& start, const H& step, double fac
   H t = start;
   while (t < end) {
     const H next = factor > 1.0 ? H(t * factor) : H(t + step);
-    if (g(next) <= 0) return Bisect(g, t, next);
+    if (g(next) <= 0) return BisectH(g, t, next);
     t = next;
   }
   return std::nullopt;
 }
 
-struct RefContact {
+struct RefContactH {
   bool separates = true;
   H contact_time, log_restitution, peak_time, peak_compression;  // v0 = 1
 };
@@ -230,13 +230,13 @@ std::optional<H> KinematicZero(const RefSignals& s, const H& peak_time) {
     if (start > limit) return std::nullopt;
     const H left = std::max(start, peak_time);
     if (slope(left) >= 0 || slope(end) <= 0) continue;  // g's minimum at an end, where g > 0
-    const H minimum = Bisect([&](const H& t) { return -slope(t); }, left, end);
-    if (u(minimum) <= 0) return Bisect(u, left, minimum);
+    const H minimum = BisectH([&](const H& t) { return -slope(t); }, left, end);
+    if (u(minimum) <= 0) return BisectH(u, left, minimum);
   }
 }
 
-RefContact Solve(const RefSignals& s, Separation separation) {
-  RefContact out;
+RefContactH Solve(const RefSignals& s, Separation separation) {
+  RefContactH out;
   const H wn = s.natural_frequency();
   // x1' > 0 on (0, sqrt2/wn); its first zero comes within pi/omega, and once
   // negative it stays so for pi/omega (docs/fitting.md): 5% steps are safe.
@@ -262,12 +262,12 @@ RefContact Solve(const RefSignals& s, Separation separation) {
 }
 
 // First-order relative condition numbers sum_p |d ln Q/d ln p|, p = M, K1, K2, C.
-struct Conditions {
+struct ConditionsH {
   double contact_time = 0, log_restitution = 0, peak_time = 0, peak_compression = 0;
 };
-Conditions ConditionOf(const HModel& m, const RefSignals& base, const RefContact& ref,
-                       Separation separation) {
-  Conditions cond;
+ConditionsH ConditionOfH(const HModel& m, const RefSignals& base, const RefContactH& ref,
+                         Separation separation) {
+  ConditionsH cond;
   const H h = H(1e-24), mu = base.mu();
   const RefSignals::Values at_end = base.At(ref.contact_time, mu);
   const RefSignals::Values at_peak = base.At(ref.peak_time, mu);
@@ -300,7 +300,7 @@ Conditions ConditionOf(const HModel& m, const RefSignals& base, const RefContact
   return cond;
 }
 
-double Tolerance(double cond) { return std::max(1e-12, 16.0 * (cond + 1.0) * kEps); }
+double ToleranceH(double cond) { return std::max(1e-12, 16.0 * (cond + 1.0) * kEps); }
 
 bool Finite(const ContactResponse& c) {
   return std::isfinite(c.contact_time) && std::isfinite(c.log_restitution) &&
@@ -312,7 +312,7 @@ bool Finite(const ContactResponse& c) {
 struct Checked {
   bool complex_pair = false;
   std::optional<ContactResponse> got;  // the code's, when it separates
-  RefContact ref;
+  RefContactH ref;
 };
 
 // The code against the reference for one model and convention; `input` labels
@@ -363,18 +363,18 @@ Checked CheckModel(const std::string& where, const PoyntingThomson& model, Separ
   }
   CHECK(Finite(got));
   out.got = got;
-  const Conditions cond = ConditionOf(exact, signals, out.ref, separation);
+  const ConditionsH cond = ConditionOfH(exact, signals, out.ref, separation);
   const auto ld = [](const H& x) { return static_cast<LD>(x); };
   CheckRel(name + " contact time", got.contact_time, ld(out.ref.contact_time),
-           Tolerance(cond.contact_time), input);
+           ToleranceH(cond.contact_time), input);
   CheckRel(name + " ln e", got.log_restitution, ld(out.ref.log_restitution),
-           Tolerance(cond.log_restitution +
-                     1.0 / std::abs(static_cast<double>(out.ref.log_restitution))),
+           ToleranceH(cond.log_restitution +
+                      1.0 / std::abs(static_cast<double>(out.ref.log_restitution))),
            input);
-  CheckRel(name + " peak time", got.peak_time, ld(out.ref.peak_time), Tolerance(cond.peak_time),
+  CheckRel(name + " peak time", got.peak_time, ld(out.ref.peak_time), ToleranceH(cond.peak_time),
            input);
   CheckRel(name + " peak compression", got.peak_compression, ld(out.ref.peak_compression),
-           Tolerance(cond.peak_compression), input);
+           ToleranceH(cond.peak_compression), input);
   return out;
 }
 
@@ -401,7 +401,7 @@ PoyntingThomson PairAndRoot(const H& mass, const H& a, const H& w2, const H& b) 
   return FromCubic(mass, q1 + b, q0 + b * q1, b * q0);
 }
 
-PoyntingThomson Scaled(PoyntingThomson m, int parameter, double factor) {
+PoyntingThomson WithScaledParameter(PoyntingThomson m, int parameter, double factor) {
   double* field[] = {&m.mass, &m.stiffness1, &m.stiffness2, &m.damping};
   *field[parameter] *= factor;
   return m;
@@ -476,8 +476,8 @@ TEST_CASE(
     const ContactResponse on = PoyntingThomsonContact(model, 1.0, Separation::kForce);
     CHECK(Finite(on));
     for (const double side : {-1.0, 1.0}) {
-      const ContactResponse near =
-          PoyntingThomsonContact(Scaled(model, 1, 1.0 + side * 1e-12), 1.0, Separation::kForce);
+      const ContactResponse near = PoyntingThomsonContact(
+          WithScaledParameter(model, 1, 1.0 + side * 1e-12), 1.0, Separation::kForce);
       CHECK(std::abs(near.contact_time / on.contact_time - 1.0) < 1e-11);
       CHECK(std::abs(near.log_restitution / on.log_restitution - 1.0) < 1e-11);
       CHECK(std::abs(near.peak_compression / on.peak_compression - 1.0) < 1e-11);
@@ -501,10 +501,11 @@ TEST_CASE(
       for (const int parameter : {1, 3}) {
         for (const double d : {0.0, 1e-6, 1e-9, 1e-12}) {
           std::array<std::optional<ContactResponse>, 2> force;
-          std::array<RefContact, 2> force_ref;
+          std::array<RefContactH, 2> force_ref;
           for (const int side : {0, 1}) {
             if (d == 0.0 && side == 1) continue;
-            const PoyntingThomson m = Scaled(on, parameter, side == 0 ? 1.0 - d : 1.0 + d);
+            const PoyntingThomson m =
+                WithScaledParameter(on, parameter, side == 0 ? 1.0 - d : 1.0 + d);
             const std::string where = "b/a = " + Label(ratio) + ", " + kParameterNames[parameter] +
                                       " " + (side == 0 ? "-" : "+") + Label(d);
             CheckModel(where, m, Separation::kKinematic, side == 0 ? -d : d);
@@ -601,7 +602,7 @@ H FirstMinimumValue(const RefSignals& s) {
     if (start > peak_time + 2 * kPiH / omega) return least;
     const H left = std::max(start, peak_time);
     if (slope(left) >= 0 || slope(end) <= 0) continue;
-    least = std::min(least, s.At(Bisect([&](const H& t) { return -slope(t); }, left, end)).u);
+    least = std::min(least, s.At(BisectH([&](const H& t) { return -slope(t); }, left, end)).u);
   }
 }
 
@@ -671,7 +672,7 @@ TEST_CASE("poynting_thomson boundary: the rates overload classifies the rates as
     INFO("K1 = " << model.stiffness1 << ": the rates' reference has "
                  << (ref.complex_pair() ? "a complex pair" : "three real roots"));
     for (const Separation sep : {Separation::kKinematic, Separation::kForce}) {
-      const RefContact want = Solve(ref, sep);
+      const RefContactH want = Solve(ref, sep);
       if (!want.separates) {
         CHECK_THROWS_AS(PoyntingThomsonContact(rates, 1.0, sep), NoSeparationError);
         continue;

@@ -39,14 +39,14 @@
 #include "model/pendulum.h"
 #include "model/rebound_history.h"
 #include "tests/support/precision.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
 using namespace testing;
 
-constexpr double kBarMass = 2.23 / 385.644;  // lbf s^2/in, one thesis bar
-constexpr double kStiffness = 4.6e5;         // lbf/in, the thesis's K avg
+constexpr double kStiffness = 4.6e5;  // lbf/in, the thesis's K avg
 
 // ---------------------------------------------------------------------------
 // Long-double references.

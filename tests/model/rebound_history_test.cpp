@@ -6,16 +6,17 @@
 #include <catch2/catch.hpp>
 
 #include "model/kelvin_voigt.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;
-const double kMass = 2.23 / kG;
+using testing::kBarMass;
+using testing::kG;
 
 TEST_CASE("rebound_history: thesis convention gives A_N = X0 e^N and PENDUL's timing") {
   const Pendulum p{22.0, kG, PendulumConvention::kThesis};
-  const KelvinVoigtContactLaw law({kMass, 462000.0, 10.0}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, 462000.0, 10.0}, Separation::kKinematic);
   const ReboundSequence seq = SimulateRebounds(p, law, 0.5, 5);
   const double e = seq.contact.restitution;
   const double tau_r = std::numbers::pi * std::sqrt(22.0 / kG);
@@ -32,7 +33,7 @@ TEST_CASE("rebound_history: thesis convention gives A_N = X0 e^N and PENDUL's ti
 
 TEST_CASE("rebound_history: sampled history peaks at the analytic maxima and is continuous") {
   const Pendulum p{22.0, kG, PendulumConvention::kExact};
-  const KelvinVoigtContactLaw law({kMass, 462000.0, 10.0}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, 462000.0, 10.0}, Separation::kKinematic);
   const ReboundSequence seq = SimulateRebounds(p, law, 1.519, 4);
   for (int n = 1; n <= 4; ++n) {
     CHECK(HistoryDisplacement(seq, p, law, seq.peak_time[n]) == Approx(seq.xmax[n]).epsilon(1e-12));
@@ -55,7 +56,7 @@ TEST_CASE("rebound_history: sampled history peaks at the analytic maxima and is 
 
 TEST_CASE("rebound_history: exact rebounds of decreasing amplitude get shorter") {
   const Pendulum p{22.0, kG, PendulumConvention::kExact};
-  const KelvinVoigtContactLaw law({kMass, 462000.0, 10.0}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, 462000.0, 10.0}, Separation::kKinematic);
   const ReboundSequence seq = SimulateRebounds(p, law, 15.0, 3);
   CHECK(seq.duration[1] > seq.duration[2]);
   CHECK(seq.duration[2] > seq.duration[3]);

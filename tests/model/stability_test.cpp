@@ -38,15 +38,12 @@
 #include "model/kelvin_voigt.h"
 #include "model/pendulum.h"
 #include "model/rebound_history.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
 using namespace testing;
-
-constexpr double kG = 385.644;          // in/s^2, the thesis's g
-constexpr double kL = 22.0;             // in, the thesis's pendulum
-constexpr double kBarMass = 2.23 / kG;  // lbf s^2/in, one bar
 
 // ---------------------------------------------------------------------------
 // Long double references.
@@ -115,16 +112,16 @@ LD RefCompression(LD wn, LD zeta, LD v, LD t) {
   return v * t * expl(-zeta * tau) * RefShape(q);
 }
 
-struct RefContact {
+struct KelvinVoigtRefContact {
   LD contact_time, log_restitution, peak_time, peak_compression;
 };
 
 // Kelvin-Voigt contact from the definitions: kinematic tau_c = pi/wd and
 // ln e = -pi zeta/sqrt(1 - zeta^2); force tau_c = 2 h/wn and ln e = -2 zeta h;
 // the peak at t* = h/wn, its height by evaluating x(t*) directly.
-RefContact RefKelvinVoigt(LD wn, LD zeta, LD v, Separation separation) {
+KelvinVoigtRefContact RefKelvinVoigt(LD wn, LD zeta, LD v, Separation separation) {
   const LD h = RefH(zeta);
-  RefContact r{};
+  KelvinVoigtRefContact r{};
   if (separation == Separation::kKinematic) {
     const LD s = sqrtl((1.0L - zeta) * (1.0L + zeta));
     r.contact_time = kPiL / (wn * s);
@@ -389,7 +386,7 @@ TEST_CASE("stability: pendulum functions stay finite at the ends of their domain
 // zeta itself when it was computed from K, M, C (0 for exact rates).
 void CheckContact(const ContactResponse& c, LD wn, LD zeta, LD v, Separation s, double input,
                   const std::string& tag, double zeta_error_ulps) {
-  const RefContact r = RefKelvinVoigt(wn, zeta, v, s);
+  const KelvinVoigtRefContact r = RefKelvinVoigt(wn, zeta, v, s);
   const double z = static_cast<double>(zeta);
   const double ch = CondH(z);  // d ln h / d ln zeta
   const double zh = static_cast<double>(zeta * RefH(zeta));

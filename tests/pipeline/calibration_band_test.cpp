@@ -14,33 +14,37 @@
 #include "pipeline/reduce.h"
 #include "tests/pipeline/csv_session.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644, kL = 22.0;
-const double kMass = 2.23 / kG;
-const Pendulum kPendulum{kL, kG, PendulumConvention::kExact};
+using testing::kBarMass;
+using testing::kL;
+using testing::kPendulum;
 
 // Strongly nonlinear cells (closed form): one falls with X, one rises.
-double RightCell(double x) { return 0.54 - 0.53 * 1.37 * std::tanh((x / 0.35) / 1.37 * (1 + x)); }
-double LeftCell(double x) { return 0.2 + 2.2 * x - 1.4 * x * x; }
+double NonlinearRightCell(double x) {
+  return 0.54 - 0.53 * 1.37 * std::tanh((x / 0.35) / 1.37 * (1 + x));
+}
+double NonlinearLeftCell(double x) { return 0.2 + 2.2 * x - 1.4 * x * x; }
 
 using testing::WriteCsv;
 
 // The calibration sweeps with first-order autoregressive errors of rms
 // `cal_noise` V correlated over `tau` s; the run's traces with independent
 // noise of `run_noise` V. Returns the true maxima (PENDUL numbering).
-std::vector<double> WriteSession(const std::filesystem::path& dir, double x0, double cal_noise,
-                                 double tau, double run_noise, unsigned seed) {
+std::vector<double> WriteCorrelatedSession(const std::filesystem::path& dir, double x0,
+                                           double cal_noise, double tau, double run_noise,
+                                           unsigned seed) {
   std::filesystem::create_directories(dir / "traces");
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   const double quarter = 0.5 * HalfPeriod(kPendulum, x0);
   const double dt = 2e-4, phi = std::exp(-dt / tau);
   using Cell = double (*)(double);
-  for (const auto& [name, cell] : {std::pair<const char*, Cell>{"R", RightCell},
-                                   std::pair<const char*, Cell>{"L", LeftCell}}) {
+  for (const auto& [name, cell] : {std::pair<const char*, Cell>{"R", NonlinearRightCell},
+                                   std::pair<const char*, Cell>{"L", NonlinearLeftCell}}) {
     std::vector<double> t, v;
     double e = cal_noise * normal(rng);
     for (double s = 0.0; s <= quarter; s += dt) {
@@ -50,13 +54,13 @@ std::vector<double> WriteSession(const std::filesystem::path& dir, double x0, do
     }
     WriteCsv(dir / "traces" / (std::string(name) + ".csv"), t, v);
   }
-  const KelvinVoigtContactLaw law({kMass, 462000.0, 9.0}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, 462000.0, 9.0}, Separation::kKinematic);
   const ReboundSequence truth = SimulateRebounds(kPendulum, law, x0, 6);
   const SampledHistory h = SampleHistory(truth, kPendulum, law, 1e-3);
   std::vector<double> vr, vl;
   for (double x : h.displacement) {
-    vr.push_back(RightCell(std::max(x, 0.0)) + run_noise * normal(rng));
-    vl.push_back(LeftCell(std::max(x, 0.0)) + run_noise * normal(rng));
+    vr.push_back(NonlinearRightCell(std::max(x, 0.0)) + run_noise * normal(rng));
+    vl.push_back(NonlinearLeftCell(std::max(x, 0.0)) + run_noise * normal(rng));
   }
   WriteCsv(dir / "traces" / "run-right.csv", h.time, vr);
   WriteCsv(dir / "traces" / "run-left.csv", h.time, vl);
@@ -71,7 +75,8 @@ TEST_CASE("calibration band: maxima read through a correlated calibration have h
   const double x0 = 0.337;
   for (unsigned seed = 1; seed <= 16; ++seed) {
     testing::TempDir dir;
-    const std::vector<double> truth = WriteSession(dir.path(), x0, 2e-3, 5e-3, 2e-4, seed);
+    const std::vector<double> truth =
+        WriteCorrelatedSession(dir.path(), x0, 2e-3, 5e-3, 2e-4, seed);
     const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
     REQUIRE(result.runs.size() == 1);
     const RunResult& run = result.runs[0];

@@ -17,6 +17,7 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
+#include "tests/support/sample_data.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -24,10 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSamples = fs::path(IMPACTLAB_SOURCE_DIR) / "sample_data";
+using testing::kSampleData;
 
 SessionResult Reduced(const std::string& sample) {
-  return ReduceSession(ReadManifest(kSamples / sample).session, {});
+  return ReduceSession(ReadManifest(kSampleData / sample).session, {});
 }
 
 // A dataset's dimensions.

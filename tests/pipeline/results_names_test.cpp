@@ -21,6 +21,7 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
+#include "tests/support/sample_data.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -28,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kSamples = fs::path(IMPACTLAB_SOURCE_DIR) / "sample_data";
+using testing::kSampleData;
 
 std::string ReadText(const fs::path& path) {
   std::stringstream text;
@@ -247,7 +248,8 @@ std::set<std::string> DocumentedNames(const std::string& text) {
 // fit succeeds with a caveat).
 fs::path TypedInSession(const fs::path& dir) {
   fs::create_directories(dir);
-  std::ofstream(dir / "session.toml") << ReadText(kSamples / "thesis-1969" / "session.toml") << R"(
+  std::ofstream(dir / "session.toml")
+      << ReadText(kSampleData / "thesis-1969" / "session.toml") << R"(
 [[run]]
 id = "rising"
 initial_displacement = 0.3
@@ -267,9 +269,9 @@ rebound_uncertainty = 0.0005
 // A copy of the photo session whose first run's left trace has three points
 // given by hand (from the truth), so its digitized photo records hints.
 fs::path HintedPhotoSession(const fs::path& dir) {
-  fs::copy(kSamples / "thesis-photos", dir, fs::copy_options::recursive);
+  fs::copy(kSampleData / "thesis-photos", dir, fs::copy_options::recursive);
   const nlohmann::json truth =
-      nlohmann::json::parse(ReadText(kSamples / "thesis-photos.truth.json"));
+      nlohmann::json::parse(ReadText(kSampleData / "thesis-photos.truth.json"));
   std::string points = "points = [";
   for (const auto& trace : truth["runs"][0]["photo"]["traces"]) {
     if (trace["name"] != "left") continue;
@@ -303,7 +305,7 @@ TEST_CASE("results_names: docs/results.md lists every name of the files, and no 
       {typed_in, Products::kFit, true},
       {photos, Products::kFit},
       {photos, Products::kCalibration},
-      {kSamples / "logs-two-link", Products::kFit},
+      {kSampleData / "logs-two-link", Products::kFit},
   };
   Vocabulary vocabulary;
   std::vector<fs::path> files;

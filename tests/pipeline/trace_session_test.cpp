@@ -19,13 +19,15 @@
 #include "pipeline/trace_run.h"
 #include "tests/pipeline/csv_session.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644, kL = 22.0, kK = 462000.0, kC = 9.0;
-const double kMass = 2.23 / kG;
-const Pendulum kPendulum{kL, kG, PendulumConvention::kExact};
+using testing::kBarMass;
+using testing::kL;
+using testing::kPendulum;
+constexpr double kK = 462000.0, kC = 9.0;
 
 double RightCell(double x) { return 2.4 - 3.1 * x + 0.9 * x * x; }  // falls with X (x < 1.5)
 double LeftCell(double x) { return 0.2 + 2.2 * x - 0.35 * x * x; }  // inverted amplifier
@@ -53,7 +55,7 @@ Written WriteSession(const std::filesystem::path& dir, double x0, double noise_v
     }
     WriteCsv(dir / "traces" / (std::string(name) + ".csv"), t, v);
   }
-  const KelvinVoigtContactLaw law({kMass, kK, kC}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, kK, kC}, Separation::kKinematic);
   Written w{SimulateRebounds(kPendulum, law, x0, 6)};
   const SampledHistory h = SampleHistory(w.truth, kPendulum, law, 5e-4);
   std::vector<double> vr, vl;

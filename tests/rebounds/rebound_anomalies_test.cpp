@@ -9,11 +9,12 @@
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
 #include "rebounds/rebound_anomalies.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-const Pendulum kPendulum{22.0, 385.644};
+using testing::kPendulum;
 
 struct Exact {
   std::vector<double> xmax, xmax_sigma, duration, duration_sigma;

@@ -8,13 +8,13 @@
 
 #include "model/kelvin_voigt.h"
 #include "model/rebound_history.h"
+#include "tests/support/thesis_pendulum.h"
 
 namespace impactlab {
 namespace {
 
-constexpr double kG = 385.644;
-const double kMass = 2.23 / kG;
-const Pendulum kPendulum{22.0, kG, PendulumConvention::kExact};
+using testing::kBarMass;
+using testing::kPendulum;
 
 struct Truth {
   ReboundSequence sequence;
@@ -23,7 +23,7 @@ struct Truth {
 
 // Ground truth from the model: a history sampled every dt with noise.
 Truth Simulate(double x0, double dt, double noise, unsigned seed) {
-  const KelvinVoigtContactLaw law({kMass, 462000.0, 10.0}, Separation::kKinematic);
+  const KelvinVoigtContactLaw law({kBarMass, 462000.0, 10.0}, Separation::kKinematic);
   Truth truth;
   truth.sequence = SimulateRebounds(kPendulum, law, x0, 5);
   const SampledHistory s = SampleHistory(truth.sequence, kPendulum, law, dt);

@@ -11,14 +11,12 @@
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "report/tables.h"
+#include "tests/report/thesis_result.h"
 
 namespace impactlab {
 namespace {
 
-SessionResult Thesis() {
-  const auto folder = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "sample_data" / "thesis-1969";
-  return ReduceSession(ReadManifest(folder).session, {});
-}
+using testing::Thesis;
 
 const Table& Named(const std::vector<Table>& tables, const std::string& name) {
   for (const Table& t : tables) {

@@ -6,14 +6,12 @@
 #include "pipeline/reduce.h"
 #include "report/svg_plot.h"
 #include "report/tables.h"
+#include "tests/report/thesis_result.h"
 
 namespace impactlab {
 namespace {
 
-SessionResult Thesis() {
-  const auto folder = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "sample_data" / "thesis-1969";
-  return ReduceSession(ReadManifest(folder).session, {});
-}
+using testing::Thesis;
 
 TEST_CASE("html_report: one self-contained page with every table and a figure per run") {
   const std::string html = RenderHtmlReport(Thesis());

@@ -39,7 +39,7 @@ TEST_CASE("With the hub locked, the pinned beam's mode is the one-term Ritz valu
   const double omega = std::sqrt(420.0 * arm.flexural_rigidity_n_m2 /
                                  (arm.mass_per_length_kg_per_m * std::pow(arm.length_m, 4)));
   bool found = false;
-  for (const BeamMode& mode : record.post_modes) {
+  for (const BeamPole& mode : record.post_modes) {
     if (std::abs(mode.natural_frequency_hz * 2.0 * std::numbers::pi / omega - 1.0) < 1e-6) {
       found = true;
       CHECK(std::abs(mode.damping_ratio) < 1e-6);

@@ -49,14 +49,14 @@ TEST_CASE("synth: on the wall the tip does not move, and the motor still pushes"
 TEST_CASE("synth: the free flight's poles: the rigid rotation's decay and two damped modes") {
   const BeamArm arm;
   const LinearEquations<3> free = FreeFlightEquations(arm);
-  const std::vector<BeamMode> poles = Poles(free.mass, free.damping, free.stiffness);
+  const std::vector<BeamPole> poles = Poles(free.mass, free.damping, free.stiffness);
   // Six roots: 0 (the rotation's position, no mode), a real decay and two pairs.
   REQUIRE(poles.size() == 3);
   CHECK(poles[0].frequency_hz == 0.0);
   CHECK(poles[0].damping_ratio == 1.0);
   CHECK(poles[1].frequency_hz > 0.0);
   CHECK(poles[2].frequency_hz > poles[1].frequency_hz);
-  for (const BeamMode& pole : poles) {
+  for (const BeamPole& pole : poles) {
     // Each pole is a root: det(M s^2 + C s + K) vanishes there, relative to its size.
     const std::complex<double> s(-pole.decay_rate_per_s,
                                  2.0 * std::numbers::pi * pole.frequency_hz);

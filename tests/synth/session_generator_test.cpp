@@ -29,7 +29,7 @@ double form_tolerance(const nlohmann::json& truth) {
   return truth["form"] == "typed-in" ? 1e-2 : 2e-3;
 }
 
-SynthOptions Quick(PhotoStyle style, std::uint64_t seed) {
+SynthOptions QuickSmallPhotos(PhotoStyle style, std::uint64_t seed) {
   SynthOptions o;
   o.preset = "quick";
   o.style = style;
@@ -47,7 +47,7 @@ TEST_CASE(
                            PhotoStyle::kNegative, PhotoStyle::kLowres, PhotoStyle::kRandomised}) {
     INFO(PhotoStyleName(style));
     testing::TempDir dir;
-    const SynthSummary summary = GenerateSession(dir.path() / "s", Quick(style, 2));
+    const SynthSummary summary = GenerateSession(dir.path() / "s", QuickSmallPhotos(style, 2));
     CHECK(summary.runs == 4);
     CHECK(summary.photos == 6);  // 2 photo runs: a run photo and two calibrations each
     const ManifestReadResult read = ReadManifest(dir.path() / "s");
@@ -64,9 +64,9 @@ TEST_CASE(
 
 TEST_CASE("synth: the same seed writes the same bytes, another seed does not") {
   testing::TempDir dir;
-  GenerateSession(dir.path() / "a", Quick(PhotoStyle::kPhone, 7));
-  GenerateSession(dir.path() / "b", Quick(PhotoStyle::kPhone, 7));
-  GenerateSession(dir.path() / "c", Quick(PhotoStyle::kPhone, 8));
+  GenerateSession(dir.path() / "a", QuickSmallPhotos(PhotoStyle::kPhone, 7));
+  GenerateSession(dir.path() / "b", QuickSmallPhotos(PhotoStyle::kPhone, 7));
+  GenerateSession(dir.path() / "c", QuickSmallPhotos(PhotoStyle::kPhone, 8));
   for (const char* file : {"session.toml", "runs/0.405.jpg", "traces/csv-0.550-right.csv"}) {
     INFO(file);
     CHECK(Slurp(dir.path() / "a" / file) == Slurp(dir.path() / "b" / file));
@@ -79,7 +79,7 @@ TEST_CASE("synth: a randomised session draws each photo's scope settings and rec
   for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     testing::TempDir dir;
     const SynthSummary summary =
-        GenerateSession(dir.path() / "s", Quick(PhotoStyle::kRandomised, seed));
+        GenerateSession(dir.path() / "s", QuickSmallPhotos(PhotoStyle::kRandomised, seed));
     for (const auto& run : summary.truth["runs"]) {
       if (run["form"] != "photo") continue;
       const nlohmann::json& look = run["photo"]["look"];
@@ -119,7 +119,8 @@ TEST_CASE("synth: a randomised session draws each photo's scope settings and rec
 
 TEST_CASE("synth: CSV and typed-in runs reduce to the simulated maxima and contact time") {
   testing::TempDir dir;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", Quick(PhotoStyle::kClean, 3));
+  const SynthSummary summary =
+      GenerateSession(dir.path() / "s", QuickSmallPhotos(PhotoStyle::kClean, 3));
   const SessionResult result = ReduceSession(ReadManifest(dir.path() / "s").session, {});
   for (const auto& truth : summary.truth["runs"]) {
     const std::string form = truth["form"];
@@ -145,7 +146,7 @@ TEST_CASE("synth: CSV and typed-in runs reduce to the simulated maxima and conta
 
 TEST_CASE("synth: a Poynting-Thomson session's rebounds keep the simulated restitution") {
   testing::TempDir dir;
-  SynthOptions o = Quick(PhotoStyle::kClean, 4);
+  SynthOptions o = QuickSmallPhotos(PhotoStyle::kClean, 4);
   o.contact_model = "poynting-thomson";
   const SynthSummary summary = GenerateSession(dir.path() / "s", o);
   const SessionResult result = ReduceSession(ReadManifest(dir.path() / "s").session, {});
@@ -165,9 +166,9 @@ TEST_CASE("synth: a non-empty output folder is refused, and so is an unknown pre
   testing::TempDir dir;
   std::filesystem::create_directories(dir.path() / "s");
   std::ofstream(dir.path() / "s" / "keep.txt") << "mine";
-  CHECK_THROWS_WITH(GenerateSession(dir.path() / "s", Quick(PhotoStyle::kClean, 1)),
+  CHECK_THROWS_WITH(GenerateSession(dir.path() / "s", QuickSmallPhotos(PhotoStyle::kClean, 1)),
                     Catch::Contains("not empty"));
-  SynthOptions bad = Quick(PhotoStyle::kClean, 1);
+  SynthOptions bad = QuickSmallPhotos(PhotoStyle::kClean, 1);
   bad.preset = "huge";
   CHECK_THROWS_AS(GenerateSession(dir.path() / "t", bad), std::invalid_argument);
 }

@@ -9,7 +9,7 @@
 namespace impactlab {
 namespace {
 
-SynthOptions Quick(PhotoStyle style) {
+SynthOptions QuickSeed11(PhotoStyle style) {
   SynthOptions options;
   options.preset = "quick";
   options.style = style;
@@ -22,8 +22,8 @@ SynthOptions Quick(PhotoStyle style) {
 TEST_CASE(
     "synth: a randomised plan draws its first experiment as the other styles do, and its scope "
     "besides") {
-  const SessionPlan clean = PlanSession(Quick(PhotoStyle::kClean));
-  const SessionPlan randomised = PlanSession(Quick(PhotoStyle::kRandomised));
+  const SessionPlan clean = PlanSession(QuickSeed11(PhotoStyle::kClean));
+  const SessionPlan randomised = PlanSession(QuickSeed11(PhotoStyle::kRandomised));
   REQUIRE(clean.runs.size() == 4);
   REQUIRE(randomised.runs.size() == clean.runs.size());
   // The first run's draws come before any photo's; later runs follow the
@@ -40,7 +40,7 @@ TEST_CASE(
 }
 
 TEST_CASE("synth: a plan names each run's files and photographs only photo runs") {
-  const SessionPlan plan = PlanSession(Quick(PhotoStyle::kPolaroid));
+  const SessionPlan plan = PlanSession(QuickSeed11(PhotoStyle::kPolaroid));
   const RunPlan& photo = plan.runs[0];
   CHECK(photo.form == RunForm::kPhoto);
   CHECK(photo.photo->stem == "runs/0.405");
@@ -59,7 +59,7 @@ TEST_CASE("synth: a plan names each run's files and photographs only photo runs"
 }
 
 TEST_CASE("synth: simulating a plan twice gives the same values") {
-  const SessionPlan plan = PlanSession(Quick(PhotoStyle::kClean));
+  const SessionPlan plan = PlanSession(QuickSeed11(PhotoStyle::kClean));
   const SimulatedRun a = SimulateRun(plan.runs[2]);
   const SimulatedRun b = SimulateRun(plan.runs[2]);
   CHECK(a.initial_displacement == b.initial_displacement);
