@@ -1,8 +1,9 @@
 // Benchmark of the two-link simulation fitted to logs (docs/two-link-fit.md,
 // "Benchmarks"): run time and pulls of a five-parameter fit, and what whole
 // histories say that one frequency cannot: experiments with one hidden change
-// each (tool inertia, beam 1's stiffness, beam 1's density), fitted with all
-// three free.
+// each (tool inertia, beam 2's stiffness, beam 2's density), each sized to
+// bring a1's ring-down from the nominal 11.6 Hz to the paper's measured
+// 10.96 Hz, fitted with all three free.
 //
 //   bench_two_link_fit [--seeds 1] [--duration 3] [--spread 1] [--skip-five]
 //                      [--skip-explanations]
@@ -29,7 +30,8 @@ struct Hidden {
 
 double* Value(TwoLinkParameters& p, const std::string& name) {
   if (name == "beam1.flexural_rigidity_n_m2") return &p.beam1.flexural_rigidity_n_m2;
-  if (name == "beam1.mass_per_length_kg_per_m") return &p.beam1.mass_per_length_kg_per_m;
+  if (name == "beam2.flexural_rigidity_n_m2") return &p.beam2.flexural_rigidity_n_m2;
+  if (name == "beam2.mass_per_length_kg_per_m") return &p.beam2.mass_per_length_kg_per_m;
   if (name == "tool.inertia_kg_m2") return &p.tool.body.inertia_kg_m2;
   if (name == "tool.mass_kg") return &p.tool.body.mass_kg;
   if (name == "drive_a.equivalent_damping_n_m_s") return &p.drive_a.equivalent_damping_n_m_s;
@@ -110,11 +112,13 @@ int main(int argc, char** argv) {
     }
   }
   if (!skip_explanations) {
-    const std::vector<std::string> free = {"tool.inertia_kg_m2", "beam1.flexural_rigidity_n_m2",
-                                           "beam1.mass_per_length_kg_per_m", "case1.start_delay_s"};
-    const std::vector<Hidden> explanations = {{"tool.inertia_kg_m2", 1.26},
-                                              {"beam1.flexural_rigidity_n_m2", 0.903},
-                                              {"beam1.mass_per_length_kg_per_m", 1.21}};
+    const std::vector<std::string> free = {"tool.inertia_kg_m2", "beam2.flexural_rigidity_n_m2",
+                                           "beam2.mass_per_length_kg_per_m", "case1.start_delay_s"};
+    // Each alone moves a1's ring-down after case 1's first impact from
+    // 11.58 Hz to 10.96-11.02 Hz (docs/two-link-fit.md).
+    const std::vector<Hidden> explanations = {{"tool.inertia_kg_m2", 2.0},
+                                              {"beam2.flexural_rigidity_n_m2", 0.866},
+                                              {"beam2.mass_per_length_kg_per_m", 1.71}};
     for (const Hidden& h : explanations) {
       fmt::print("## Hidden: {} x {}, three explanations free\n\n{}", h.name, h.factor, header);
       TwoLinkParameters truth;
