@@ -16,6 +16,7 @@
 #include "multibody/two_link_keys.h"
 #include "multibody/two_link_simulation.h"
 #include "signal/damped_modes.h"
+#include "signal/impact_detection.h"
 
 namespace impactlab {
 namespace {
@@ -153,19 +154,18 @@ class Problem {
       }
       channels_.push_back(channel);
     }
-    // The impact: the first spike at least half as high as the largest, in
-    // the accelerometer whose spikes stand highest above its noise (a gear
-    // mesh engaging at the motors' start also makes one; a bounce after the
-    // impact may make a higher one in some channel).
-    double largest = 0.0;
-    for (int c = 2; c < 6; ++c) {
-      const Channel& channel = channels_[static_cast<std::size_t>(c)];
-      const double height = LargestSpike(channel);
-      if (height > largest) {
-        largest = height;
-        measured_impact_ = FirstSpikeAbove(channel, 0.5 * height);
-      }
+    // The impact as `reduce` finds it (signal/impact_detection.h): the
+    // accelerometer whose strongest jump stands highest above its noise, and
+    // in it the jump's onset. The encoders are the fallback.
+    std::vector<ChannelSamples> samples;
+    for (int c = 0; c < 6; ++c) {
+      if (!channels_[static_cast<std::size_t>(c)].measured) continue;
+      samples.push_back({kChannelNames[c],
+                         c < 2 ? LogChannelKind::kAngle : LogChannelKind::kAcceleration,
+                         *channels_[static_cast<std::size_t>(c)].measured});
     }
+    const ImpactEstimate impact = DetectImpact(samples, m.time_s.front(), rate_, {});
+    if (impact.found) measured_impact_ = impact.time_s.value;
     if (o.use_ring_down_frequency && m.acceleration_m_s2[0]) {
       if (measured_impact_ >= 0.0) {
         const DampedModeFit fit = RingDown(*m.acceleration_m_s2[0], measured_impact_);
@@ -307,28 +307,6 @@ class Problem {
         }
       }
     }
-  }
-
-  // A sample's departure from its neighbours' median, in noise sigma.
-  static double SpikeHeight(const Channel& channel, std::size_t i) {
-    const std::vector<double>& x = *channel.measured;
-    const double a = x[i - 1], b = x[i], c = x[i + 1];
-    const double median = std::max(std::min(a, b), std::min(std::max(a, b), c));
-    return std::abs(b - median) / channel.sigma;
-  }
-  static double LargestSpike(const Channel& channel) {
-    double largest = 0.0;
-    if (!channel.measured) return largest;
-    for (std::size_t i = 1; i + 1 < channel.measured->size(); ++i) {
-      if (channel.spike[i]) largest = std::max(largest, SpikeHeight(channel, i));
-    }
-    return largest;
-  }
-  double FirstSpikeAbove(const Channel& channel, double height) const {
-    for (std::size_t i = 1; i + 1 < channel.measured->size(); ++i) {
-      if (channel.spike[i] && SpikeHeight(channel, i) >= height) return measurement_.time_s[i];
-    }
-    return -1.0;
   }
 
   DampedModeFit RingDown(const std::vector<double>& x, double impact_s) const {
