@@ -374,10 +374,13 @@ Table LogTable(const LogResult& log) {
           std::find_if(log.comparison.begin(), log.comparison.end(),
                        [&](const LogComparisonRow& r) { return r.channel == c.channel; });
       const bool compared = row != log.comparison.end();
+      // A channel with a dominant frequency in one source only has no
+      // difference (NaN in the results file): a dash, not "+nan".
+      const bool differed = compared && std::isfinite(row->difference_hz);
       t.rows.push_back({c.channel, OptionalWithSigma(c.dominant_frequency_hz, 4),
                         sim ? OptionalWithSigma(sim->dominant_frequency_hz, 4) : Cell("-"),
-                        compared ? Signed(row->difference_hz, 3) : Cell("-"),
-                        compared ? Signed(row->difference_percent, 2) : Cell("-"),
+                        differed ? Signed(row->difference_hz, 3) : Cell("-"),
+                        differed ? Signed(row->difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
                         sim ? OptionalWithSigma(sim->damping_ratio, 4) : Cell("-"),
                         compared ? Sig(row->rms_difference, 4) : Cell("-"), c.units});

@@ -32,7 +32,7 @@ TEST_CASE("A hidden beam stiffness and start delay come back within their stated
   nominal.cases[0].duration_s = 2.5;
   TwoLinkParameters hidden = nominal;
   hidden.beam1.flexural_rigidity_n_m2 = 3.65;  // -9.7 %
-  hidden.cases[0].start_delay_s = 0.15;       // +50 ms
+  hidden.cases[0].start_delay_s = 0.15;        // +50 ms
   const TwoLinkRecord record = SimulateTwoLink(TwoLinkModel(hidden), hidden.cases[0]);
   TwoLinkFitOptions options;
   options.free = {"beam1.flexural_rigidity_n_m2", "case1.start_delay_s"};

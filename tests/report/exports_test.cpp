@@ -102,5 +102,35 @@ TEST_CASE("exports: LaTeX uses booktabs rules, siunitx numbers, a label and a ca
              Catch::Contains(fmt::format("\\num{{{:.{}f}({})}}", zeta.value, cell.decimals, last)));
 }
 
+TEST_CASE("exports: a log channel with a frequency in one source only has no difference") {
+  // signal/log_analysis.cpp leaves the difference NaN when either source has
+  // no dominant frequency; the table says so with a dash.
+  LogResult log;
+  log.id = "case1";
+  log.ok = true;
+  LogChannelResult measured{"a2", "m/s^2"};
+  LogChannelResult simulated{"a2", "m/s^2"};
+  simulated.dominant_frequency_hz = Estimate{31.03, 0.10};
+  log.sources = {{"experiment", {}, "", {measured}}, {"simulation", {}, "", {simulated}}};
+  LogComparisonRow row;
+  row.channel = "a2";
+  row.units = "m/s^2";
+  row.difference_hz = row.difference_percent = std::nan("");
+  row.rms_difference = 0.99;
+  log.comparison = {row};
+  SessionResult r;
+  r.logs = {log};
+  const std::vector<Table> tables = BuildTables(r);
+  const Table& t = Named(tables, "log_case1");
+  REQUIRE(t.rows.size() == 1);
+  const std::vector<Cell>& cells = t.rows[0];
+  CHECK(cells.at(ColumnOf(t.columns, "Simulation f (Hz)")).text.find("31.03") == 0);
+  CHECK(cells.at(ColumnOf(t.columns, "Difference (Hz)")).text == "-");
+  CHECK(cells.at(ColumnOf(t.columns, "Difference (%)")).text == "-");
+  const std::string markdown = RenderTable(t, ReportFormat::kMarkdown);
+  CHECK(markdown.find("+nan") == std::string::npos);
+  CHECK(markdown.find("| nan") == std::string::npos);
+}
+
 }  // namespace
 }  // namespace impactlab
