@@ -44,7 +44,7 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
   cmd->add_option("-o,--out", args->out, "Session folder to create (must not exist or be empty)");
   cmd->add_option("--experiment", args->experiment,
                   "Parameters of the experiment (default: the same file); keys left out keep "
-                  "their nominal values")
+                  "the simulation's values")
       ->check(CLI::ExistingFile);
   cmd->add_option("--seed", args->options.seed, "Noise seed: the same seed, the same files")
       ->capture_default_str();
@@ -61,8 +61,9 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
         return kExitOk;
       }
       if (args->out.empty()) throw std::invalid_argument("simulate two-link: -o DIR is required");
-      options.experiment = args->experiment.empty() ? options.simulation
-                                                    : ReadTwoLinkParameterFile(args->experiment);
+      options.experiment = args->experiment.empty()
+                               ? options.simulation
+                               : ReadTwoLinkParameterFile(args->experiment, options.simulation);
       options.write_state = !args->no_state;
       const TwoLinkLogSummary summary = WriteTwoLinkSession(args->out, options);
       std::filesystem::path truth = args->truth;

@@ -10,12 +10,15 @@
 
 namespace impactlab::cli {
 
-inline TwoLinkParameters ReadTwoLinkParameterFile(const std::filesystem::path& file) {
+// Keys the file leaves out keep their values in `base` (default: the nominal set).
+inline TwoLinkParameters ReadTwoLinkParameterFile(
+    const std::filesystem::path& file,
+    const TwoLinkParameters& base = TwoLinkParameters::Nominal()) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError({file, "", std::nullopt}, "cannot read the file");
   std::ostringstream text;
   text << in.rdbuf();
-  return ParseTwoLinkParameters(text.str(), file);
+  return ParseTwoLinkParameters(text.str(), file, base);
 }
 
 }  // namespace impactlab::cli

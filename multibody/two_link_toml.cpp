@@ -14,6 +14,11 @@
 namespace impactlab {
 
 TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::filesystem::path& file) {
+  return ParseTwoLinkParameters(text, file, TwoLinkParameters::Nominal());
+}
+
+TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::filesystem::path& file,
+                                         const TwoLinkParameters& base) {
   toml::table table;
   try {
     table = toml::parse(text, file.string());
@@ -21,7 +26,7 @@ TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::files
     throw InputError({file, "", static_cast<long long>(e.source().begin.line)},
                      std::string(e.description()));
   }
-  TwoLinkParameters p = TwoLinkParameters::Nominal();
+  TwoLinkParameters p = base;
   std::map<std::string, std::set<std::string>> known;
   VisitTwoLinkKeys(p, [&](const char* section, const char* key, double& value, TwoLinkKeyRule rule,
                           const char*) {

@@ -18,6 +18,12 @@ namespace impactlab {
 // out of its range.
 TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::filesystem::path& file);
 
+// The same, with the keys the file leaves out taken from `base` instead of
+// the nominal set (an experiment's file listing only how it differs from a
+// simulation's).
+TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::filesystem::path& file,
+                                         const TwoLinkParameters& base);
+
 // Every key with its description as a comment; reads back to the same values.
 std::string TwoLinkParametersText(const TwoLinkParameters& parameters);
 

@@ -153,6 +153,19 @@ TEST_CASE("two-link: a parameter file may list only what differs from the nomina
   CHECK(Values(p) == Values(expected));
 }
 
+TEST_CASE("two-link: an experiment's file read over the simulation's keeps its other values") {
+  // simulate two-link --experiment: EXP.toml lists how the experiment differs
+  // from PARAMS.toml, not from the nominal set.
+  TwoLinkParameters simulation = TwoLinkParameters::Nominal();
+  simulation.beam1.flexural_rigidity_n_m2 = 5.0;
+  simulation.cases[0].duration_s = 3.0;
+  const TwoLinkParameters p =
+      ParseTwoLinkParameters("[body2]\nmass_kg = 2.6\n", "experiment.toml", simulation);
+  TwoLinkParameters expected = simulation;
+  expected.body2.mass_kg = 2.6;
+  CHECK(Values(p) == Values(expected));
+}
+
 TEST_CASE("two-link: a bad parameter file names the file and the key") {
   using testing::InputErrorOf;
   auto parse = [](const std::string& text) {
