@@ -113,6 +113,11 @@ class Problem {
     const std::size_t n = m.time_s.size();
     if (n < 10) throw std::invalid_argument("two-link fit: the record has fewer than 10 samples");
     rate_ = static_cast<double>(n - 1) / (m.time_s.back() - m.time_s.front());
+    if (!(rate_ > 0.0) || !std::isfinite(rate_)) {
+      throw std::invalid_argument(
+          fmt::format("two-link fit: the record's time must increase (it runs from {} s to {} s)",
+                      m.time_s.front(), m.time_s.back()));
+    }
     start_.sensors.sample_rate_hz = rate_;
     start_.cases[o.case_number - 1].duration_s = m.time_s.back();
     for (const std::string& name : o.free) {
