@@ -4,6 +4,7 @@
 // fitted values), fit.txt (what was determined, with uncertainties, and what
 // was not) and a session whose log pairs the experiment with the fitted
 // simulation, so `impactlab reduce DIR` shows fitted against measured.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -11,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <fmt/core.h>
 
@@ -39,8 +42,8 @@ void WriteTextFile(const fs::path& file, const std::string& text) {
 
 // The experiment's channels by the simulator's names (q1, q4, a1..a4), in SI.
 TwoLinkMeasurement Measurement(const Log& log) {
-  const LogSeries series = ReadLogSeries(log.experiment, log.time_column, log.channels,
-                                         LogSource::kExperiment);
+  const LogSeries series =
+      ReadLogSeries(log.experiment, log.time_column, log.channels, LogSource::kExperiment);
   TwoLinkMeasurement m;
   m.time_s = series.time_s;
   const double t0 = m.time_s.empty() ? 0.0 : m.time_s.front();
@@ -125,7 +128,26 @@ void AddFitCommand(CLI::App& app, Action& action) {
       const TwoLinkMeasurement measurement = Measurement(*log);
       fmt::print(stderr, "fitting {} parameter(s) to log {} ({} samples)...\n", options.free.size(),
                  log->id, measurement.time_s.size());
+      // Progress on a terminal only, one line rewritten: logs and pipes get the summary alone.
+      const bool show_progress = isatty(fileno(stderr)) != 0;
+      if (show_progress) {
+        options.on_progress = [](const TwoLinkFitProgress& p) {
+          const std::string start =
+              p.starts > 1 ? fmt::format("start {}/{}, ", p.start + 1, p.starts) : "";
+          if (p.stage == p.stages) {
+            fmt::print(stderr, "\r\033[K{}uncertainty: {} simulations, {:.1f} s", start,
+                       p.simulations, p.seconds);
+            return;
+          }
+          fmt::print(stderr,
+                     "\r\033[K{}stage {}/{} ({}): iteration {}, chi2 {:.5g}, {} simulations, "
+                     "{:.1f} s",
+                     start, p.stage + 1, p.stages, p.stage_name, p.iteration, p.chi2, p.simulations,
+                     p.seconds);
+        };
+      }
       const TwoLinkFitResult result = FitTwoLinkSimulation(start, measurement, options);
+      if (show_progress) fmt::print(stderr, "\r\033[K");
 
       fs::create_directories(args->out / "logs", ec);
       if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <ceres/ceres.h>
 #include <ceres/normal_prior.h>
@@ -467,6 +469,38 @@ ceres::CostFunction* Anchor(const Problem& problem, const Eigen::VectorXd& at) {
   return new ceres::NormalPrior(inverse_width, at);
 }
 
+std::string StageName(const Stage& stage) {
+  if (stage.anchored) return "free flight";
+  if (!stage.encoders_only) return "all channels";
+  return stage.until_s > 0.0 ? fmt::format("encoders to {:.3f} s", stage.until_s) : "encoders";
+}
+
+// Hands each accepted or rejected Levenberg-Marquardt iteration to the
+// options' on_progress, with where in the starts and stages it is.
+class ProgressReport : public ceres::IterationCallback {
+ public:
+  ProgressReport(const TwoLinkFitOptions& options, const Problem& problem,
+                 std::chrono::steady_clock::time_point began, TwoLinkFitProgress where)
+      : options_(options), problem_(problem), began_(began), where_(std::move(where)) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    where_.iteration = summary.iteration;
+    // A rejected step leaves the fit where it was: its trial cost is not the stage's.
+    if (summary.iteration == 0 || summary.step_is_successful) where_.chi2 = 2.0 * summary.cost;
+    where_.simulations = problem_.simulations();
+    where_.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began_).count();
+    options_.on_progress(where_);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const TwoLinkFitOptions& options_;
+  const Problem& problem_;
+  std::chrono::steady_clock::time_point began_;
+  TwoLinkFitProgress where_;
+};
+
 std::string Combination(const Eigen::VectorXd& direction, const std::vector<FreeParameter>& free) {
   std::string out;
   for (Eigen::Index j = 0; j < direction.size(); ++j) {
@@ -517,6 +551,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   int iterations = 0;
   ceres::Solver::Summary summary;
   std::string best_message;
+  const std::vector<Stage> stages = Stages(problem, measurement.time_s.back());
   for (int k = 0; k < options.starts; ++k) {
     Eigen::VectorXd trial = problem.StartPoint();
     if (k > 0) {
@@ -524,7 +559,8 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
       const double sign = (k % 2 == 1) ? 1.0 : -1.0;
       trial(j) += sign * (problem.free()[static_cast<std::size_t>(j)].logarithmic ? 0.2 : 0.03);
     }
-    for (const Stage& stage : Stages(problem, measurement.time_s.back())) {
+    for (std::size_t i = 0; i < stages.size(); ++i) {
+      const Stage& stage = stages[i];
       problem.set_stage(stage);
       ceres::Problem ceres_problem;
       ceres_problem.AddResidualBlock(new SimulationCost(problem, options), nullptr, trial.data());
@@ -536,6 +572,13 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
       solver_options.function_tolerance = stage.encoders_only ? 1e-6 : 1e-8;
       solver_options.parameter_tolerance = 1e-8;
       solver_options.logging_type = ceres::SILENT;
+      std::optional<ProgressReport> report;
+      if (options.on_progress) {
+        report.emplace(options, problem, clock_start,
+                       TwoLinkFitProgress{k, options.starts, static_cast<int>(i),
+                                          static_cast<int>(stages.size()), StageName(stage)});
+        solver_options.callbacks.push_back(&*report);
+      }
       ceres::Solve(solver_options, &ceres_problem, &summary);
       iterations += static_cast<int>(summary.iterations.size());
     }
@@ -547,6 +590,15 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
     }
   }
 
+  if (options.on_progress) {
+    const int count = static_cast<int>(stages.size());
+    TwoLinkFitProgress where{options.starts - 1, options.starts, count, count, "uncertainty"};
+    where.chi2 = best_cost;
+    where.simulations = problem.simulations();
+    where.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+    options.on_progress(where);
+  }
   result.fitted = problem.ParametersAt(x);
   result.iterations = iterations;
   result.termination = best_message;

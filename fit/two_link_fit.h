@@ -26,6 +26,7 @@
 // a parameter in one of them has no standard error of its own.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +47,19 @@ struct TwoLinkMeasurement {
   double encoder_a_step_rad = 0.0, encoder_b_step_rad = 0.0;  // one count, for the noise floor
 };
 
+// Where a fit is, after each Levenberg-Marquardt iteration and before the
+// final covariance (docs/two-link-fit.md, "Stages").
+struct TwoLinkFitProgress {
+  int start = 0, starts = 1;  // this start (from 0) of how many
+  int stage = 0, stages = 1;  // this stage (from 0) of how many; stage == stages: the uncertainty
+  std::string stage_name;     // "free flight", "encoders to 1.859 s", "encoders", "all channels",
+                              // "uncertainty" (the final central differences)
+  int iteration = 0;          // within the stage
+  double chi2 = 0.0;          // the stage's cost at that iteration, 2 F (prior included)
+  int simulations = 0;        // so far
+  double seconds = 0.0;       // since the fit began
+};
+
 struct TwoLinkFitOptions {
   std::vector<std::string> free;  // keys of the parameter file, "section.key"
   int case_number = 1;
@@ -62,6 +76,8 @@ struct TwoLinkFitOptions {
   double ring_down_duration_s = 1.0;
   double tolerance = 1e-8;  // the simulation's relative tolerance
   int threads = 2;
+  // Called on the calling thread; empty: no reports.
+  std::function<void(const TwoLinkFitProgress&)> on_progress;
 
   bool Check(std::string* error) const;
 };

@@ -1,6 +1,7 @@
 // The two-link simulation fitted to logs simulated with hidden parameter
 // changes (fit/two_link_fit.h): what the data determine comes back within
 // its stated sigma.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -36,6 +37,8 @@ TEST_CASE("A hidden beam stiffness and start delay come back within their stated
   const TwoLinkRecord record = SimulateTwoLink(TwoLinkModel(hidden), hidden.cases[0]);
   TwoLinkFitOptions options;
   options.free = {"beam1.flexural_rigidity_n_m2", "case1.start_delay_s"};
+  std::vector<TwoLinkFitProgress> reports;
+  options.on_progress = [&](const TwoLinkFitProgress& p) { reports.push_back(p); };
   const TwoLinkFitResult fit =
       FitTwoLinkSimulation(nominal, LoggedMeasurement(hidden, record, 7), options);
   INFO(fit.Summary());
@@ -43,6 +46,27 @@ TEST_CASE("A hidden beam stiffness and start delay come back within their stated
   CheckRecovered(fit, truths);
   CHECK(fit.birge_ratio < 1.5);
   CHECK(std::abs(fit.fitted_impact_s - record.FirstImpact()) < 1e-3);
+
+  // Progress: every stage reports, in order, free flight first and every
+  // channel last; then the uncertainty, with the fit's own totals.
+  REQUIRE(reports.size() >= 2);
+  CHECK(reports.front().stage == 0);
+  CHECK(reports.front().stage_name == "free flight");
+  for (std::size_t i = 1; i < reports.size(); ++i) {
+    CHECK(reports[i].stage >= reports[i - 1].stage);
+    CHECK(reports[i].simulations >= reports[i - 1].simulations);
+  }
+  const TwoLinkFitProgress& before_last = reports[reports.size() - 2];
+  CHECK(before_last.stage == before_last.stages - 1);
+  CHECK(before_last.stage_name == "all channels");
+  const TwoLinkFitProgress& last = reports.back();
+  CHECK(last.stage == last.stages);
+  CHECK(last.stage_name == "uncertainty");
+  CHECK(last.chi2 == Approx(fit.chi2).epsilon(1e-9));
+  CHECK(last.simulations <= fit.simulations);
+  CHECK(fit.iterations ==
+        std::count_if(reports.begin(), reports.end(),
+                      [](const TwoLinkFitProgress& p) { return p.stage < p.stages; }));
 }
 
 TEST_CASE("Five hidden changes, 10-70 % off the start, come back within their stated sigma",
