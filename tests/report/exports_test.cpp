@@ -108,8 +108,10 @@ TEST_CASE("exports: a log channel with a frequency in one source only has no dif
   LogResult log;
   log.id = "case1";
   log.ok = true;
-  LogChannelResult measured{"a2", "m/s^2"};
-  LogChannelResult simulated{"a2", "m/s^2"};
+  LogChannelResult measured;
+  measured.channel = "a2";
+  measured.units = "m/s^2";
+  LogChannelResult simulated = measured;
   simulated.dominant_frequency_hz = Estimate{31.03, 0.10};
   log.sources = {{"experiment", {}, "", {measured}}, {"simulation", {}, "", {simulated}}};
   LogComparisonRow row;
