@@ -6,9 +6,7 @@
 // simulation, so `impactlab reduce DIR` shows fitted against measured.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,6 +18,7 @@
 #include "cli/commands.h"
 #include "cli/two_link_parameter_file.h"
 #include "fit/two_link_fit.h"
+#include "io/atomic_file.h"
 #include "io/errors.h"
 #include "io/log_reader.h"
 #include "io/manifest.h"
@@ -32,13 +31,6 @@ namespace impactlab::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-void WriteTextFile(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) throw InputError({file, "", std::nullopt}, "cannot write the file");
-}
 
 // The experiment's channels by the simulator's names (q1, q4, a1..a4), in SI.
 TwoLinkMeasurement Measurement(const Log& log) {
@@ -151,10 +143,10 @@ void AddFitCommand(CLI::App& app, Action& action) {
 
       fs::create_directories(args->out / "logs", ec);
       if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());
-      WriteTextFile(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
+      WriteFileAtomically(args->out / "fitted.toml", TwoLinkParametersText(result.fitted));
       const std::string summary = fmt::format("# Two-link simulation fitted to log {} of {}\n\n{}",
                                               log->id, args->session.string(), result.Summary());
-      WriteTextFile(args->out / "fit.txt", summary);
+      WriteFileAtomically(args->out / "fit.txt", summary);
       // The session: the experiment as recorded beside the fitted simulation.
       Log pair = *log;
       pair.experiment = fs::path("logs") / (log->id + "-experiment.csv");

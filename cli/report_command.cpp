@@ -17,11 +17,6 @@
 namespace impactlab::cli {
 namespace {
 
-// Atomically: a failed write leaves an earlier report as it was.
-void WriteTextAtomically(const std::filesystem::path& path, const std::string& text) {
-  WriteFileAtomically(path, text);
-}
-
 // The report must not replace the results file it is read from.
 void CheckReportOutput(const std::filesystem::path& output, const std::filesystem::path& results) {
   CheckOutputPath(output);
@@ -77,7 +72,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       const SessionResult result = ReadResults(args->results);
       if (!args->figures.empty()) {
         for (const auto& [name, svg] : RenderStaticFigures(result)) {
-          WriteTextAtomically(args->figures / name, svg);
+          WriteFileAtomically(args->figures / name, svg);
         }
       }
       std::vector<Table> tables = BuildTables(result);
@@ -97,7 +92,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       }
       if (csv_folder) {
         for (const Table& t : tables) {
-          WriteTextAtomically(args->output / (t.name + ".csv"), RenderTable(t, format));
+          WriteFileAtomically(args->output / (t.name + ".csv"), RenderTable(t, format));
         }
         return kExitOk;
       }
@@ -107,7 +102,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       if (args->output.empty()) {
         fmt::print("{}", text);
       } else {
-        WriteTextAtomically(args->output, text);
+        WriteFileAtomically(args->output, text);
       }
       return kExitOk;
     };

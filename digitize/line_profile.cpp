@@ -10,12 +10,6 @@ namespace impactlab::digitize {
 
 namespace {
 
-// The median of `values`, which must not be empty (the upper middle one of an
-// even count); rearranges `values`.
-float MedianOfNonEmpty(std::vector<float>& values) {
-  return SelectNth(values.begin(), values.begin() + values.size() / 2, values.end());
-}
-
 // The indices in [first, last] whose offsets may lie within [lo, hi]: a
 // sample more either way than rounding could move them. Loops over a part
 // of the profile take these bounds and keep their own exact test.
@@ -149,7 +143,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
   }
   if (left.empty()) left.push_back(v[0]);
   if (right.empty()) right.push_back(v[n - 1]);
-  const double background_left = MedianOfNonEmpty(left), background_right = MedianOfNonEmpty(right);
+  const double background_left = MedianOf(left), background_right = MedianOf(right);
   result.background_step = background_right - background_left;
   const double u_left = profile.OffsetAt((fifth - 1) / 2);
   const double u_right = profile.OffsetAt(n - 1 - (fifth - 1) / 2);
