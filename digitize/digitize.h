@@ -81,8 +81,13 @@ struct GraticuleMapping {
 
 // The photo reduced for the search: what every later stage shares.
 struct PreparedPhoto {
-  cv::Mat image;                 // the decoded photo (shared, not copied)
+  cv::Mat image;                 // the decoded photo (shared, not copied), or descreened
   std::filesystem::path source;  // named in errors
+  // A figure printed through a halftone screen: the dots' period (0: no
+  // screen) and direction. `image` is then the photo low-passed so that the
+  // dots merge into lines (docs/digitizing.md, "Reproduced figures").
+  double halftone_period_px = 0.0;
+  double halftone_angle_deg = 0.0;
   bool dark_traces = false;      // polarity used: true for dark traces on a light ground
   int shrink = 1;                // a working pixel covers shrink x shrink photo pixels
   cv::Mat1f working;        // grey "ink" in [0, 1]: traces and lines bright whatever the polarity

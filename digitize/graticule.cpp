@@ -671,10 +671,14 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
   }
   std::optional<DivisionProblem> problem =
       CheckDivisions(ink, result, samples, options, half_length_px, search_px);
-  if (!problem && result.residual_px > options.max_residual_px) {
+  const double residual_limit_px =
+      std::max(options.max_residual_px, options.max_residual_widths * result.line_width_px);
+  if (!problem && result.residual_px > residual_limit_px) {
     NotFound(photo, divisions,
-             fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px)",
-                         result.residual_px, options.max_residual_px),
+             fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px: "
+                         "{:.2f} px or {:.2f} of the lines' {:.2f} px width)",
+                         result.residual_px, residual_limit_px, options.max_residual_px,
+                         options.max_residual_widths, result.line_width_px),
              hinted);
   }
   return {std::move(result), std::move(problem)};

@@ -37,6 +37,10 @@ bool GraticuleOptions::Check(std::string* error) const {
   if (!(max_residual_px > 0.0 && max_residual_px <= 50.0)) {
     return Fail(error, fmt::format("max_residual_px must lie in (0, 50], got {}", max_residual_px));
   }
+  if (!(max_residual_widths >= 0.0 && max_residual_widths <= 2.0)) {
+    return Fail(error,
+                fmt::format("max_residual_widths must lie in [0, 2], got {}", max_residual_widths));
+  }
   if (!InRange(max_rotation_deg, 0.0, 40.0)) {
     return Fail(error,
                 fmt::format("max_rotation_deg must lie in [0, 40], got {}", max_rotation_deg));

@@ -49,8 +49,14 @@ struct GraticuleOptions {
   // Length of grid line each measurement averages over (parallel profiles
   // 1.5 px apart), divisions: longer is steadier in noise and slower.
   double line_average_div = 0.04;
-  // The fit is refused above this RMS residual, pixels of the photo.
+  // The fit is refused above this RMS residual, pixels of the photo, or
+  // above `max_residual_widths` of a grid line's measured width where that is
+  // more: a line's centre is measured to a share of its width, and a wide
+  // line (a blurred scan, a printed figure's descreened dots) is measured
+  // less finely than a sharp one, while a lattice in the wrong place misses
+  // by a good part of a division whatever the lines' width.
   double max_residual_px = 1.0;
+  double max_residual_widths = 0.2;
   // Largest rotation of the screen in the photo searched for, degrees.
   double max_rotation_deg = 20.0;
   // Manual hint (the manifest's `graticule_corners`, docs/manifest.md): the
@@ -70,6 +76,8 @@ struct GraticuleOptions {
     visit("samples_per_div", self.samples_per_div, "measurements across each grid line per div");
     visit("line_average_div", self.line_average_div, "grid line length each averages, div");
     visit("max_residual_px", self.max_residual_px, "grid fit refused above this RMS residual, px");
+    visit("max_residual_widths", self.max_residual_widths,
+          "or above this many grid line widths where more, 1");
     visit("max_rotation_deg", self.max_rotation_deg, "largest screen rotation searched, deg");
   }
 

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "digitize/halftone.h"
 #include "digitize/image_header.h"
 #include "digitize/jpeg_grey.h"
 #include "digitize/select.h"
@@ -257,20 +258,28 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
   PreparedPhoto prepared;
   prepared.image = photo.image;
   prepared.source = photo.source;
+  // A printed figure's dots, merged before anything looks for lines: every
+  // later measurement reads `prepared.image`.
+  if (const auto screen = digitize::FindHalftoneScreen(photo.image)) {
+    prepared.image = digitize::Descreen(photo.image, *screen);
+    prepared.halftone_period_px = screen->period_px;
+    prepared.halftone_angle_deg = screen->angle_deg;
+  }
   prepared.shrink = std::max(1, static_cast<int>(std::lround(static_cast<double>(photo.image.cols) /
                                                              options.detect_width_px)));
   const int f = prepared.shrink;
   // An exact whole factor: OpenCV's area resampling then takes its fast path,
   // and working pixel (u, v) covers photo pixels [f u, f u + f) exactly.
   cv::Mat small;
-  const cv::Rect whole(0, 0, photo.image.cols / f * f, photo.image.rows / f * f);
-  if (f > 2 && f <= kMaxShrinkByArea && photo.image.depth() == CV_8U) {
-    small = ShrinkByArea(photo.image(whole), f);
+  const cv::Mat& source = prepared.image;
+  const cv::Rect whole(0, 0, source.cols / f * f, source.rows / f * f);
+  if (f > 2 && f <= kMaxShrinkByArea && source.depth() == CV_8U) {
+    small = ShrinkByArea(source(whole), f);
   } else if (f > 1) {
-    cv::resize(photo.image(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
+    cv::resize(source(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
                cv::INTER_AREA);
   } else {
-    small = photo.image;
+    small = source;
   }
   if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
   if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
