@@ -21,9 +21,17 @@ constexpr int kScreenWindowPx = 512;
 constexpr double kMinScreenPeriodPx = 2.2, kMaxScreenPeriodPx = 16.0;
 // A screen's fundamental stands this far above the median of its ring.
 constexpr double kMinScreenContrast = 100.0;
+// How far to the side of a peak a ridge is looked for, frequency bins (the
+// window's main lobe is 2 bins wide).
+constexpr double kSideBins = 6.0;
+// The lattice's sum frequency stands this far above its ring (measured:
+// 76-34000 on printed figures, at most 17 for tick marks and textures).
+constexpr double kMinCrossContrast = 40.0;
 
-cv::Mat1f GreyWindow(const cv::Mat& image, int side) {
-  const cv::Rect window((image.cols - side) / 2, (image.rows - side) / 2, side, side);
+// The square of `side` pixels about `centre` (moved into the photo), grey.
+cv::Mat1f GreyWindow(const cv::Mat& image, cv::Point centre, int side) {
+  const cv::Rect window(std::clamp(centre.x - side / 2, 0, image.cols - side),
+                        std::clamp(centre.y - side / 2, 0, image.rows - side), side, side);
   cv::Mat crop = image(window), grey;
   if (crop.channels() == 3) {
     cv::cvtColor(crop, grey, cv::COLOR_BGR2GRAY);
@@ -53,6 +61,9 @@ class PowerSpectrum {
   }
 
   int n() const { return n_; }
+
+  // The power of everything but the mean.
+  double Total() const { return cv::sum(power_)[0] - power_(0, 0); }
 
   // The power at frequency (fx, fy), bins (negative allowed), the largest of
   // the 3 x 3 bins about it (a peak between bins spreads over them).
@@ -86,39 +97,61 @@ bool OnJpegBlockPattern(int fx, int fy, int n) {
   return near_multiple(fx) && near_multiple(fy);
 }
 
+// A window's power spectrum against each ring's median power (the level a
+// peak must stand above), over the radii of a screen's periods.
+class RingSpectrum {
+ public:
+  explicit RingSpectrum(cv::Mat1f grey)
+      : spectrum_(std::move(grey)),
+        r_lo_(spectrum_.n() / kMaxScreenPeriodPx),
+        r_hi_(spectrum_.n() / kMinScreenPeriodPx),
+        level_(static_cast<int>(std::ceil(r_hi_)) + 2, 0.0) {
+    const int n = spectrum_.n();
+    // The upper half plane holds every frequency once (the spectrum is symmetric).
+    std::vector<std::vector<float>> ring_power(level_.size());
+    for (int fy = 0; fy <= n / 2; ++fy) {
+      for (int fx = -n / 2; fx < n / 2; ++fx) {
+        const double r = std::hypot(fx, fy);
+        // From half the lowest frequency: a comb's fundamental is looked at there.
+        if (r < 0.5 * r_lo_ - 1 || r > r_hi_ + 1) continue;
+        ring_power[static_cast<int>(std::lround(r))].push_back(
+            static_cast<float>(spectrum_.At(fx, fy)));
+      }
+    }
+    for (std::size_t r = 0; r < level_.size(); ++r) {
+      auto& p = ring_power[r];
+      if (!p.empty()) level_[r] = SelectNth(p.begin(), p.begin() + p.size() / 2, p.end());
+    }
+  }
+
+  double r_lo() const { return r_lo_; }
+  double r_hi() const { return r_hi_; }
+
+  // One bin's power over its ring's level.
+  double BinContrast(int fx, int fy) const { return Over(spectrum_.At(fx, fy), fx, fy); }
+  // The largest of the 3 x 3 bins about (fx, fy) over the ring's level.
+  double Contrast(double fx, double fy) const { return Over(spectrum_.PeakAt(fx, fy), fx, fy); }
+
+ private:
+  double Over(double power, double fx, double fy) const {
+    const auto r = static_cast<std::size_t>(std::lround(std::hypot(fx, fy)));
+    if (r == 0 || r >= level_.size() || !(level_[r] > 0.0)) return 0.0;
+    return power / level_[r];
+  }
+
+  PowerSpectrum spectrum_;
+  double r_lo_, r_hi_;
+  std::vector<double> level_;
+};
+
 }  // namespace
 
 std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image) {
   int side = kScreenWindowPx;
   while (side > 64 && (side > image.cols || side > image.rows)) side /= 2;
   if (side < 128) return std::nullopt;
-  const PowerSpectrum spectrum(GreyWindow(image, side));
-  const int n = spectrum.n();
-  const double r_lo = n / kMaxScreenPeriodPx, r_hi = n / kMinScreenPeriodPx;
-
-  // Each ring's median power: the level a peak must stand above. The upper
-  // half plane holds every frequency once (the spectrum is symmetric).
-  const int rings = static_cast<int>(std::ceil(r_hi)) + 2;
-  std::vector<std::vector<float>> ring_power(rings);
-  for (int fy = 0; fy <= n / 2; ++fy) {
-    for (int fx = -n / 2; fx < n / 2; ++fx) {
-      const double r = std::hypot(fx, fy);
-      if (r < r_lo - 1 || r > r_hi + 1) continue;
-      ring_power[static_cast<int>(std::lround(r))].push_back(
-          static_cast<float>(spectrum.At(fx, fy)));
-    }
-  }
-  std::vector<double> ring_level(rings, 0.0);
-  for (int r = 0; r < rings; ++r) {
-    auto& p = ring_power[r];
-    if (p.empty()) continue;
-    ring_level[r] = SelectNth(p.begin(), p.begin() + p.size() / 2, p.end());
-  }
-  const auto contrast_at = [&](double fx, double fy) {
-    const int r = static_cast<int>(std::lround(std::hypot(fx, fy)));
-    if (r <= 0 || r >= rings || !(ring_level[r] > 0.0)) return 0.0;
-    return spectrum.PeakAt(fx, fy) / ring_level[r];
-  };
+  const RingSpectrum spectrum(GreyWindow(image, {image.cols / 2, image.rows / 2}, side));
+  const int n = side;
 
   // The strongest frequency against its ring, the block pattern left out.
   double best = 0.0;
@@ -126,24 +159,36 @@ std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image) {
   for (int fy = 0; fy <= n / 2; ++fy) {
     for (int fx = -n / 2; fx < n / 2; ++fx) {
       const double r = std::hypot(fx, fy);
-      if (r < r_lo || r > r_hi || OnJpegBlockPattern(fx, fy, n)) continue;
-      const int ring = static_cast<int>(std::lround(r));
-      if (!(ring_level[ring] > 0.0)) continue;
-      const double c = spectrum.At(fx, fy) / ring_level[ring];
+      if (r < spectrum.r_lo() || r > spectrum.r_hi() || OnJpegBlockPattern(fx, fy, n)) continue;
+      const double c = spectrum.BinContrast(fx, fy);
       if (c > best) best = c, best_fx = fx, best_fy = fy;
     }
   }
   if (best < kMinScreenContrast) return std::nullopt;
   // A screen is a lattice: the same frequency turned a right angle is there
-  // too. A comb of a grid's line harmonics is not isolated: along the same
-  // direction a quarter nearer or further it is as strong.
-  if (contrast_at(-best_fy, best_fx) < 0.25 * best) return std::nullopt;
-  const double comb = std::max(contrast_at(0.75 * best_fx, 0.75 * best_fy),
-                               contrast_at(1.25 * best_fx, 1.25 * best_fy));
+  // too. A comb of harmonics (a grid's lines, the centre axes' tick marks)
+  // is not isolated: along the same direction a quarter nearer or further,
+  // or at half the frequency (the comb's fundamental), it is as strong.
+  if (spectrum.Contrast(-best_fy, best_fx) < 0.25 * best) return std::nullopt;
+  const double comb = std::max({spectrum.Contrast(0.5 * best_fx, 0.5 * best_fy),
+                                spectrum.Contrast(0.75 * best_fx, 0.75 * best_fy),
+                                spectrum.Contrast(1.25 * best_fx, 1.25 * best_fy)});
   if (comb > 0.1 * best) return std::nullopt;
-
+  // A screen covers the page, so its peak is a point. A periodic pattern in
+  // a narrow strip (a chopped trace's dashes) is a ridge across the
+  // spectrum: as strong a few bins to the side.
+  const double r = std::hypot(best_fx, best_fy);
+  const double side_x = -best_fy / r * kSideBins, side_y = best_fx / r * kSideBins;
+  const double ridge = std::max(spectrum.Contrast(best_fx + side_x, best_fy + side_y),
+                                spectrum.Contrast(best_fx - side_x, best_fy - side_y));
+  if (ridge > 0.3 * best) return std::nullopt;
+  // Dots are products of the two directions' waves, so their sum frequency
+  // is there too; two separate combs have none.
+  if (spectrum.Contrast(best_fx - best_fy, best_fy + best_fx) < kMinCrossContrast) {
+    return std::nullopt;
+  }
   HalftoneScreen screen;
-  screen.period_px = n / std::hypot(best_fx, best_fy);
+  screen.period_px = n / r;
   // The image's rows run down: a frequency (fx, fy) is a lattice direction
   // of atan2(-fy, fx) on the page; folded into [0, 90).
   double angle = std::atan2(-best_fy, best_fx) * 180.0 / std::numbers::pi;
