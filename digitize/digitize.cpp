@@ -1,9 +1,14 @@
 // DigitizePhoto: the stages in order, timed; and the traces a manifest names.
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "digitize/digitize.h"
+#include "digitize/hand_marks.h"
+#include "io/errors.h"
 
 namespace impactlab {
 
@@ -12,6 +17,55 @@ namespace {
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// The widest trace's width and the brightest's height: what a mark must exceed.
+std::array<double, 2> TraceScale(const std::vector<DigitizedTrace>& traces) {
+  double width = 0.0, height = 0.0;
+  for (const DigitizedTrace& t : traces) {
+    width = std::max(width, t.width_px);
+    height = std::max(height, t.height);
+  }
+  return {width, height};
+}
+
+// The traces read with hand marks kept out: a first reading gives the
+// traces' width and height, the marks are what is much wider, and the
+// traces are read again without them when there are any. When the first
+// reading fails, a mark may be why: the grid lines stand in for the
+// traces' scale, and the first failure stands if the second fails too.
+std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepared,
+                                                     const GraticuleFit& graticule,
+                                                     const std::vector<TraceRequest>& requests,
+                                                     const TraceOptions& options,
+                                                     DigitizeResult& result) {
+  std::vector<DigitizedTrace> first;
+  std::optional<InputError> failure;
+  try {
+    first = ExtractTraces(prepared, graticule, requests, options);
+  } catch (const InputError& e) {
+    failure = e;
+  }
+  const auto [width, height] =
+      failure ? std::array{2.0 * graticule.line_width_px, 1.5 * graticule.line_contrast}
+              : TraceScale(first);
+  const digitize::HandMarkMap marks = digitize::FindHandMarks(prepared, graticule, width, height);
+  if (marks.empty()) {
+    if (failure) throw *failure;
+    return first;
+  }
+  std::vector<DigitizedTrace> traces;
+  try {
+    traces = ExtractTraces(digitize::WithoutMarks(prepared, marks), graticule, requests, options);
+  } catch (const InputError&) {
+    if (failure) throw *failure;
+    throw;
+  }
+  for (DigitizedTrace& trace : traces) {
+    trace.mark_stretches_div = digitize::DropSamplesOnMarks(marks, trace);
+  }
+  result.mark_outlines_px = marks.outlines_px;
+  return traces;
 }
 
 }  // namespace
@@ -31,7 +85,8 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
   result.graticule_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  result.traces = ExtractTraces(prepared, result.graticule, requests, options.traces);
+  result.traces =
+      ExtractTracesBesideMarks(prepared, result.graticule, requests, options.traces, result);
   result.traces_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -88,11 +88,11 @@ struct PreparedPhoto {
   // dots merge into lines (docs/digitizing.md, "Reproduced figures").
   double halftone_period_px = 0.0;
   double halftone_angle_deg = 0.0;
-  bool dark_traces = false;      // polarity used: true for dark traces on a light ground
-  int shrink = 1;                // a working pixel covers shrink x shrink photo pixels
-  cv::Mat1f working;        // grey "ink" in [0, 1]: traces and lines bright whatever the polarity
-  cv::Mat1f ridge;          // thin bright structure of `working` (white top-hat)
-  double prepare_ms = 0.0;  // time spent here, milliseconds
+  bool dark_traces = false;  // polarity used: true for dark traces on a light ground
+  int shrink = 1;            // a working pixel covers shrink x shrink photo pixels
+  cv::Mat1f working;         // grey "ink" in [0, 1]: traces and lines bright whatever the polarity
+  cv::Mat1f ridge;           // thin bright structure of `working` (white top-hat)
+  double prepare_ms = 0.0;   // time spent here, milliseconds
 
   // Photo pixel of a working pixel's centre, and back.
   cv::Point2d PhotoFromWorking(cv::Point2d w) const {
@@ -157,6 +157,9 @@ struct DigitizedTrace {
   double spread_sigma_px2 = 0.0;  // its one-sigma
   int outliers = 0;               // samples dropped as outliers
   bool from_points_hint = false;  // the tracking followed settings.points_px
+  // Stretches of the sweep, [from, to] divisions, whose samples lay on a hand
+  // mark and were dropped (docs/digitizing.md, "Hand marks").
+  std::vector<std::array<double, 2>> mark_stretches_div;
 };
 
 // Throws InputError naming the photo and the trace when a trace is not found
@@ -201,6 +204,9 @@ struct DigitizeResult {
   GraticuleFit graticule;
   std::vector<DigitizedTrace> traces;                  // in the order requested
   std::vector<std::optional<ContactPulseFit>> pulses;  // one per trace; set for contact traces
+  // What was taken for hand marks (pencil, ink, labels) on the screen and
+  // kept from the traces: each mark's outline, photo pixels.
+  std::vector<std::vector<cv::Point>> mark_outlines_px;
   double prepare_ms = 0.0, graticule_ms = 0.0, traces_ms = 0.0, pulse_ms = 0.0;
 
   double ProcessingMs() const { return prepare_ms + graticule_ms + traces_ms + pulse_ms; }

@@ -291,6 +291,17 @@ bool OverlayOptions::Check(std::string* error) const {
   return true;
 }
 
+// What was taken for hand marks, outlined in magenta (a colour no trace is
+// drawn in), so that a person sees what the traces were kept from.
+void DrawHandMarkOutlines(Canvas& canvas, const std::vector<std::vector<cv::Point>>& outlines) {
+  const cv::Scalar magenta(255, 0, 255);
+  for (const std::vector<cv::Point>& outline : outlines) {
+    std::vector<cv::Point> points;
+    for (const cv::Point& p : outline) points.push_back(Fixed(canvas.FromPhoto(p)));
+    cv::polylines(canvas.image, points, true, magenta, 1, cv::LINE_AA, kShift);
+  }
+}
+
 cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result,
                     const OverlayOptions& options) {
   if (std::string error; !options.Check(&error)) {
@@ -319,6 +330,7 @@ cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result,
     DrawPulse(canvas, g.mapping, result.traces[t], *result.pulses[t], text_scale, inset_marks,
               edges);
   }
+  DrawHandMarkOutlines(canvas, result.mark_outlines_px);
   DrawLegend(canvas, result, text_scale);
   DrawInsets(canvas, photo.image, edges, inset_marks);
   return canvas.image;

@@ -1,0 +1,173 @@
+#include "digitize/hand_marks.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace impactlab::digitize {
+
+namespace {
+
+// A mark is at least this much wider than the beam's line (its full width
+// at half height, glow included).
+constexpr double kMarkWidthOverTrace = 1.5;
+// Its ink stands at least this share of a trace's height above its
+// surroundings (a yellow pencil on a grey print is dimmer than the trace).
+constexpr double kMarkHeightOverTrace = 0.35;
+// And it is at least this long: a written character, an arrow, a stroke.
+// Smaller bright specks are dust, which the samples' outlier tests take.
+constexpr double kMarkMinExtentDiv = 0.2;
+// The opening's square is at least this many mask pixels wide.
+constexpr int kMinSquarePx = 5;
+
+// The photo's grey ink shrunk by `f` (area mean), bright where lines are.
+cv::Mat1f ShrunkInk(const PreparedPhoto& photo, int f) {
+  cv::Mat small;
+  if (f > 1) {
+    cv::resize(photo.image, small, cv::Size(photo.image.cols / f, photo.image.rows / f), 0, 0,
+               cv::INTER_AREA);
+  } else {
+    small = photo.image;
+  }
+  if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
+  if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
+  cv::Mat1f ink;
+  small.convertTo(ink, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
+  if (photo.dark_traces) ink = 1.0f - ink;
+  return ink;
+}
+
+// The graticule's area and 0.3 division around it, mask pixels.
+cv::Rect ScreenArea(const GraticuleFit& graticule, int f, cv::Size size) {
+  const double nx = graticule.divisions[0], half = 0.5 * graticule.divisions[1];
+  constexpr double kMarginDiv = 0.3;
+  std::vector<cv::Point2f> corners;
+  for (const double x : {-kMarginDiv, nx + kMarginDiv}) {
+    for (const double y : {-half - kMarginDiv, half + kMarginDiv}) {
+      const cv::Point2d p = graticule.mapping.ImageFromScreen({x, y}) * (1.0 / f);
+      corners.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y));
+    }
+  }
+  return cv::boundingRect(corners) & cv::Rect(0, 0, size.width, size.height);
+}
+
+}  // namespace
+
+bool HandMarkMap::Covers(cv::Point2d photo_px) const {
+  if (mask.empty()) return false;
+  const int x = static_cast<int>(std::floor(photo_px.x / shrink));
+  const int y = static_cast<int>(std::floor(photo_px.y / shrink));
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask(y, x) != 0;
+}
+
+HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                          double trace_width_px, double trace_height) {
+  HandMarkMap marks;
+  const double square_px =
+      kMarkWidthOverTrace * std::max({trace_width_px, graticule.line_width_px, 1.0}) + 1.0;
+  // Shrunk so that the square is a few pixels wide: fine enough for a thin
+  // pencil, a ninth of the pixels or fewer on a sharp photo.
+  const int f = std::max(1, static_cast<int>(std::floor(square_px / kMinSquarePx)));
+  const int square = std::max(3, static_cast<int>(std::lround(square_px / f)) | 1);
+  marks.shrink = f;
+  const cv::Mat1f ink = ShrunkInk(photo, f);
+  const cv::Rect area = ScreenArea(graticule, f, ink.size());
+  if (area.width < 4 * square || area.height < 4 * square) return marks;
+
+  // What survives the square (ink at least that wide) over what survives a
+  // square four times wider (the ground: glare, the face's light).
+  const cv::Mat1f region = ink(area);
+  cv::Mat1f wide, ground;
+  cv::morphologyEx(region, wide, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(square, square)));
+  const int ground_square = 4 * square + 1;
+  cv::morphologyEx(region, ground, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, {ground_square, ground_square}));
+  const cv::Mat1f thick = wide - ground;
+  cv::Mat1b candidate = thick > kMarkHeightOverTrace * std::max(trace_height, 0.02);
+
+  // Whole strokes, long enough to be written.
+  cv::Mat1i labels, stats;
+  cv::Mat centroids;
+  const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
+  const double min_extent = kMarkMinExtentDiv * graticule.px_per_div / f;
+  std::vector<bool> keep(count, false);
+  bool any = false;
+  for (int i = 1; i < count; ++i) {
+    const double extent = std::hypot(stats(i, cv::CC_STAT_WIDTH), stats(i, cv::CC_STAT_HEIGHT));
+    keep[i] = extent >= min_extent;
+    any = any || keep[i];
+  }
+  if (!any) return marks;
+  cv::Mat1b strokes(region.size(), uchar{0});
+  for (int r = 0; r < labels.rows; ++r) {
+    for (int c = 0; c < labels.cols; ++c) {
+      if (keep[labels(r, c)]) strokes(r, c) = 255;
+    }
+  }
+  // The stroke's glow, and the reach of a trace's profile beside it.
+  const int grow = static_cast<int>(std::ceil((1.5 * trace_width_px + 2.0) / f));
+  cv::dilate(strokes, strokes,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow + 1, 2 * grow + 1}));
+  marks.mask = cv::Mat1b(ink.size(), uchar{0});
+  strokes.copyTo(marks.mask(area));
+
+  std::vector<std::vector<cv::Point>> outlines;
+  cv::findContours(marks.mask, outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  for (std::vector<cv::Point>& outline : outlines) {
+    for (cv::Point& p : outline) p = p * f + cv::Point(f / 2, f / 2);
+  }
+  marks.outlines_px = std::move(outlines);
+  return marks;
+}
+
+PreparedPhoto WithoutMarks(const PreparedPhoto& photo, const HandMarkMap& marks) {
+  PreparedPhoto out = photo;
+  out.ridge = photo.ridge.clone();
+  for (int r = 0; r < out.ridge.rows; ++r) {
+    float* p = out.ridge.ptr<float>(r);
+    for (int c = 0; c < out.ridge.cols; ++c) {
+      if (marks.Covers(photo.PhotoFromWorking({static_cast<double>(c), static_cast<double>(r)}))) {
+        p[c] = 0.0f;
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::array<double, 2>> DropSamplesOnMarks(const HandMarkMap& marks,
+                                                      DigitizedTrace& trace) {
+  std::vector<std::array<double, 2>> stretches;
+  const std::size_t n = trace.trace.time_s.size();
+  std::size_t kept = 0;
+  bool in_stretch = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (marks.Covers(trace.centre_px[i])) {
+      const double x = trace.screen_div[i].x;
+      if (!in_stretch) stretches.push_back({x, x});
+      stretches.back()[1] = x;
+      in_stretch = true;
+      continue;
+    }
+    in_stretch = false;
+    trace.trace.time_s[kept] = trace.trace.time_s[i];
+    trace.trace.volts[kept] = trace.trace.volts[i];
+    if (!trace.trace.sigma_volts.empty())
+      trace.trace.sigma_volts[kept] = trace.trace.sigma_volts[i];
+    trace.confidence[kept] = trace.confidence[i];
+    trace.centre_px[kept] = trace.centre_px[i];
+    trace.screen_div[kept] = trace.screen_div[i];
+    ++kept;
+  }
+  trace.trace.time_s.resize(kept);
+  trace.trace.volts.resize(kept);
+  if (!trace.trace.sigma_volts.empty()) trace.trace.sigma_volts.resize(kept);
+  trace.confidence.resize(kept);
+  trace.centre_px.resize(kept);
+  trace.screen_div.resize(kept);
+  return stretches;
+}
+
+}  // namespace impactlab::digitize
