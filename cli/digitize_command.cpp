@@ -148,6 +148,10 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
               t.spread_px2 > 0.0
                   ? fmt::format(", spread {:.2f} px^2 (its curvature pull undone)", t.spread_px2)
                   : "");
+          for (const auto& [from, to] : t.mark_stretches_div) {
+            fmt::print("  {}: samples on a hand mark dropped over x = {:.2f} .. {:.2f} div\n",
+                       t.name, from, to);
+          }
           if (result.pulses[i]) {
             const ContactPulseFit& p = *result.pulses[i];
             fmt::print("  {}: contact pulse {:.3f} +- {:.3f} us (rise {:.3f} us, fall {:.3f} us)\n",
@@ -156,6 +160,11 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
           } else if (t.settings.impact) {
             fmt::print("  {}: no complete contact pulse seen\n", t.name);
           }
+        }
+        if (!result.mark_outlines_px.empty()) {
+          fmt::print(
+              "  {} hand mark(s) kept from the traces (outlined in magenta on the overlay)\n",
+              result.mark_outlines_px.size());
         }
         if (const std::string hints = HintsUsed(result); !hints.empty()) {
           fmt::print("  manual hints used: {}\n", hints);

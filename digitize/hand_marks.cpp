@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
 
 #include <opencv2/imgproc.hpp>
 
@@ -12,10 +14,10 @@ namespace {
 
 // A mark is at least this much wider than the beam's line (its full width
 // at half height, glow included).
-constexpr double kMarkWidthOverTrace = 1.5;
+constexpr double kMarkWidthOverTrace = 1.25;
 // Its ink stands at least this share of a trace's height above its
 // surroundings (a yellow pencil on a grey print is dimmer than the trace).
-constexpr double kMarkHeightOverTrace = 0.35;
+constexpr double kMarkHeightOverTrace = 0.5;
 // And it is at least this long: a written character, an arrow, a stroke.
 // Smaller bright specks are dust, which the samples' outlier tests take.
 constexpr double kMarkMinExtentDiv = 0.2;
@@ -53,6 +55,36 @@ cv::Rect ScreenArea(const GraticuleFit& graticule, int f, cv::Size size) {
   return cv::boundingRect(corners) & cv::Rect(0, 0, size.width, size.height);
 }
 
+// Clears `mask` (mask pixels, its origin at `origin`) where the graticule
+// draws: each division line a line's width and a pixel either side, the
+// centre axes as far as their tick marks reach (0.12 division).
+void ClearGraticule(const GraticuleFit& graticule, int f, cv::Point origin, cv::Mat1b& mask) {
+  const int nx = graticule.divisions[0], ny = graticule.divisions[1];
+  const double half = 0.5 * ny;
+  const double line_px = (graticule.line_width_px + 2.0) / f;
+  const double axis_px = 0.24 * graticule.px_per_div / f;
+  const auto draw = [&](cv::Point2d from, cv::Point2d to, double width) {
+    constexpr int kSteps = 16;
+    std::vector<cv::Point> points;
+    for (int i = 0; i <= kSteps; ++i) {
+      const cv::Point2d p =
+          graticule.mapping.ImageFromScreen(from + (to - from) * (1.0 * i / kSteps));
+      points.emplace_back(static_cast<int>(std::lround(p.x / f)) - origin.x,
+                          static_cast<int>(std::lround(p.y / f)) - origin.y);
+    }
+    cv::polylines(mask, points, false, cv::Scalar(0),
+                  std::max(1, static_cast<int>(std::ceil(width))));
+  };
+  for (int i = 0; i <= nx; ++i) {
+    draw({static_cast<double>(i), -half}, {static_cast<double>(i), half},
+         2 * i == nx ? axis_px : line_px);
+  }
+  for (int j = 0; j <= ny; ++j) {
+    const double y = j - half;
+    draw({0.0, y}, {static_cast<double>(nx), y}, 2 * j == ny ? axis_px : line_px);
+  }
+}
+
 }  // namespace
 
 bool HandMarkMap::Covers(cv::Point2d photo_px) const {
@@ -70,7 +102,7 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   // Shrunk so that the square is a few pixels wide: fine enough for a thin
   // pencil, a ninth of the pixels or fewer on a sharp photo.
   const int f = std::max(1, static_cast<int>(std::floor(square_px / kMinSquarePx)));
-  const int square = std::max(3, static_cast<int>(std::lround(square_px / f)) | 1);
+  const int square = std::max(3, 2 * static_cast<int>(std::floor(0.5 * square_px / f)) + 1);
   marks.shrink = f;
   const cv::Mat1f ink = ShrunkInk(photo, f);
   const cv::Rect area = ScreenArea(graticule, f, ink.size());
@@ -87,17 +119,28 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
                    cv::getStructuringElement(cv::MORPH_RECT, {ground_square, ground_square}));
   const cv::Mat1f thick = wide - ground;
   cv::Mat1b candidate = thick > kMarkHeightOverTrace * std::max(trace_height, 0.02);
+  // A trace along a grid line, or along a centre axis and its tick marks,
+  // is as wide as a stroke together with them: what lies mostly where the
+  // graticule draws is not a mark. A mark crossing its lines stays whole.
+  cv::Mat1b off_grid(candidate.size(), uchar{255});
+  ClearGraticule(graticule, f, area.tl(), off_grid);
 
   // Whole strokes, long enough to be written.
   cv::Mat1i labels, stats;
   cv::Mat centroids;
   const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
   const double min_extent = kMarkMinExtentDiv * graticule.px_per_div / f;
+  std::vector<int> off_grid_pixels(count, 0);
+  for (int r = 0; r < labels.rows; ++r) {
+    for (int c = 0; c < labels.cols; ++c) {
+      if (off_grid(r, c) != 0) ++off_grid_pixels[labels(r, c)];
+    }
+  }
   std::vector<bool> keep(count, false);
   bool any = false;
   for (int i = 1; i < count; ++i) {
     const double extent = std::hypot(stats(i, cv::CC_STAT_WIDTH), stats(i, cv::CC_STAT_HEIGHT));
-    keep[i] = extent >= min_extent;
+    keep[i] = extent >= min_extent && 2 * off_grid_pixels[i] >= stats(i, cv::CC_STAT_AREA);
     any = any || keep[i];
   }
   if (!any) return marks;

@@ -1,0 +1,134 @@
+// Photos as archives keep them: prints marked by hand (a pencil stroke across
+// a trace, a ring, a written label) and figures reproduced in print through a
+// halftone screen. The traces must be read against the renderer's truth, the
+// marks kept from them and said where, and a plain photo found to have
+// neither.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "digitize/digitize.h"
+#include "digitize/halftone.h"
+#include "photo_scenes.h"
+#include "render/oscillograph.h"
+
+namespace impactlab {
+namespace {
+
+RenderedPhoto RunPhoto(const testing::RunScene& run, unsigned seed) {
+  RenderOptions options;
+  options.style = PhotoStyle::kClean;
+  options.width_px = 2000;
+  options.seed = seed;
+  options.grey = true;
+  return RenderOscillograph(run.scene, options);
+}
+
+// Samples further than 3 px from the trace's true centre line.
+std::size_t FarOffTruth(const DigitizedTrace& trace, const RenderedPhoto& photo) {
+  const auto truth = std::find_if(photo.traces.begin(), photo.traces.end(),
+                                  [&](const TraceTruth& t) { return t.name == trace.name; });
+  REQUIRE(truth != photo.traces.end());
+  std::size_t hint = 0, far = 0;
+  for (const cv::Point2d& p : trace.centre_px) {
+    if (testing::DistanceToPolyline(truth->centre_px, p, hint) > 3.0) ++far;
+  }
+  return far;
+}
+
+cv::Point Pixel(const RenderedPhoto& photo, cv::Point2d screen_div) {
+  const cv::Point2d p = photo.ImageFromScreen(screen_div);
+  return {static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y))};
+}
+
+}  // namespace
+
+TEST_CASE("digitize marks: pencil strokes across a trace and written labels are kept from it") {
+  const testing::RunScene run = testing::StandardRunScene();
+  const RenderedPhoto clean = RunPhoto(run, 3);
+  const DigitizeResult plain = DigitizePhoto({clean.image, "plain.png"}, {10, 8}, run.requests, {});
+  // On a clean photo nothing is taken for a mark.
+  CHECK(plain.mark_outlines_px.empty());
+
+  // A grease-pencil stroke four times a trace's width across the right
+  // trace's first rebounds, a ring, and a label in the left trace's band,
+  // as bright as the traces.
+  RenderedPhoto marked = clean;
+  marked.image = clean.image.clone();
+  const cv::Scalar pencil(235);
+  cv::line(marked.image, Pixel(clean, {1.2, 3.6}), Pixel(clean, {2.4, 0.4}), pencil, 14,
+           cv::LINE_AA);
+  cv::ellipse(marked.image, Pixel(clean, {7.0, 1.8}), {90, 60}, 0.0, 0.0, 330.0, pencil, 10,
+              cv::LINE_AA);
+  cv::putText(marked.image, "X0=.405", Pixel(clean, {5.5, -0.6}), cv::FONT_HERSHEY_SIMPLEX, 2.5,
+              pencil, 9, cv::LINE_AA);
+  const DigitizeResult result =
+      DigitizePhoto({marked.image, "marked.png"}, {10, 8}, run.requests, {});
+  CHECK(result.mark_outlines_px.size() >= 3);
+  for (std::size_t k = 0; k < 2; ++k) {  // right, left
+    const DigitizedTrace& trace = result.traces[k];
+    INFO(trace.name << ": " << trace.centre_px.size() << " samples, " << FarOffTruth(trace, marked)
+                    << " more than 3 px off the truth");
+    CHECK(trace.centre_px.size() > 0.8 * plain.traces[k].centre_px.size());
+    CHECK(FarOffTruth(trace, marked) <= trace.centre_px.size() / 100);
+  }
+  // The stroke crosses the right trace between 1.2 and 2.4 div: its samples
+  // there were dropped, and the results say so.
+  const DigitizedTrace& right = result.traces[0];
+  REQUIRE(!right.mark_stretches_div.empty());
+  const bool crossing_said =
+      std::any_of(right.mark_stretches_div.begin(), right.mark_stretches_div.end(),
+                  [](const std::array<double, 2>& s) { return s[1] > 1.1 && s[0] < 2.5; });
+  CHECK(crossing_said);
+}
+
+TEST_CASE("digitize prints: a figure printed through a dot screen is read like the photo") {
+  const testing::RunScene run = testing::StandardRunScene();
+  const RenderedPhoto photo = RunPhoto(run, 5);
+  // The photo printed: ink coverage from its brightness (bright traces
+  // print dark), as round dots on a screen of 4.6 px turned 30 degrees whose
+  // area follows the coverage, on light paper.
+  constexpr double kPeriodPx = 4.6, kAngleDeg = 30.0;
+  const double c = std::cos(kAngleDeg * std::numbers::pi / 180.0);
+  const double s = std::sin(kAngleDeg * std::numbers::pi / 180.0);
+  cv::Mat1f coverage;
+  photo.image.convertTo(coverage, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(coverage, coverage, cv::Size(), 0.5 * kPeriodPx);
+  cv::Mat1b printed(photo.image.size());
+  for (int y = 0; y < printed.rows; ++y) {
+    for (int x = 0; x < printed.cols; ++x) {
+      const double a = (c * x + s * y) / kPeriodPx, b = (-s * x + c * y) / kPeriodPx;
+      const double spot = 0.5 * (std::cos(2 * std::numbers::pi * a) +
+                                 std::cos(2 * std::numbers::pi * b));        // -1 .. 1
+      const double ink = std::clamp(1.6 * coverage(y, x) + 0.08, 0.0, 1.0);  // a light tint
+      printed(y, x) = spot > 1.0 - 2.0 * ink ? 40 : 225;
+    }
+  }
+  cv::GaussianBlur(printed, printed, cv::Size(), 0.6);  // the scanner
+
+  const auto screen = digitize::FindHalftoneScreen(printed);
+  REQUIRE(screen.has_value());
+  CHECK(screen->period_px == Approx(kPeriodPx).epsilon(0.03));
+  // Rows run down the image: the lattice drawn along (cos, sin) is turned
+  // clockwise on the page, 60 degrees counter-clockwise modulo 90.
+  CHECK(std::abs(screen->angle_deg - (90.0 - kAngleDeg)) < 2.0);
+  // A photo has no screen.
+  CHECK_FALSE(digitize::FindHalftoneScreen(photo.image).has_value());
+
+  const DigitizeResult result = DigitizePhoto({printed, "printed.png"}, {10, 8}, run.requests, {});
+  for (std::size_t k = 0; k < 2; ++k) {
+    const DigitizedTrace& trace = result.traces[k];
+    const testing::TraceScore score =
+        testing::ScoreTrace(trace, photo, run.scene.traces[k], {10, 8});
+    INFO(trace.name << ": " << trace.centre_px.size() << " samples, coverage " << score.coverage
+                    << ", rms " << score.rms_px << " px");
+    CHECK(score.coverage > 0.6);
+    CHECK(FarOffTruth(trace, photo) <= trace.centre_px.size() / 100);
+  }
+}
+
+}  // namespace impactlab
