@@ -151,24 +151,8 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
                                 render::PixelsPerDivisionAt(photo.mapping, layout.centre_div);
   const render::PhosphorCanvas phosphor =
       render::RenderPhosphor(layout, beams, look.screen, canvas_px_per_div, canvas_blur_px);
-  const render::Dirt dirt =
-      render::DrawDirt(look, size, photo.traces,
-                       render::PixelsPerDivisionAt(photo.mapping, layout.centre_div), random);
-  if (look.print.halftone) {
-    // The photograph as the report's printer had it (grey, 8 bits, without
-    // what was later laid on the printed page), then screened and scanned.
-    render::StyleLook original = look;
-    original.grey = true;
-    original.sixteen_bit = false;
-    render::Dirt on_photo = dirt;
-    on_photo.tape = cv::Mat();
-    on_photo.mark = cv::Mat();
-    const cv::Mat developed =
-        render::Photograph(phosphor, layout, original, photo.mapping, on_photo, random);
-    photo.image = render::ReproduceInPrint(look, developed, dirt, random);
-  } else {
-    photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, random);
-  }
+  const render::Dirt dirt = render::DrawDirt(look, size, random);
+  photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, random);
   render::FinishPhoto(look, photo.image);
   photo.jpeg_quality = look.jpeg_quality;
   if (options.style == PhotoStyle::kRandomised)

@@ -207,12 +207,9 @@ StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout
   return look;
 }
 
-Dirt DrawDirt(const StyleLook& look, cv::Size size, const std::vector<TraceTruth>& traces,
-              double px_per_div, std::mt19937_64& random) {
+Dirt DrawDirt(const StyleLook& look, cv::Size size, std::mt19937_64& random) {
   Dirt dirt;
-  if (look.dust_specks + look.scratches + look.hairs + look.tape == 0 && look.hand_marks.empty()) {
-    return dirt;
-  }
+  if (look.dust_specks + look.scratches + look.hairs + look.hand_marks == 0) return dirt;
   constexpr int kShift = 4;  // cv drawing's sub-pixel bits
   dirt.dark = cv::Mat::zeros(size, CV_8UC1);
   dirt.light = cv::Mat::zeros(size, CV_8UC1);
@@ -240,8 +237,7 @@ Dirt DrawDirt(const StyleLook& look, cv::Size size, const std::vector<TraceTruth
   }
   cv::GaussianBlur(dirt.dark, dirt.dark, cv::Size(), 0.5);
   cv::GaussianBlur(dirt.light, dirt.light, cv::Size(), 0.5);
-  if (look.tape > 0) dirt.tape = DrawTape(look.tape, size, random);
-  if (!look.hand_marks.empty()) dirt.mark = DrawHandMarks(look, size, traces, px_per_div, random);
+  if (look.hand_marks > 0) dirt.mark = DrawHandMarks(look.hand_marks, size, random);
   return dirt;
 }
 

@@ -19,34 +19,6 @@
 
 namespace impactlab::render {
 
-// A hand mark's kind (randomised style): written or drawn anywhere, or a
-// stroke that follows a trace or crosses one.
-enum class HandMark {
-  kWord,         // a word or a number
-  kArrow,        // an arrow pointing at something
-  kRing,         // a ring round a feature
-  kUnderline,    // an underline or a tick, anywhere
-  kAlongTrace,   // a stroke following a trace's course, offset from it
-  kAcrossTrace,  // a stroke across a trace
-};
-
-// The photo as a figure reproduced in a printed report and scanned
-// (randomised style): the finished photo's tones become ink coverage, screened
-// as amplitude-modulated round dots, with dark ink on toned paper.
-struct PrintLook {
-  bool halftone = false;                     // false: the photo itself
-  cv::Vec3f paper_bgr{0.95f, 0.95f, 0.95f};  // the report's paper
-  cv::Vec3f ink_bgr{0.1f, 0.1f, 0.1f};       // full ink on it
-  double period_px = 4.0;                    // the screen's dot period at the output size
-  double angle_deg = 45.0;                   // the screen's angle
-  double ink_floor = 0.1;                    // tone (0..1, 1: a trace's core) below which no ink
-  double ink_gain = 1.3;                     // coverage = gain (tone - floor) / (1 - floor)
-  double ink_spread = 0.0;    // dot gain: every dot's radius grows, fraction of period
-  double paper_mottle = 0.0;  // the paper's tone varies smoothly by this, sigma
-  double scan_blur_px = 0.7;  // the scanner's blur, Gaussian sigma
-  double scan_noise = 0.005;  // the scanner's noise, sigma at full scale
-};
-
 enum class Development {
   kColour,      // colour sensor or film
   kMonochrome,  // black-and-white print, neutral or sepia-toned
@@ -83,17 +55,12 @@ struct StyleLook {
   int dust_specks = 0;
   int scratches = 0;
   int hairs = 0;
-  int scratch_width_px = 1;          // line width of a scratch
-  int hair_width_px = 1;             // line width of a hair
-  double hair_length_lo = 0.05;      // a hair's length, fraction of the photo's width:
-  double hair_length_hi = 0.15;      //   drawn uniformly between these
-  std::vector<HandMark> hand_marks;  // grease-pencil or ink marks, one entry each
-  double mark_width_px = 4.0;        // their strokes' width at 2000 px, scaled with the photo
+  int scratch_width_px = 1;                  // line width of a scratch
+  int hair_width_px = 1;                     // line width of a hair
+  double hair_length_lo = 0.05;              // a hair's length, fraction of the photo's width:
+  double hair_length_hi = 0.15;              //   drawn uniformly between these
+  int hand_marks = 0;                        // grease-pencil or ink marks: words, arrows, rings
   cv::Vec3f mark_bgr{0.15f, 0.15f, 0.85f};   // their colour, display values
-  int tape = 0;                              // pieces of translucent tape over a corner or edge
-  float tape_opacity = 0.4f;                 // how much of what is under it the tape hides
-  cv::Vec3f tape_bgr{0.86f, 0.95f, 0.97f};   // its colour, display values
-  PrintLook print;                           // randomised: reproduced in print and scanned
   bool print_border = false;                 // a print with a white border on a scanner bed
   cv::Rect2d print_image_div;                // the print's image area, screen divisions
   double print_border_div = 0.0;             // the white border's width
@@ -122,48 +89,19 @@ inline cv::Size PhotoSize(const StyleLook& look) {
 
 // Dust, scratches and hairs on the print or negative, as coverage masks
 // (CV_8UC1, 255 = opaque); empty when the style has none. Dark dirt lies on
-// top; light dirt is where the emulsion is missing; tape (StyleLook::tape_bgr,
-// tape_opacity) and hand marks (grease pencil, ink) lie on top of everything
-// in StyleLook::mark_bgr.
+// top; light dirt is where the emulsion is missing; hand marks (grease pencil,
+// ink) lie on top of everything in StyleLook::mark_bgr.
 struct Dirt {
   cv::Mat dark;
   cv::Mat light;
-  cv::Mat tape;
   cv::Mat mark;
 };
-// `traces` (with centre_px filled in) and `px_per_div`, the photo's scale,
-// place the marks that follow or cross a trace.
-Dirt DrawDirt(const StyleLook& look, cv::Size size, const std::vector<TraceTruth>& traces,
-              double px_per_div, std::mt19937_64& random);
+Dirt DrawDirt(const StyleLook& look, cv::Size size, std::mt19937_64& random);
 
-// How far from its trace a stroke along it runs at most, divisions.
-constexpr double kMarkAlongTraceMaxOffsetDiv = 0.3;
-
-// The hand marks (randomised_style.cpp): words and numbers written on the
-// print or the scope's glass, arrows, rings round a feature, underlines,
-// strokes following a trace (offset 0..kMarkAlongTraceMaxOffsetDiv from it)
-// or crossing one, in strokes look.mark_width_px wide; a coverage mask like
-// Dirt's. A mark that needs a trace and finds none is drawn as an underline.
-cv::Mat DrawHandMarks(const StyleLook& look, cv::Size size, const std::vector<TraceTruth>& traces,
-                      double px_per_div, std::mt19937_64& random);
-
-// `count` pieces of translucent tape over a corner or an edge, with ragged
-// torn ends (randomised_style.cpp); a coverage mask like Dirt's.
-cv::Mat DrawTape(int count, cv::Size size, std::mt19937_64& random);
-
-// The print reproduction (print.cpp): `photo` (8-bit grey, the photograph as
-// developed, without tape and marks) screened and printed with look.print,
-// then `dirt`'s tape and marks laid on the printed page, then scanned: blur,
-// noise, and the file's channels and depth (look.grey, look.sixteen_bit; 8
-// bits when look.jpeg_quality > 0). Changes no geometry.
-cv::Mat ReproduceInPrint(const StyleLook& look, const cv::Mat& photo, const Dirt& dirt,
-                         std::mt19937_64& random);
-
-// The ink coverage (0..1) a continuous tone (CV_32FC1, 0..1, in place) prints
-// as on look's screen: each pixel inked where it lies within the round dot
-// whose area, in its cell of the screen, is the tone averaged over about a
-// cell, the dot's radius grown by the ink's spread. Anti-aliased over a pixel.
-void ScreenHalftone(const PrintLook& print, cv::Mat& tone);
+// `count` hand marks (randomised_style.cpp): words and numbers written on the
+// print or the scope's glass, arrows, rings round a feature, underlines, in
+// strokes a few pixels wide; a coverage mask like Dirt's.
+cv::Mat DrawHandMarks(int count, cv::Size size, std::mt19937_64& random);
 
 // The camera's processing and the file: unsharp mask, then the JPEG round trip
 // when the style has one, then 16 bits when asked for (a JPEG photo's 8-bit

@@ -14,7 +14,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/oscillograph.h"
-#include "render/styles.h"
 
 namespace impactlab {
 namespace {
@@ -111,8 +110,7 @@ struct Disagreement {
 
 constexpr double kMaxCurvaturePerDiv = 0.25;
 
-Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, double px_per_div,
-                          double along_px = 0.0) {
+Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, double px_per_div) {
   std::vector<double> errors;
   const double half_width_px = std::max(6.0, 0.08 * px_per_div);
   for (std::size_t i = 1; i + 1 < truth.centre_px.size(); i += 7) {
@@ -133,8 +131,7 @@ Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, doubl
     }
     const cv::Point2d tangent = Unit(truth.centre_px[i + 1] - truth.centre_px[i - 1]);
     const cv::Point2d normal(-tangent.y, tangent.x);
-    errors.push_back(
-        MeasureLineOffsetPx(image, truth.centre_px[i], normal, half_width_px, along_px));
+    errors.push_back(MeasureLineOffsetPx(image, truth.centre_px[i], normal, half_width_px));
   }
   Disagreement d;
   d.count = errors.size();
@@ -474,26 +471,6 @@ TEST_CASE("oscillograph: the randomised style draws every factor within its rang
     CHECK(Factor(photo, "bit_depth").value == (photo.image.depth() == CV_16U ? 16 : 8));
     // A JPEG is 8-bit: 16 bits are drawn only for lossless photos.
     if (quality > 0) CHECK(photo.image.depth() == CV_8U);
-    CHECK(Factor(photo, "hand_marks").value <= 6.0);
-    CHECK(Factor(photo, "marks_along_traces").value + Factor(photo, "marks_across_traces").value <=
-          Factor(photo, "hand_marks").value);
-    if (Factor(photo, "hand_marks").value > 0) {
-      CHECK(Factor(photo, "mark_width_px").value >= 2.0 * 640 / 2000 - 1e-9);
-      CHECK(Factor(photo, "mark_width_px").value <= 14.0 * 640 / 2000 + 1e-9);
-    }
-    CHECK(Factor(photo, "tape").value <= 2.0);
-    if (Factor(photo, "reproduction").category == "halftone") {
-      CHECK(Factor(photo, "halftone_period_px").value >= 2.5);
-      CHECK(Factor(photo, "halftone_period_px").value <= 8.0);
-      CHECK(Factor(photo, "halftone_angle_deg").value >= 0.0);
-      CHECK(Factor(photo, "halftone_angle_deg").value <= 90.0);
-      CHECK(Factor(photo, "ink_spread").value <= 0.15);
-      CHECK(Factor(photo, "polarity").category == "negative");
-    } else {
-      CHECK(Factor(photo, "reproduction").category == "photo");
-      CHECK(Factor(photo, "halftone_period_px").value == 0.0);
-    }
-    ++seen[Factor(photo, "reproduction").category];
     ++seen[Factor(photo, "polarity").category];
     ++seen[Factor(photo, "channels").category];
     ++seen[Factor(photo, "surround").category];
@@ -503,7 +480,7 @@ TEST_CASE("oscillograph: the randomised style draws every factor within its rang
   }
   // Sixteen seeds show every kind at least once.
   for (const char* kind : {"positive", "negative", "grey", "colour", "hood", "panel", "print",
-                           "cropped", "8-bit", "16-bit", "photo", "halftone"}) {
+                           "cropped", "8-bit", "16-bit"}) {
     INFO(kind);
     CHECK(seen[kind] > 0);
   }
@@ -532,21 +509,13 @@ TEST_CASE("oscillograph: the randomised style's traces lie where the truth says"
     const bool negative = Factor(photo, "polarity").category == "negative";
     const cv::Mat1f image =
         BrightTraces(photo, negative ? PhotoStyle::kNegative : PhotoStyle::kClean);
-    // A printed trace is a row of dots: its profile is averaged over a
-    // period either side along it.
-    const double along_px = Factor(photo, "halftone_period_px").value;
     for (const TraceTruth& truth : photo.traces) {
-      const Disagreement d = MeasureTrace(image, truth, PixelsPerDivision(photo), along_px);
-      INFO("seed " << seed << " (" << Factor(photo, "reproduction").category << ") trace "
-                   << truth.name << ": median " << d.median_px << " px, bias " << d.mean_px
-                   << " px over " << d.count);
+      const Disagreement d = MeasureTrace(image, truth, PixelsPerDivision(photo));
+      INFO("seed " << seed << " trace " << truth.name << ": median " << d.median_px << " px, bias "
+                   << d.mean_px << " px over " << d.count);
       REQUIRE(d.count > 40);
       CHECK(d.median_px <= kRandomisedMedianPx);
-      // A stroke drawn along a trace, within a fraction of a division of
-      // it, pulls the measured line to its side: the beam has not moved.
-      if (Factor(photo, "marks_along_traces").value == 0) {
-        CHECK(std::abs(d.mean_px) <= kRandomisedBiasPx);
-      }
+      CHECK(std::abs(d.mean_px) <= kRandomisedBiasPx);
     }
   }
 }
@@ -595,174 +564,6 @@ TEST_CASE("oscillograph: the chopper's phase shifts the dashes, a beam's brightn
   CHECK(other_change == 0.0);
   scene.traces[0].brightness = 0.0;
   CHECK_THROWS_AS(RenderOscillograph(scene, options), std::invalid_argument);
-}
-
-namespace {
-
-// The strongest spatial frequency of `image` other than its mean: cycles per
-// pixel along x and y.
-cv::Point2d StrongestFrequency(const cv::Mat1f& image) {
-  cv::Mat1f centred = image - cv::mean(image)[0];
-  cv::Mat spectrum;
-  cv::dft(centred, spectrum, cv::DFT_COMPLEX_OUTPUT);
-  std::vector<cv::Mat1f> parts;
-  cv::split(spectrum, parts);
-  cv::Mat1f power = parts[0].mul(parts[0]) + parts[1].mul(parts[1]);
-  power(0, 0) = 0.0f;
-  cv::Point at;
-  cv::minMaxLoc(power, nullptr, nullptr, nullptr, &at);
-  const auto signed_index = [](int i, int n) { return i <= n / 2 ? i : i - n; };
-  return {static_cast<double>(signed_index(at.x, image.cols)) / image.cols,
-          static_cast<double>(signed_index(at.y, image.rows)) / image.rows};
-}
-
-// A polyline's distance map: each pixel's distance to the nearest point of it.
-cv::Mat1f DistanceTo(const std::vector<cv::Point2d>& line, cv::Size size) {
-  cv::Mat1b off(size, 255);
-  std::vector<cv::Point> points;
-  for (const cv::Point2d& p : line) points.emplace_back(cvRound(p.x * 16), cvRound(p.y * 16));
-  cv::polylines(off, points, false, cv::Scalar(0), 1, cv::LINE_8, 4);
-  cv::Mat1f distance;
-  cv::distanceTransform(off, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  return distance;
-}
-
-}  // namespace
-
-TEST_CASE("oscillograph: a halftone screen prints each tone as dots of its area on its lattice") {
-  render::PrintLook print;
-  print.halftone = true;
-  print.period_px = 5.3;
-  print.angle_deg = 27.0;
-  print.ink_spread = 0.0;
-  for (const float tone : {0.1f, 0.3f, 0.5f, 0.8f}) {
-    cv::Mat ink(512, 512, CV_32FC1, cv::Scalar(tone));
-    render::ScreenHalftone(print, ink);
-    INFO("tone " << tone);
-    // Amplitude modulation: the dots' area is the tone.
-    CHECK(cv::mean(ink)[0] == Approx(tone).margin(0.015));
-    // Dots, not a flat tint: most pixels are all paper or all ink.
-    const cv::Mat partial = (ink > 0.05f) & (ink < 0.95f);
-    CHECK(cv::countNonZero(partial) < static_cast<int>(ink.total() / 2));
-    // The spectrum's peak: the screen's ruling, along the screen's angle
-    // (or a right angle on: the lattice is square).
-    const cv::Point2d f = StrongestFrequency(ink);
-    CHECK(std::hypot(f.x, f.y) == Approx(1.0 / print.period_px).margin(1.5 / 512));
-    const double angle = std::fmod(std::atan2(f.y, f.x) * 180.0 / std::numbers::pi + 360.0, 90.0);
-    CHECK(angle == Approx(print.angle_deg).margin(1.0));
-  }
-  // The ink spreads: every dot grows.
-  cv::Mat thin(256, 256, CV_32FC1, cv::Scalar(0.3f));
-  cv::Mat spread = thin.clone();
-  render::ScreenHalftone(print, thin);
-  print.ink_spread = 0.1;
-  render::ScreenHalftone(print, spread);
-  CHECK(cv::mean(spread)[0] > cv::mean(thin)[0] + 0.1);
-  // Where there is no tone there is no dot, even with the spread.
-  cv::Mat blank(64, 64, CV_32FC1, cv::Scalar(0.0f));
-  render::ScreenHalftone(print, blank);
-  CHECK(cv::countNonZero(blank) == 0);
-}
-
-TEST_CASE("oscillograph: a randomised print reproduction is dark ink on light paper") {
-  const OscillographScene scene = TwoSineScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kRandomised;
-  options.width_px = 1200;
-  int halftones = 0;
-  for (std::uint64_t seed = 1; seed <= 40 && halftones < 4; ++seed) {
-    options.seed = seed;
-    const RenderedPhoto photo = RenderOscillograph(scene, options);
-    if (Factor(photo, "reproduction").category != "halftone") continue;
-    ++halftones;
-    INFO("seed " << seed << ", period " << Factor(photo, "halftone_period_px").value);
-    const cv::Mat1f image = BrightTraces(photo, PhotoStyle::kClean);
-    // The paper: the lightest half of the photo is light.
-    cv::Mat1f sorted = image.reshape(1, 1).clone();
-    cv::sort(sorted, sorted, cv::SORT_ASCENDING);
-    const float paper = sorted(0, static_cast<int>(sorted.cols * 0.75));
-    CHECK(paper > 0.6f);
-    // The traces: dark at the truth's centre line (dots average to less than
-    // full ink, so the trace's mean over its length).
-    for (const TraceTruth& truth : photo.traces) {
-      double sum = 0.0;
-      std::size_t count = 0;
-      for (std::size_t i = 0; i < truth.centre_px.size(); ++i) {
-        if (!truth.drawn[i]) continue;
-        sum += Bilinear(image, truth.centre_px[i]);
-        ++count;
-      }
-      REQUIRE(count > 100);
-      INFO("trace " << truth.name << ": " << sum / count << " on paper " << paper);
-      CHECK(sum / count < paper - 0.15);
-    }
-    // The same seed, the same bytes.
-    CHECK(cv::norm(photo.image, RenderOscillograph(scene, options).image, cv::NORM_INF) == 0.0);
-  }
-  CHECK(halftones >= 2);
-}
-
-TEST_CASE("oscillograph: hand marks along a trace stay within their offset of it") {
-  const cv::Size size(1600, 1200);
-  const double px_per_div = 150.0;
-  TraceTruth trace;
-  for (int i = 0; i <= 1500; ++i) {
-    const double x = 50.0 + i;
-    trace.centre_px.push_back({x, 600.0 + 200.0 * std::sin(x / 180.0)});
-  }
-  const cv::Mat1f distance = DistanceTo(trace.centre_px, size);
-  render::StyleLook look;
-  look.mark_width_px = 10.0;  // at 2000 px: 8 px here, up to 9.6 px with the jitter
-  look.hand_marks.assign(5, render::HandMark::kAlongTrace);
-  const double half_width_px = 0.5 * 1.2 * 10.0 * size.width / 2000.0;
-  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    std::mt19937_64 random(seed);
-    const cv::Mat1b mark = render::DrawHandMarks(look, size, {trace}, px_per_div, random);
-    INFO("seed " << seed);
-    double farthest = 0.0;
-    int marked = 0;
-    for (int row = 0; row < size.height; ++row) {
-      for (int col = 0; col < size.width; ++col) {
-        if (mark(row, col) < 32) continue;
-        ++marked;
-        farthest = std::max(farthest, static_cast<double>(distance(row, col)));
-      }
-    }
-    // Five strokes 1..4 divisions long.
-    CHECK(marked > 5 * px_per_div * 8);
-    CHECK(farthest <= render::kMarkAlongTraceMaxOffsetDiv * px_per_div + half_width_px + 2.0);
-  }
-  // Strokes across it cross it.
-  look.hand_marks.assign(4, render::HandMark::kAcrossTrace);
-  std::mt19937_64 random(7);
-  const cv::Mat1b across = render::DrawHandMarks(look, size, {trace}, px_per_div, random);
-  int on_trace = 0;
-  for (const cv::Point2d& p : trace.centre_px) on_trace += across(cvRound(p.y), cvRound(p.x)) > 128;
-  CHECK(on_trace >= 4 * 4);
-  // Without a trace they fall back to strokes anywhere.
-  std::mt19937_64 again(7);
-  CHECK(cv::countNonZero(render::DrawHandMarks(look, size, {}, px_per_div, again)) > 0);
-}
-
-TEST_CASE("oscillograph: randomised photos mark along traces and tape corners, per seed") {
-  const OscillographScene scene = TwoSineScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kRandomised;
-  options.width_px = 800;
-  int along = 0, tape = 0;
-  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
-    options.seed = seed;
-    const RenderedPhoto photo = RenderOscillograph(scene, options);
-    const bool marked = Factor(photo, "marks_along_traces").value > 0;
-    const bool taped = Factor(photo, "tape").value > 0;
-    if (!marked && !taped) continue;
-    along += marked;
-    tape += taped;
-    INFO("seed " << seed);
-    CHECK(cv::norm(photo.image, RenderOscillograph(scene, options).image, cv::NORM_INF) == 0.0);
-  }
-  CHECK(along >= 3);
-  CHECK(tape >= 2);
 }
 
 }  // namespace impactlab
