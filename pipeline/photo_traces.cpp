@@ -67,6 +67,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   out.overlay.graticule_residual_px = result.graticule.residual_px;
   out.overlay.processing_ms = result.ProcessingMs();
   out.overlay.hints = HintsUsed(result);
+  out.overlay.hand_marks = static_cast<int>(result.mark_outlines_px.size());
   for (std::size_t i = 0; i < result.traces.size(); ++i) {
     const DigitizedTrace& t = result.traces[i];
     out.traces[t.name] = t.trace;
@@ -74,6 +75,11 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
     out.overlay.trace_coverage.push_back(t.coverage);
     out.overlay.trace_spread_px2.push_back(t.spread_px2);
     out.overlay.trace_spread_sigma_px2.push_back(t.spread_sigma_px2);
+    for (const auto& [from, to] : t.mark_stretches_div) {
+      out.overlay.mark_stretch_trace.push_back(static_cast<double>(i));
+      out.overlay.mark_stretch_from_div.push_back(from);
+      out.overlay.mark_stretch_to_div.push_back(to);
+    }
     if (const auto& fit = result.pulses[i]) out.pulse = fit->pulse;
   }
   return out;

@@ -63,6 +63,10 @@ struct PhotoOverlay {
   // Per trace, the spread s^2 whose curvature pull was undone, and its sigma,
   // px^2 (0: not measured; digitize/beam_spread.h).
   std::vector<double> trace_spread_px2, trace_spread_sigma_px2;
+  // Stretches of the sweep whose samples lay on a hand mark and were dropped:
+  // the trace's index in trace_names, from and to, divisions.
+  std::vector<double> mark_stretch_trace, mark_stretch_from_div, mark_stretch_to_div;
+  int hand_marks = 0;        // marks kept from the traces
   double processing_ms = 0;  // digitizing beyond decoding
   // The manual hints of the manifest the digitizing used, e.g.
   // "graticule_corners, left.points" (empty: none; digitize/digitize.h HintsUsed).
