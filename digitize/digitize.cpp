@@ -44,8 +44,10 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
   try {
     first = ExtractTraces(prepared, graticule, requests, options);
   } catch (const InputError& e) {
+    if (!options.hand_marks) throw;
     failure = e;
   }
+  if (!options.hand_marks) return first;
   const auto [width, height] =
       failure ? std::array{2.0 * graticule.line_width_px, 1.5 * graticule.line_contrast}
               : TraceScale(first);

@@ -27,8 +27,9 @@ struct HalftoneScreen {
 std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image);
 
 // The image low-passed so that `screen`'s dots merge into continuous tone: a
-// Gaussian whose sigma is half the screen's period attenuates the screen's
-// fundamental by exp(-2 pi^2 / 4) < 0.01. Same type as `image`.
+// Gaussian whose sigma is 0.35 of the screen's period leaves 9 % of the
+// screen's fundamental (exp(-2 pi^2 0.35^2)) and widens a line by about a
+// period. Same type as `image`.
 cv::Mat Descreen(const cv::Mat& image, const HalftoneScreen& screen);
 
 }  // namespace impactlab::digitize

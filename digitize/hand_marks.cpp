@@ -1,5 +1,7 @@
 #include "digitize/hand_marks.h"
 
+#include "digitize/grey_ink.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,66 +25,64 @@ constexpr double kMarkHeightOverTrace = 0.5;
 constexpr double kMarkMinExtentDiv = 0.2;
 // The opening's square is at least this many mask pixels wide.
 constexpr int kMinSquarePx = 5;
+// How far beyond the graticule a mark is looked for, divisions.
+constexpr double kScreenMarginDiv = 0.1;
 
-// The photo's grey ink shrunk by `f` (area mean), bright where lines are.
-cv::Mat1f ShrunkInk(const PreparedPhoto& photo, int f) {
-  cv::Mat small;
-  if (f > 1) {
-    cv::resize(photo.image, small, cv::Size(photo.image.cols / f, photo.image.rows / f), 0, 0,
-               cv::INTER_AREA);
-  } else {
-    small = photo.image;
+// Mask pixels (origin at `origin`) of the screen segment `from`-`to`, divisions.
+std::vector<cv::Point> MaskPoints(const GraticuleFit& graticule, int f, cv::Point origin,
+                                  cv::Point2d from, cv::Point2d to) {
+  constexpr int kSteps = 16;  // enough to follow a lens's bending of a division line
+  std::vector<cv::Point> points;
+  for (int i = 0; i <= kSteps; ++i) {
+    const cv::Point2d p =
+        graticule.mapping.ImageFromScreen(from + (to - from) * (1.0 * i / kSteps));
+    points.emplace_back(static_cast<int>(std::lround(p.x / f)) - origin.x,
+                        static_cast<int>(std::lround(p.y / f)) - origin.y);
   }
-  if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
-  if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
-  cv::Mat1f ink;
-  small.convertTo(ink, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
-  if (photo.dark_traces) ink = 1.0f - ink;
-  return ink;
+  return points;
 }
 
-// The graticule's area and 0.3 division around it, mask pixels.
-cv::Rect ScreenArea(const GraticuleFit& graticule, int f, cv::Size size) {
-  const double nx = graticule.divisions[0], half = 0.5 * graticule.divisions[1];
-  constexpr double kMarginDiv = 0.3;
-  std::vector<cv::Point2f> corners;
-  for (const double x : {-kMarginDiv, nx + kMarginDiv}) {
-    for (const double y : {-half - kMarginDiv, half + kMarginDiv}) {
-      const cv::Point2d p = graticule.mapping.ImageFromScreen({x, y}) * (1.0 / f);
-      corners.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y));
-    }
+// The graticule grown by `margin_div` on each side, as a closed outline.
+std::vector<cv::Point> ScreenOutline(const GraticuleFit& graticule, int f, cv::Point origin,
+                                     double margin_div) {
+  const double x0 = -margin_div, x1 = graticule.divisions[0] + margin_div;
+  const double y1 = 0.5 * graticule.divisions[1] + margin_div, y0 = -y1;
+  const std::array<cv::Point2d, 5> corners = {
+      cv::Point2d{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}};
+  std::vector<cv::Point> outline;
+  for (int k = 0; k < 4; ++k) {
+    const std::vector<cv::Point> side =
+        MaskPoints(graticule, f, origin, corners[k], corners[k + 1]);
+    outline.insert(outline.end(), side.begin(), side.end() - 1);
   }
-  return cv::boundingRect(corners) & cv::Rect(0, 0, size.width, size.height);
+  return outline;
 }
 
-// Clears `mask` (mask pixels, its origin at `origin`) where the graticule
-// draws: each division line a line's width and a pixel either side, the
+// Where a mark may lie (255): on the screen, a division's tenth round the
+// graticule (a mark outside it touches no trace, and the print's border and
+// the bezel's lip beyond are edges, not strokes), and off the graticule's
+// lines: each division line a line's width and a pixel either side, the
 // centre axes as far as their tick marks reach (0.12 division).
-void ClearGraticule(const GraticuleFit& graticule, int f, cv::Point origin, cv::Mat1b& mask) {
+cv::Mat1b MarkGround(const GraticuleFit& graticule, int f, const cv::Rect& region) {
+  cv::Mat1b ground(region.size(), uchar{0});
+  const std::vector<std::vector<cv::Point>> screen = {
+      ScreenOutline(graticule, f, region.tl(), kScreenMarginDiv)};
+  cv::fillPoly(ground, screen, cv::Scalar(255));
   const int nx = graticule.divisions[0], ny = graticule.divisions[1];
   const double half = 0.5 * ny;
-  const double line_px = (graticule.line_width_px + 2.0) / f;
-  const double axis_px = 0.24 * graticule.px_per_div / f;
-  const auto draw = [&](cv::Point2d from, cv::Point2d to, double width) {
-    constexpr int kSteps = 16;
-    std::vector<cv::Point> points;
-    for (int i = 0; i <= kSteps; ++i) {
-      const cv::Point2d p =
-          graticule.mapping.ImageFromScreen(from + (to - from) * (1.0 * i / kSteps));
-      points.emplace_back(static_cast<int>(std::lround(p.x / f)) - origin.x,
-                          static_cast<int>(std::lround(p.y / f)) - origin.y);
-    }
-    cv::polylines(mask, points, false, cv::Scalar(0),
-                  std::max(1, static_cast<int>(std::ceil(width))));
+  const int line_px = std::max(1, static_cast<int>(std::ceil((graticule.line_width_px + 2.0) / f)));
+  const int axis_px = std::max(1, static_cast<int>(std::ceil(0.24 * graticule.px_per_div / f)));
+  const auto clear = [&](cv::Point2d from, cv::Point2d to, int width) {
+    cv::polylines(ground, MaskPoints(graticule, f, region.tl(), from, to), false, cv::Scalar(0),
+                  width);
   };
   for (int i = 0; i <= nx; ++i) {
-    draw({static_cast<double>(i), -half}, {static_cast<double>(i), half},
-         2 * i == nx ? axis_px : line_px);
+    clear({1.0 * i, -half}, {1.0 * i, half}, 2 * i == nx ? axis_px : line_px);
   }
   for (int j = 0; j <= ny; ++j) {
-    const double y = j - half;
-    draw({0.0, y}, {static_cast<double>(nx), y}, 2 * j == ny ? axis_px : line_px);
+    clear({0.0, j - half}, {1.0 * nx, j - half}, 2 * j == ny ? axis_px : line_px);
   }
+  return ground;
 }
 
 }  // namespace
@@ -104,9 +104,15 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   const int f = std::max(1, static_cast<int>(std::floor(square_px / kMinSquarePx)));
   const int square = std::max(3, 2 * static_cast<int>(std::floor(0.5 * square_px / f)) + 1);
   marks.shrink = f;
-  const cv::Mat1f ink = ShrunkInk(photo, f);
-  const cv::Rect area = ScreenArea(graticule, f, ink.size());
-  if (area.width < 4 * square || area.height < 4 * square) return marks;
+  const cv::Mat1f ink = ShrunkGreyInk(photo.image, f, photo.dark_traces);
+  // The screen and, round it, room for the wider square: an opening is
+  // wrong within its square's reach of the region's edge.
+  const int ground_square = 4 * square + 1;
+  const cv::Rect screen = cv::boundingRect(ScreenOutline(graticule, f, {0, 0}, kScreenMarginDiv));
+  const cv::Rect area = (screen + cv::Size(2 * ground_square, 2 * ground_square) -
+                         cv::Point(ground_square, ground_square)) &
+                        cv::Rect(0, 0, ink.cols, ink.rows);
+  if (area.width < 2 * ground_square || area.height < 2 * ground_square) return marks;
 
   // What survives the square (ink at least that wide) over what survives a
   // square four times wider (the ground: glare, the face's light).
@@ -114,33 +120,32 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   cv::Mat1f wide, ground;
   cv::morphologyEx(region, wide, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(square, square)));
-  const int ground_square = 4 * square + 1;
   cv::morphologyEx(region, ground, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, {ground_square, ground_square}));
   const cv::Mat1f thick = wide - ground;
   cv::Mat1b candidate = thick > kMarkHeightOverTrace * std::max(trace_height, 0.02);
   // A trace along a grid line, or along a centre axis and its tick marks,
   // is as wide as a stroke together with them: what lies mostly where the
-  // graticule draws is not a mark. A mark crossing its lines stays whole.
-  cv::Mat1b off_grid(candidate.size(), uchar{255});
-  ClearGraticule(graticule, f, area.tl(), off_grid);
+  // graticule draws, or off the screen, is not a mark. A mark crossing the
+  // graticule's lines stays whole.
+  const cv::Mat1b allowed = MarkGround(graticule, f, area);
 
   // Whole strokes, long enough to be written.
   cv::Mat1i labels, stats;
   cv::Mat centroids;
   const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
   const double min_extent = kMarkMinExtentDiv * graticule.px_per_div / f;
-  std::vector<int> off_grid_pixels(count, 0);
+  std::vector<int> allowed_pixels(count, 0);
   for (int r = 0; r < labels.rows; ++r) {
     for (int c = 0; c < labels.cols; ++c) {
-      if (off_grid(r, c) != 0) ++off_grid_pixels[labels(r, c)];
+      if (allowed(r, c) != 0) ++allowed_pixels[labels(r, c)];
     }
   }
   std::vector<bool> keep(count, false);
   bool any = false;
   for (int i = 1; i < count; ++i) {
     const double extent = std::hypot(stats(i, cv::CC_STAT_WIDTH), stats(i, cv::CC_STAT_HEIGHT));
-    keep[i] = extent >= min_extent && 2 * off_grid_pixels[i] >= stats(i, cv::CC_STAT_AREA);
+    keep[i] = extent >= min_extent && 2 * allowed_pixels[i] >= stats(i, cv::CC_STAT_AREA);
     any = any || keep[i];
   }
   if (!any) return marks;

@@ -147,6 +147,10 @@ struct TraceOptions {
   // `method`. Measured: no better on this project's photos (a saturated core
   // hides a grid line under it), so off; the contact edges always use it.
   bool grid_model = false;
+  // Hand marks (pencil strokes, rings, written labels: ink much wider than
+  // the traces, docs/digitizing.md) are kept from the traces. Off: every
+  // line is offered to the tracking, as a scratch is.
+  bool hand_marks = true;
 
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {
@@ -166,6 +170,7 @@ struct TraceOptions {
     visit("min_coverage", self.min_coverage, "trace covering less of the sweep: missing");
     visit("grid_reach_widths", self.grid_reach_widths, "a grid line's light reach, its widths");
     visit("grid_model", self.grid_model, "centre by symmetry where a grid line reaches the core");
+    visit("hand_marks", self.hand_marks, "keep ink much wider than the traces from them");
   }
 
   bool Check(std::string* error) const;

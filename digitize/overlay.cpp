@@ -281,16 +281,6 @@ void DrawInsets(Canvas& canvas, const cv::Mat& photo, const std::vector<Labelled
   }
 }
 
-}  // namespace
-
-bool OverlayOptions::Check(std::string* error) const {
-  if (max_width_px < 0) {
-    if (error) *error = fmt::format("max_width_px must be 0 or positive, got {}", max_width_px);
-    return false;
-  }
-  return true;
-}
-
 // What was taken for hand marks, outlined in magenta (a colour no trace is
 // drawn in), so that a person sees what the traces were kept from.
 void DrawHandMarkOutlines(Canvas& canvas, const std::vector<std::vector<cv::Point>>& outlines) {
@@ -300,6 +290,16 @@ void DrawHandMarkOutlines(Canvas& canvas, const std::vector<std::vector<cv::Poin
     for (const cv::Point& p : outline) points.push_back(Fixed(canvas.FromPhoto(p)));
     cv::polylines(canvas.image, points, true, magenta, 1, cv::LINE_AA, kShift);
   }
+}
+
+}  // namespace
+
+bool OverlayOptions::Check(std::string* error) const {
+  if (max_width_px < 0) {
+    if (error) *error = fmt::format("max_width_px must be 0 or positive, got {}", max_width_px);
+    return false;
+  }
+  return true;
 }
 
 cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result,

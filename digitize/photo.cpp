@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "digitize/grey_ink.h"
 #include "digitize/halftone.h"
 #include "digitize/image_header.h"
 #include "digitize/jpeg_grey.h"
@@ -249,6 +250,36 @@ Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem
   return photo;
 }
 
+namespace digitize {
+
+cv::Mat1f ShrunkGrey(const cv::Mat& image, int f) {
+  // An exact whole factor: OpenCV's area resampling then takes its fast path,
+  // and shrunk pixel (u, v) covers photo pixels [f u, f u + f) exactly.
+  cv::Mat small;
+  const cv::Rect whole(0, 0, image.cols / f * f, image.rows / f * f);
+  if (f > 2 && f <= kMaxShrinkByArea && image.depth() == CV_8U) {
+    small = ShrinkByArea(image(whole), f);
+  } else if (f > 1) {
+    cv::resize(image(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
+               cv::INTER_AREA);
+  } else {
+    small = image;
+  }
+  if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
+  if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
+  cv::Mat1f grey;
+  small.convertTo(grey, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
+  return grey;
+}
+
+cv::Mat1f ShrunkGreyInk(const cv::Mat& image, int f, bool dark_traces) {
+  cv::Mat1f ink = ShrunkGrey(image, f);
+  if (dark_traces) ink = 1.0f - ink;
+  return ink;
+}
+
+}  // namespace digitize
+
 PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) {
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("graticule options: " + error);
@@ -267,23 +298,7 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
   }
   prepared.shrink = std::max(1, static_cast<int>(std::lround(static_cast<double>(photo.image.cols) /
                                                              options.detect_width_px)));
-  const int f = prepared.shrink;
-  // An exact whole factor: OpenCV's area resampling then takes its fast path,
-  // and working pixel (u, v) covers photo pixels [f u, f u + f) exactly.
-  cv::Mat small;
-  const cv::Mat& source = prepared.image;
-  const cv::Rect whole(0, 0, source.cols / f * f, source.rows / f * f);
-  if (f > 2 && f <= kMaxShrinkByArea && source.depth() == CV_8U) {
-    small = ShrinkByArea(source(whole), f);
-  } else if (f > 1) {
-    cv::resize(source(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
-               cv::INTER_AREA);
-  } else {
-    small = source;
-  }
-  if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
-  if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
-  small.convertTo(prepared.working, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
+  prepared.working = digitize::ShrunkGrey(prepared.image, prepared.shrink);
 
   switch (options.polarity) {
     case Polarity::kAuto:

@@ -229,12 +229,10 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
     out.x.AttachScale(a, h + "/trace_names");
   }
   f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
-  if (o.hand_marks > 0) {
-    f.SetAttribute(h, "hand_marks", std::to_string(o.hand_marks));
-    f.WriteVector(h + "/mark_stretch_trace", o.mark_stretch_trace, "1");
-    f.WriteVector(h + "/mark_stretch_from", o.mark_stretch_from_div, "div");
-    f.WriteVector(h + "/mark_stretch_to", o.mark_stretch_to_div, "div");
-  }
+  f.SetAttribute(h, "hand_marks", static_cast<long long>(o.hand_marks));
+  f.WriteVector(h + "/mark_stretch_trace", o.mark_stretch_trace, "1");
+  f.WriteVector(h + "/mark_stretch_from", o.mark_stretch_from_div, "div");
+  f.WriteVector(h + "/mark_stretch_to", o.mark_stretch_to_div, "div");
 }
 
 PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
@@ -250,8 +248,9 @@ PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
     o.trace_spread_sigma_px2 = f.ReadVector(h + "/trace_spread_std_error");
   }
   o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
-  if (f.HasAttribute(h, "hand_marks")) {
-    o.hand_marks = std::stoi(f.ReadStringAttribute(h, "hand_marks"));
+  if (f.Exists(h +
+               "/mark_stretch_trace")) {  // results written before marks were looked for have none
+    o.hand_marks = static_cast<int>(f.ReadIntegerAttribute(h, "hand_marks"));
     o.mark_stretch_trace = f.ReadVector(h + "/mark_stretch_trace");
     o.mark_stretch_from_div = f.ReadVector(h + "/mark_stretch_from");
     o.mark_stretch_to_div = f.ReadVector(h + "/mark_stretch_to");

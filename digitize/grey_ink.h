@@ -1,0 +1,18 @@
+// The photo shrunk and turned grey (internal to digitize/): the working copy
+// the searches run on (PreparePhoto) and the copy hand marks are looked for
+// in (hand_marks.cpp) are made alike.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace impactlab::digitize {
+
+// `image` (8 or 16 bit, 1, 3 or 4 channels) shrunk by the whole factor `f`
+// (each pixel the mean of an f x f block; the photo's last partial blocks
+// left out), BT.601 luma in [0, 1].
+cv::Mat1f ShrunkGrey(const cv::Mat& image, int f);
+
+// The same as ink: bright where traces and lines are, whatever the polarity.
+cv::Mat1f ShrunkGreyInk(const cv::Mat& image, int f, bool dark_traces);
+
+}  // namespace impactlab::digitize
