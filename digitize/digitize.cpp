@@ -51,7 +51,8 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
   const auto [width, height] =
       failure ? std::array{2.0 * graticule.line_width_px, 1.5 * graticule.line_contrast}
               : TraceScale(first);
-  const digitize::HandMarkMap marks = digitize::FindHandMarks(prepared, graticule, width, height);
+  const digitize::HandMarkMap marks =
+      digitize::FindHandMarks(prepared, graticule, width, height, first);
   if (marks.empty()) {
     if (failure) throw *failure;
     return first;

@@ -25,6 +25,9 @@ constexpr double kMarkHeightOverTrace = 0.5;
 constexpr double kMarkMinExtentDiv = 0.2;
 // The opening's square is at least this many mask pixels wide.
 constexpr int kMinSquarePx = 5;
+// A first reading's samples are the beam's course where they run unbroken
+// (gaps at most kCourseGapDiv) over at least kCourseMinDiv, divisions.
+constexpr double kCourseGapDiv = 0.05, kCourseMinDiv = 0.5;
 // How far beyond the graticule a mark is looked for, divisions.
 constexpr double kScreenMarginDiv = 0.1;
 
@@ -85,6 +88,31 @@ cv::Mat1b MarkGround(const GraticuleFit& graticule, int f, const cv::Rect& regio
   return ground;
 }
 
+// Clears `allowed` (mask pixels, origin at `origin`) within half a trace's
+// width of the samples a reading of the traces measured in long unbroken
+// runs: the beam's course. A first reading may stray onto a mark too, but
+// there only briefly (a label's strokes, a stroke's crossing).
+void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point origin,
+                  double width_px, cv::Mat1b& allowed) {
+  const int radius = std::max(1, static_cast<int>(std::lround(0.5 * width_px / f)));
+  for (const DigitizedTrace& trace : traces) {
+    const std::vector<cv::Point2d>& screen = trace.screen_div;
+    std::size_t first = 0;
+    for (std::size_t i = 1; i <= screen.size(); ++i) {
+      if (i < screen.size() && screen[i].x - screen[i - 1].x <= kCourseGapDiv) continue;
+      // Samples first .. i - 1 are one run.
+      if (i > first && screen[i - 1].x - screen[first].x >= kCourseMinDiv) {
+        for (std::size_t k = first; k < i; ++k) {
+          const cv::Point at(static_cast<int>(std::floor(trace.centre_px[k].x / f)) - origin.x,
+                             static_cast<int>(std::floor(trace.centre_px[k].y / f)) - origin.y);
+          cv::circle(allowed, at, radius, cv::Scalar(0), cv::FILLED);
+        }
+      }
+      first = i;
+    }
+  }
+}
+
 }  // namespace
 
 bool HandMarkMap::Covers(cv::Point2d photo_px) const {
@@ -95,7 +123,8 @@ bool HandMarkMap::Covers(cv::Point2d photo_px) const {
 }
 
 HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& graticule,
-                          double trace_width_px, double trace_height) {
+                          double trace_width_px, double trace_height,
+                          const std::vector<DigitizedTrace>& first_reading) {
   HandMarkMap marks;
   const double square_px =
       kMarkWidthOverTrace * std::max({trace_width_px, graticule.line_width_px, 1.0}) + 1.0;
@@ -125,10 +154,12 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   const cv::Mat1f thick = wide - ground;
   cv::Mat1b candidate = thick > kMarkHeightOverTrace * std::max(trace_height, 0.02);
   // A trace along a grid line, or along a centre axis and its tick marks,
-  // is as wide as a stroke together with them: what lies mostly where the
-  // graticule draws, or off the screen, is not a mark. A mark crossing the
-  // graticule's lines stays whole.
-  const cv::Mat1b allowed = MarkGround(graticule, f, area);
+  // is as wide as a stroke together with them, and a trace is thick where
+  // it is slow or printed: what lies mostly where the graticule draws, on a
+  // course the first reading measured, or off the screen, is not a mark. A
+  // mark crossing the graticule's lines or a trace stays whole.
+  cv::Mat1b allowed = MarkGround(graticule, f, area);
+  ClearCourses(first_reading, f, area.tl(), trace_width_px, allowed);
 
   // Whole strokes, long enough to be written.
   cv::Mat1i labels, stats;

@@ -26,10 +26,14 @@ struct HandMarkMap {
 };
 
 // The marks on `photo`, given the traces' typical width and height (from a
-// first reading, or the grid lines' when no trace was read). Only the
+// first reading, or the grid lines' when no trace was read) and the traces
+// of that first reading (empty when it failed): ink lying mostly along a
+// course they read is the beam's own line, wherever it is thick (a slow
+// stretch, a crossing with a grid line printed in the same ink). Only the
 // graticule's area is searched. Empty when there are none.
 HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& graticule,
-                          double trace_width_px, double trace_height);
+                          double trace_width_px, double trace_height,
+                          const std::vector<DigitizedTrace>& first_reading);
 
 // `photo` with the marks taken out of its ridge image, which the tracking
 // reads: a mark crossing a trace leaves a gap that the tracking bridges.
