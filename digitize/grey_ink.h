@@ -9,10 +9,14 @@ namespace impactlab::digitize {
 
 // `image` (8 or 16 bit, 1, 3 or 4 channels) shrunk by the whole factor `f`
 // (each pixel the mean of an f x f block; the photo's last partial blocks
-// left out), BT.601 luma in [0, 1].
+// left out), BT.601 luma, in the photo's own sample type.
+cv::Mat ShrunkLuma(const cv::Mat& image, int f);
+
+// The same in [0, 1].
 cv::Mat1f ShrunkGrey(const cv::Mat& image, int f);
 
-// The same as ink: bright where traces and lines are, whatever the polarity.
-cv::Mat1f ShrunkGreyInk(const cv::Mat& image, int f, bool dark_traces);
+// The same as 8-bit ink: bright where traces and lines are, whatever the
+// polarity (morphology on bytes is several times faster than on floats).
+cv::Mat1b ShrunkInk8(const cv::Mat& image, int f, bool dark_traces);
 
 }  // namespace impactlab::digitize

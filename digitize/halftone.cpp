@@ -15,24 +15,25 @@ namespace {
 
 // The spectrum is read in a square of this side (or the largest power of two
 // that fits) from the photo's middle, where the screen is.
-constexpr int kScreenWindowPx = 512;
+constexpr int kScreenTilePx = 256;
 // Periods a halftone screen can have at a scan's resolution, pixels: finer
 // ones are blurred away by the scan itself, coarser ones are not a print's.
 constexpr double kMinScreenPeriodPx = 2.2, kMaxScreenPeriodPx = 16.0;
 // A screen's fundamental stands this far above the median of its ring.
 constexpr double kMinScreenContrast = 100.0;
 // How far to the side of a peak a ridge is looked for, frequency bins (the
-// window's main lobe is 2 bins wide).
-constexpr double kSideBins = 6.0;
+// window's main lobe reaches 2 bins, a peak's reading one more).
+constexpr double kSideBins = 5.0;
+// The strongest frequencies tried as a screen's, in order.
+constexpr std::ptrdiff_t kScreenPeaksTried = 64;
 // The lattice's sum frequency stands this far above its ring (measured:
 // 76-34000 on printed figures, at most 17 for tick marks and textures).
-constexpr double kMinCrossContrast = 40.0;
+constexpr double kMinCrossContrast = 10.0;
 
-// The square of `side` pixels about `centre` (moved into the photo), grey.
-cv::Mat1f GreyWindow(const cv::Mat& image, cv::Point centre, int side) {
-  const cv::Rect window(std::clamp(centre.x - side / 2, 0, image.cols - side),
-                        std::clamp(centre.y - side / 2, 0, image.rows - side), side, side);
-  cv::Mat crop = image(window), grey;
+// The grey of the square of `side` pixels at `corner` into `out`.
+void ReadGreyTile(const cv::Mat& image, cv::Point corner, int side, cv::Mat1f& out) {
+  const cv::Mat crop = image(cv::Rect(corner.x, corner.y, side, side));
+  cv::Mat grey;
   if (crop.channels() == 3) {
     cv::cvtColor(crop, grey, cv::COLOR_BGR2GRAY);
   } else if (crop.channels() == 4) {
@@ -40,30 +41,43 @@ cv::Mat1f GreyWindow(const cv::Mat& image, cv::Point centre, int side) {
   } else {
     grey = crop;
   }
-  cv::Mat1f out;
   grey.convertTo(out, CV_32F, grey.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
-  return out;
 }
 
+// The power spectrum of the photo's middle, averaged over a 2 x 2 block of
+// square tiles of `side` pixels (Welch's estimate: steadier than one
+// window's, and a quarter of the memory, which a large transform spends
+// mostly on fresh pages). Each tile's mean is taken out and a Hann window
+// put on, so that its edges add no spectral lines.
 class PowerSpectrum {
  public:
-  explicit PowerSpectrum(cv::Mat1f grey) : n_(grey.cols) {
-    grey -= cv::mean(grey)[0];
-    cv::Mat1f hann;
-    cv::createHanningWindow(hann, grey.size(), CV_32F);
-    grey = grey.mul(hann);
-    cv::Mat complex;
-    cv::dft(grey, complex, cv::DFT_COMPLEX_OUTPUT);
-    std::vector<cv::Mat1f> parts;
-    cv::split(complex, parts);
-    cv::magnitude(parts[0], parts[1], power_);
-    power_ = power_.mul(power_);
+  PowerSpectrum(const cv::Mat& image, int side) : n_(side) {
+    std::vector<float> hann(n_);
+    for (int i = 0; i < n_; ++i) {
+      hann[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / (n_ - 1)));
+    }
+    const int x0 = std::max(0, image.cols / 2 - n_), y0 = std::max(0, image.rows / 2 - n_);
+    cv::Mat1f grey;
+    cv::Mat2f complex;
+    power_ = cv::Mat1f::zeros(n_, n_);
+    for (const cv::Point corner : {cv::Point(x0, y0), cv::Point(x0 + n_, y0),
+                                   cv::Point(x0, y0 + n_), cv::Point(x0 + n_, y0 + n_)}) {
+      ReadGreyTile(image, corner, n_, grey);
+      grey -= cv::mean(grey)[0];
+      for (int r = 0; r < n_; ++r) {
+        float* p = grey.ptr<float>(r);
+        for (int c = 0; c < n_; ++c) p[c] *= hann[r] * hann[c];
+      }
+      cv::dft(grey, complex, cv::DFT_COMPLEX_OUTPUT);
+      for (int r = 0; r < n_; ++r) {
+        const cv::Vec2f* z = complex.ptr<cv::Vec2f>(r);
+        float* p = power_.ptr<float>(r);
+        for (int c = 0; c < n_; ++c) p[c] += z[c][0] * z[c][0] + z[c][1] * z[c][1];
+      }
+    }
   }
 
   int n() const { return n_; }
-
-  // The power of everything but the mean.
-  double Total() const { return cv::sum(power_)[0] - power_(0, 0); }
 
   // The power at frequency (fx, fy), bins (negative allowed), the largest of
   // the 3 x 3 bins about it (a peak between bins spreads over them).
@@ -88,34 +102,48 @@ class PowerSpectrum {
 };
 
 // Frequencies of a JPEG's 8 x 8 block pattern: both components multiples
-// of n / 8 (within a bin).
+// of n / 8 (within a bin; n a power of two).
 bool OnJpegBlockPattern(int fx, int fy, int n) {
-  const auto near_multiple = [n](int f) {
-    const double r = std::remainder(static_cast<double>(f), n / 8.0);
-    return std::abs(r) <= 1.0;
+  const int block = n / 8;
+  const auto near_multiple = [block](int f) {
+    const int r = ((f % block) + block) % block;
+    return r <= 1 || r >= block - 1;
   };
   return near_multiple(fx) && near_multiple(fy);
+}
+
+// The ring a frequency lies on: its distance from zero, whole bins.
+int RingOf(double fx, double fy) {
+  return static_cast<int>(std::lround(std::sqrt(fx * fx + fy * fy)));
 }
 
 // A window's power spectrum against each ring's median power (the level a
 // peak must stand above), over the radii of a screen's periods.
 class RingSpectrum {
  public:
-  explicit RingSpectrum(cv::Mat1f grey)
-      : spectrum_(std::move(grey)),
+  struct Bin {
+    int fx, fy, ring;
+  };
+
+  RingSpectrum(const cv::Mat& image, int side)
+      : spectrum_(image, side),
         r_lo_(spectrum_.n() / kMaxScreenPeriodPx),
         r_hi_(spectrum_.n() / kMinScreenPeriodPx),
         level_(static_cast<int>(std::ceil(r_hi_)) + 2, 0.0) {
     const int n = spectrum_.n();
-    // The upper half plane holds every frequency once (the spectrum is symmetric).
+    // The upper half plane holds every frequency once (the spectrum is
+    // symmetric); rings from half the lowest frequency, where a comb's
+    // fundamental is looked at.
+    const int ring_lo = static_cast<int>(std::floor(0.5 * r_lo_)) - 1;
+    const int ring_hi = static_cast<int>(level_.size()) - 1;
     std::vector<std::vector<float>> ring_power(level_.size());
-    for (int fy = 0; fy <= n / 2; ++fy) {
-      for (int fx = -n / 2; fx < n / 2; ++fx) {
-        const double r = std::hypot(fx, fy);
-        // From half the lowest frequency: a comb's fundamental is looked at there.
-        if (r < 0.5 * r_lo_ - 1 || r > r_hi_ + 1) continue;
-        ring_power[static_cast<int>(std::lround(r))].push_back(
-            static_cast<float>(spectrum_.At(fx, fy)));
+    for (int fy = 0; fy <= std::min(n / 2, ring_hi); ++fy) {
+      for (int fx = -std::min(n / 2, ring_hi); fx <= std::min(n / 2 - 1, ring_hi); ++fx) {
+        const int ring = RingOf(fx, fy);
+        if (ring < ring_lo || ring > ring_hi) continue;
+        ring_power[ring].push_back(static_cast<float>(spectrum_.At(fx, fy)));
+        const double r = std::sqrt(static_cast<double>(fx * fx + fy * fy));
+        if (r >= r_lo_ && r <= r_hi_) screen_bins_.push_back({fx, fy, ring});
       }
     }
     for (std::size_t r = 0; r < level_.size(); ++r) {
@@ -124,78 +152,95 @@ class RingSpectrum {
     }
   }
 
-  double r_lo() const { return r_lo_; }
-  double r_hi() const { return r_hi_; }
+  // The bins whose periods a screen can have.
+  const std::vector<Bin>& screen_bins() const { return screen_bins_; }
 
   // One bin's power over its ring's level.
-  double BinContrast(int fx, int fy) const { return Over(spectrum_.At(fx, fy), fx, fy); }
+  double BinContrast(const Bin& bin) const {
+    return level_[bin.ring] > 0.0 ? spectrum_.At(bin.fx, bin.fy) / level_[bin.ring] : 0.0;
+  }
   // The largest of the 3 x 3 bins about (fx, fy) over the ring's level.
-  double Contrast(double fx, double fy) const { return Over(spectrum_.PeakAt(fx, fy), fx, fy); }
-
- private:
-  double Over(double power, double fx, double fy) const {
-    const auto r = static_cast<std::size_t>(std::lround(std::hypot(fx, fy)));
-    if (r == 0 || r >= level_.size() || !(level_[r] > 0.0)) return 0.0;
-    return power / level_[r];
+  double Contrast(double fx, double fy) const {
+    const int r = RingOf(fx, fy);
+    if (r <= 0 || r >= static_cast<int>(level_.size()) || !(level_[r] > 0.0)) return 0.0;
+    return spectrum_.PeakAt(fx, fy) / level_[r];
   }
 
+ private:
   PowerSpectrum spectrum_;
   double r_lo_, r_hi_;
   std::vector<double> level_;
+  std::vector<Bin> screen_bins_;
 };
 
 }  // namespace
 
-std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image) {
-  int side = kScreenWindowPx;
-  while (side > 64 && (side > image.cols || side > image.rows)) side /= 2;
-  if (side < 128) return std::nullopt;
-  const RingSpectrum spectrum(GreyWindow(image, {image.cols / 2, image.rows / 2}, side));
-  const int n = side;
+namespace {
 
-  // The strongest frequency against its ring, the block pattern left out.
-  double best = 0.0;
-  int best_fx = 0, best_fy = 0;
-  for (int fy = 0; fy <= n / 2; ++fy) {
-    for (int fx = -n / 2; fx < n / 2; ++fx) {
-      const double r = std::hypot(fx, fy);
-      if (r < spectrum.r_lo() || r > spectrum.r_hi() || OnJpegBlockPattern(fx, fy, n)) continue;
-      const double c = spectrum.BinContrast(fx, fy);
-      if (c > best) best = c, best_fx = fx, best_fy = fy;
-    }
-  }
-  if (best < kMinScreenContrast) return std::nullopt;
+// Whether the peak at (fx, fy), standing `contrast` above its ring, is a
+// halftone screen's fundamental rather than anything else periodic.
+bool IsScreenPeak(const RingSpectrum& spectrum, int fx, int fy, double contrast) {
   // A screen is a lattice: the same frequency turned a right angle is there
   // too. A comb of harmonics (a grid's lines, the centre axes' tick marks)
   // is not isolated: along the same direction a quarter nearer or further,
   // or at half the frequency (the comb's fundamental), it is as strong.
-  if (spectrum.Contrast(-best_fy, best_fx) < 0.25 * best) return std::nullopt;
-  const double comb = std::max({spectrum.Contrast(0.5 * best_fx, 0.5 * best_fy),
-                                spectrum.Contrast(0.75 * best_fx, 0.75 * best_fy),
-                                spectrum.Contrast(1.25 * best_fx, 1.25 * best_fy)});
-  if (comb > 0.1 * best) return std::nullopt;
+  if (spectrum.Contrast(-fy, fx) < 0.25 * contrast) return false;
+  const double comb =
+      std::max({spectrum.Contrast(0.5 * fx, 0.5 * fy), spectrum.Contrast(0.75 * fx, 0.75 * fy),
+                spectrum.Contrast(1.25 * fx, 1.25 * fy)});
+  if (comb > 0.1 * contrast) return false;
   // A screen covers the page, so its peak is a point. A periodic pattern in
   // a narrow strip (a chopped trace's dashes) is a ridge across the
   // spectrum: as strong a few bins to the side.
-  const double r = std::hypot(best_fx, best_fy);
-  const double side_x = -best_fy / r * kSideBins, side_y = best_fx / r * kSideBins;
-  const double ridge = std::max(spectrum.Contrast(best_fx + side_x, best_fy + side_y),
-                                spectrum.Contrast(best_fx - side_x, best_fy - side_y));
-  if (ridge > 0.3 * best) return std::nullopt;
+  const double r = std::sqrt(static_cast<double>(fx * fx + fy * fy));
+  const double side_x = -fy / r * kSideBins, side_y = fx / r * kSideBins;
+  const double ridge = std::max(spectrum.Contrast(fx + side_x, fy + side_y),
+                                spectrum.Contrast(fx - side_x, fy - side_y));
+  if (ridge > 0.5 * contrast) return false;
   // Dots are products of the two directions' waves, so their sum frequency
   // is there too; two separate combs have none.
-  if (spectrum.Contrast(best_fx - best_fy, best_fy + best_fx) < kMinCrossContrast) {
-    return std::nullopt;
+  return spectrum.Contrast(fx - fy, fy + fx) >= kMinCrossContrast;
+}
+
+}  // namespace
+
+std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image) {
+  int side = kScreenTilePx;
+  while (side > 64 && (2 * side > image.cols || 2 * side > image.rows)) side /= 2;
+  if (side < 128) return std::nullopt;
+  const RingSpectrum spectrum(image, side);
+  const int n = side;
+
+  // The frequencies standing out of their rings, the strongest first (the
+  // block pattern left out); the first that is a screen's is taken: a
+  // centre axis's ticks may stand higher than a faint screen.
+  struct Peak {
+    double contrast;
+    int fx, fy;
+  };
+  std::vector<Peak> peaks;
+  for (const RingSpectrum::Bin& bin : spectrum.screen_bins()) {
+    if (OnJpegBlockPattern(bin.fx, bin.fy, n)) continue;
+    const double c = spectrum.BinContrast(bin);
+    if (c >= kMinScreenContrast) peaks.push_back({c, bin.fx, bin.fy});
   }
-  HalftoneScreen screen;
-  screen.period_px = n / r;
-  // The image's rows run down: a frequency (fx, fy) is a lattice direction
-  // of atan2(-fy, fx) on the page; folded into [0, 90).
-  double angle = std::atan2(-best_fy, best_fx) * 180.0 / std::numbers::pi;
-  angle = std::fmod(std::fmod(angle, 90.0) + 90.0, 90.0);
-  screen.angle_deg = angle;
-  screen.contrast = best;
-  return screen;
+  const auto tried = peaks.begin() + std::min<std::ptrdiff_t>(kScreenPeaksTried, peaks.size());
+  std::partial_sort(peaks.begin(), tried, peaks.end(),
+                    [](const Peak& a, const Peak& b) { return a.contrast > b.contrast; });
+  for (auto peak = peaks.begin(); peak != tried; ++peak) {
+    if (!IsScreenPeak(spectrum, peak->fx, peak->fy, peak->contrast)) continue;
+    HalftoneScreen screen;
+    screen.period_px =
+        n / std::sqrt(static_cast<double>(peak->fx * peak->fx + peak->fy * peak->fy));
+    // The image's rows run down: a frequency (fx, fy) is a lattice direction
+    // of atan2(-fy, fx) on the page; folded into [0, 90).
+    double angle = std::atan2(-peak->fy, peak->fx) * 180.0 / std::numbers::pi;
+    angle = std::fmod(std::fmod(angle, 90.0) + 90.0, 90.0);
+    screen.angle_deg = angle;
+    screen.contrast = peak->contrast;
+    return screen;
+  }
+  return std::nullopt;
 }
 
 cv::Mat Descreen(const cv::Mat& image, const HalftoneScreen& screen) {

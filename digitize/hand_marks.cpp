@@ -1,14 +1,12 @@
 #include "digitize/hand_marks.h"
 
-#include "digitize/grey_ink.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 
 #include <opencv2/imgproc.hpp>
+
+#include "digitize/grey_ink.h"
 
 namespace impactlab::digitize {
 
@@ -24,7 +22,7 @@ constexpr double kMarkHeightOverTrace = 0.5;
 // Smaller bright specks are dust, which the samples' outlier tests take.
 constexpr double kMarkMinExtentDiv = 0.2;
 // The opening's square is at least this many mask pixels wide.
-constexpr int kMinSquarePx = 5;
+constexpr int kMinSquarePx = 4;
 // A first reading's samples are the beam's course where they run unbroken
 // (gaps at most kCourseGapDiv) over at least kCourseMinDiv, divisions.
 constexpr double kCourseGapDiv = 0.05, kCourseMinDiv = 0.5;
@@ -133,26 +131,32 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   const int f = std::max(1, static_cast<int>(std::floor(square_px / kMinSquarePx)));
   const int square = std::max(3, 2 * static_cast<int>(std::floor(0.5 * square_px / f)) + 1);
   marks.shrink = f;
-  const cv::Mat1f ink = ShrunkGreyInk(photo.image, f, photo.dark_traces);
-  // The screen and, round it, room for the wider square: an opening is
-  // wrong within its square's reach of the region's edge.
+  // The screen and, round it, room for the wider square (an opening is
+  // wrong within its square's reach of the region's edge), in whole mask
+  // pixels; only that much of the photo is shrunk.
   const int ground_square = 4 * square + 1;
+  const cv::Size mask_size(photo.image.cols / f, photo.image.rows / f);
   const cv::Rect screen = cv::boundingRect(ScreenOutline(graticule, f, {0, 0}, kScreenMarginDiv));
   const cv::Rect area = (screen + cv::Size(2 * ground_square, 2 * ground_square) -
                          cv::Point(ground_square, ground_square)) &
-                        cv::Rect(0, 0, ink.cols, ink.rows);
+                        cv::Rect({0, 0}, mask_size);
   if (area.width < 2 * ground_square || area.height < 2 * ground_square) return marks;
+  const cv::Rect area_px(area.x * f, area.y * f, area.width * f, area.height * f);
+  const cv::Mat1b region = ShrunkInk8(photo.image(area_px), f, photo.dark_traces);
 
   // What survives the square (ink at least that wide) over what survives a
   // square four times wider (the ground: glare, the face's light).
-  const cv::Mat1f region = ink(area);
-  cv::Mat1f wide, ground;
+  cv::Mat1b wide, ground;
   cv::morphologyEx(region, wide, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(square, square)));
   cv::morphologyEx(region, ground, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, {ground_square, ground_square}));
-  const cv::Mat1f thick = wide - ground;
-  cv::Mat1b candidate = thick > kMarkHeightOverTrace * std::max(trace_height, 0.02);
+  // In place, wide then ground: each fresh buffer costs its pages.
+  cv::Mat1b& thick = wide;
+  cv::subtract(wide, ground, thick);
+  cv::Mat1b& candidate = ground;
+  cv::compare(thick, 255.0 * kMarkHeightOverTrace * std::max(trace_height, 0.02), candidate,
+              cv::CMP_GT);
   // A trace along a grid line, or along a centre axis and its tick marks,
   // is as wide as a stroke together with them, and a trace is thick where
   // it is slow or printed: what lies mostly where the graticule draws, on a
@@ -161,15 +165,21 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   cv::Mat1b allowed = MarkGround(graticule, f, area);
   ClearCourses(first_reading, f, area.tl(), trace_width_px, allowed);
 
-  // Whole strokes, long enough to be written.
+  // Whole strokes, long enough to be written: a stroke the square wide and
+  // the shortest mark long, half of it where a mark may lie, has at least
+  // this many pixels there. On clean photos there are a handful at most,
+  // and the labelling below, the search's dearest step, is skipped.
+  const double min_extent = kMarkMinExtentDiv * graticule.px_per_div / f;
+  cv::Mat1b& allowed_candidate = allowed;
+  cv::bitwise_and(candidate, allowed, allowed_candidate);
+  if (cv::countNonZero(allowed_candidate) < 0.5 * min_extent * square) return marks;
   cv::Mat1i labels, stats;
   cv::Mat centroids;
   const int count = cv::connectedComponentsWithStats(candidate, labels, stats, centroids, 8);
-  const double min_extent = kMarkMinExtentDiv * graticule.px_per_div / f;
   std::vector<int> allowed_pixels(count, 0);
   for (int r = 0; r < labels.rows; ++r) {
     for (int c = 0; c < labels.cols; ++c) {
-      if (allowed(r, c) != 0) ++allowed_pixels[labels(r, c)];
+      if (allowed_candidate(r, c) != 0) ++allowed_pixels[labels(r, c)];
     }
   }
   std::vector<bool> keep(count, false);
@@ -190,7 +200,7 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   const int grow = static_cast<int>(std::ceil((1.5 * trace_width_px + 2.0) / f));
   cv::dilate(strokes, strokes,
              cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow + 1, 2 * grow + 1}));
-  marks.mask = cv::Mat1b(ink.size(), uchar{0});
+  marks.mask = cv::Mat1b(mask_size, uchar{0});
   strokes.copyTo(marks.mask(area));
 
   std::vector<std::vector<cv::Point>> outlines;

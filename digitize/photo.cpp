@@ -252,7 +252,7 @@ Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem
 
 namespace digitize {
 
-cv::Mat1f ShrunkGrey(const cv::Mat& image, int f) {
+cv::Mat ShrunkLuma(const cv::Mat& image, int f) {
   // An exact whole factor: OpenCV's area resampling then takes its fast path,
   // and shrunk pixel (u, v) covers photo pixels [f u, f u + f) exactly.
   cv::Mat small;
@@ -267,14 +267,24 @@ cv::Mat1f ShrunkGrey(const cv::Mat& image, int f) {
   }
   if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
   if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
+  return small;
+}
+
+cv::Mat1f ShrunkGrey(const cv::Mat& image, int f) {
+  const cv::Mat small = ShrunkLuma(image, f);
   cv::Mat1f grey;
   small.convertTo(grey, CV_32F, small.depth() == CV_16U ? 1.0 / 65535 : 1.0 / 255);
   return grey;
 }
 
-cv::Mat1f ShrunkGreyInk(const cv::Mat& image, int f, bool dark_traces) {
-  cv::Mat1f ink = ShrunkGrey(image, f);
-  if (dark_traces) ink = 1.0f - ink;
+cv::Mat1b ShrunkInk8(const cv::Mat& image, int f, bool dark_traces) {
+  const cv::Mat small = ShrunkLuma(image, f);
+  cv::Mat1b ink;
+  if (dark_traces) {
+    small.convertTo(ink, CV_8U, small.depth() == CV_16U ? -1.0 / 257 : -1.0, 255.0);
+  } else {
+    small.convertTo(ink, CV_8U, small.depth() == CV_16U ? 1.0 / 257 : 1.0);
+  }
   return ink;
 }
 
