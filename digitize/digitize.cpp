@@ -33,7 +33,8 @@ std::array<double, 2> TraceScale(const std::vector<DigitizedTrace>& traces) {
 // traces' width and height, the marks are what is much wider, and the
 // traces are read again without them when there are any. When the first
 // reading fails, a mark may be why: the grid lines stand in for the
-// traces' scale, and the first failure stands if the second fails too.
+// traces' scale. When the second reading fails, the first stands, or its
+// failure.
 std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepared,
                                                      const GraticuleFit& graticule,
                                                      const std::vector<TraceRequest>& requests,
@@ -61,8 +62,9 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
   try {
     traces = ExtractTraces(digitize::WithoutMarks(prepared, marks), graticule, requests, options);
   } catch (const InputError&) {
+    // Without the marks a trace was lost: the first reading stands, or its failure.
     if (failure) throw *failure;
-    throw;
+    return first;
   }
   for (DigitizedTrace& trace : traces) {
     trace.mark_stretches_div = digitize::DropSamplesOnMarks(marks, trace);

@@ -29,16 +29,21 @@ constexpr double kCourseGapDiv = 0.05, kCourseMinDiv = 0.5;
 // How far beyond the graticule a mark is looked for, divisions.
 constexpr double kScreenMarginDiv = 0.1;
 
+// The mask pixel (shrunk by `f`, origin at `origin`) a photo point lies in:
+// mask pixel (u, v) covers photo pixels [f u, f u + f) x [f v, f v + f).
+cv::Point MaskPixel(cv::Point2d photo_px, int f, cv::Point origin = {}) {
+  return {static_cast<int>(std::floor(photo_px.x / f)) - origin.x,
+          static_cast<int>(std::floor(photo_px.y / f)) - origin.y};
+}
+
 // Mask pixels (origin at `origin`) of the screen segment `from`-`to`, divisions.
 std::vector<cv::Point> MaskPoints(const GraticuleFit& graticule, int f, cv::Point origin,
                                   cv::Point2d from, cv::Point2d to) {
   constexpr int kSteps = 16;  // enough to follow a lens's bending of a division line
   std::vector<cv::Point> points;
   for (int i = 0; i <= kSteps; ++i) {
-    const cv::Point2d p =
-        graticule.mapping.ImageFromScreen(from + (to - from) * (1.0 * i / kSteps));
-    points.emplace_back(static_cast<int>(std::lround(p.x / f)) - origin.x,
-                        static_cast<int>(std::lround(p.y / f)) - origin.y);
+    points.push_back(MaskPixel(
+        graticule.mapping.ImageFromScreen(from + (to - from) * (1.0 * i / kSteps)), f, origin));
   }
   return points;
 }
@@ -101,9 +106,8 @@ void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point or
       // Samples first .. i - 1 are one run.
       if (i > first && screen[i - 1].x - screen[first].x >= kCourseMinDiv) {
         for (std::size_t k = first; k < i; ++k) {
-          const cv::Point at(static_cast<int>(std::floor(trace.centre_px[k].x / f)) - origin.x,
-                             static_cast<int>(std::floor(trace.centre_px[k].y / f)) - origin.y);
-          cv::circle(allowed, at, radius, cv::Scalar(0), cv::FILLED);
+          cv::circle(allowed, MaskPixel(trace.centre_px[k], f, origin), radius, cv::Scalar(0),
+                     cv::FILLED);
         }
       }
       first = i;
@@ -115,9 +119,8 @@ void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point or
 
 bool HandMarkMap::Covers(cv::Point2d photo_px) const {
   if (mask.empty()) return false;
-  const int x = static_cast<int>(std::floor(photo_px.x / shrink));
-  const int y = static_cast<int>(std::floor(photo_px.y / shrink));
-  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask(y, x) != 0;
+  const cv::Point p = MaskPixel(photo_px, shrink);
+  return p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows && mask(p) != 0;
 }
 
 HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& graticule,
@@ -127,7 +130,7 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
   const double square_px =
       kMarkWidthOverTrace * std::max({trace_width_px, graticule.line_width_px, 1.0}) + 1.0;
   // Shrunk so that the square is a few pixels wide: fine enough for a thin
-  // pencil, a ninth of the pixels or fewer on a sharp photo.
+  // pencil, and a quarter of the pixels or fewer on a sharp photo.
   const int f = std::max(1, static_cast<int>(std::floor(square_px / kMinSquarePx)));
   const int square = std::max(3, 2 * static_cast<int>(std::floor(0.5 * square_px / f)) + 1);
   marks.shrink = f;
