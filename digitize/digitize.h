@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -45,6 +46,14 @@ struct Photo {
   std::filesystem::path source;  // the file, named in every error message
 };
 
+namespace digitize {
+// The largest photo decoded, in pixels (width x height). A 1200 dpi scan of a
+// 4 x 5 inch print is 29 Mpx and a phone photo 12-50 Mpx; 100 Mpx leaves room
+// for those while bounding what one photo can cost: at most 100 MB for a
+// JPEG (decoded to 8-bit grey), 800 MB for a 16-bit BGRA PNG or TIFF.
+constexpr std::uint64_t kMaxPhotoPixels = 100'000'000;
+}  // namespace digitize
+
 // Decodes a PNG, JPEG or TIFF file, 8 or 16 bit, grey or colour; a JPEG to
 // its luma only (grey), the one thing the digitizer reads from it. Throws
 // InputError naming the file when it is missing, unreadable, truncated, not an
@@ -54,7 +63,7 @@ Photo LoadPhoto(const std::filesystem::path& path);
 // LoadPhoto's work after reading the file: `bytes` are the file's contents,
 // `source` the file named in errors. Before decoding, the header's declared
 // size is read and a photo over 100 megapixels (digitize::kMaxPhotoPixels,
-// digitize/image_header.h) or with an unreadable header is refused; a JPEG
+// imagefile/image_header.h) or with an unreadable header is refused; a JPEG
 // that the decoder warns about (corrupt or missing data) is refused too.
 // Throws InputError naming `source` and the reason.
 Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem::path& source);

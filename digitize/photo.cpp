@@ -11,15 +11,15 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
 #include "digitize/grey_ink.h"
 #include "digitize/halftone.h"
-#include "digitize/image_header.h"
-#include "digitize/jpeg_grey.h"
 #include "digitize/select.h"
+#include "imagefile/image_file.h"
+#include "imagefile/image_header.h"
+#include "io/atomic_file.h"
 #include "io/errors.h"
 
 namespace impactlab {
@@ -144,39 +144,6 @@ cv::Mat ShrinkByArea(const cv::Mat& photo, int f) {
   return small;
 }
 
-// Turns a decoded JPEG as its EXIF orientation (1-8) says, as cv::imdecode
-// does (OpenCV's ApplyExifOrientation), so the pixels match what it gave.
-void ApplyExifOrientation(int orientation, cv::Mat& image) {
-  switch (orientation) {
-    case 2:
-      cv::flip(image, image, 1);
-      break;
-    case 3:
-      cv::flip(image, image, -1);
-      break;
-    case 4:
-      cv::flip(image, image, 0);
-      break;
-    case 5:
-      cv::transpose(image, image);
-      break;
-    case 6:
-      cv::transpose(image, image);
-      cv::flip(image, image, 1);
-      break;
-    case 7:
-      cv::transpose(image, image);
-      cv::flip(image, image, -1);
-      break;
-    case 8:
-      cv::transpose(image, image);
-      cv::flip(image, image, 0);
-      break;
-    default:
-      break;
-  }
-}
-
 }  // namespace
 
 Photo LoadPhoto(const std::filesystem::path& path) {
@@ -198,12 +165,12 @@ Photo LoadPhoto(const std::filesystem::path& path) {
 Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem::path& source) {
   if (bytes.empty()) Refuse(source, "the photo file is empty");
   // The header first: a decoder allocates whatever it declares.
-  digitize::ImageHeader header;
-  if (std::string problem; !digitize::ReadImageHeader(bytes, &header, &problem)) {
+  imagefile::ImageHeader header;
+  if (std::string problem; !imagefile::ReadImageHeader(bytes, &header, &problem)) {
     Refuse(source, "cannot decode the photo: " + problem);
   }
-  const char* format = digitize::ImageFormatName(header.format);
-  if (digitize::ExceedsPixels(header, digitize::kMaxPhotoPixels)) {
+  const char* format = imagefile::ImageFormatName(header.format);
+  if (imagefile::ExceedsPixels(header, digitize::kMaxPhotoPixels)) {
     Refuse(source, fmt::format("the {} declares {}x{} pixels ({:.0f} megapixels); photos over {} "
                                "megapixels are refused (a 1200 dpi scan of a 4x5 inch print is "
                                "29), as a decoder would allocate all of them",
@@ -219,28 +186,31 @@ Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem
   CheckComplete(source, bytes);
   Photo photo;
   photo.source = source;
-  if (header.format == digitize::ImageFormat::kJpeg) {
-    // A JPEG stores luma and colour apart, and the digitizer reads only luma
-    // (BT.601, the same weights JPEG uses): decoding just the luma skips the
-    // colour upsampling and conversion and halves the decode. libjpeg
-    // directly, not through OpenCV, so that its warnings about damaged data
-    // fail the photo instead of going to stderr.
-    std::string problem;
-    if (!digitize::DecodeJpegGrey(bytes, &photo.image, &problem)) {
-      Refuse(source, fmt::format("the JPEG photo is damaged or unreadable: {}", problem));
-    }
-    ApplyExifOrientation(digitize::ReadJpegExifOrientation(bytes), photo.image);
-  } else {
-    try {
-      photo.image = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-    } catch (const cv::Exception& e) {
-      Refuse(source, fmt::format("cannot decode the {} photo: {}", format, e.what()));
-    }
-    if (photo.image.empty()) {
-      Refuse(source, fmt::format("cannot decode the {} photo (damaged, or a kind of {} the "
-                                 "decoder does not read)",
-                                 format, format));
-    }
+  std::string problem;
+  switch (header.format) {
+    case imagefile::ImageFormat::kJpeg:
+      // A JPEG stores luma and colour apart, and the digitizer reads only
+      // luma (BT.601, the same weights JPEG uses): decoding just the luma
+      // skips the colour upsampling and conversion and halves the decode.
+      // Strict: libjpeg's warnings about damaged data fail the photo.
+      if (!imagefile::DecodeJpegGrey(bytes, &photo.image, &problem)) {
+        Refuse(source, fmt::format("the JPEG photo is damaged or unreadable: {}", problem));
+      }
+      break;
+    case imagefile::ImageFormat::kPng:
+      if (!imagefile::DecodePng(bytes, &photo.image, &problem)) {
+        Refuse(source, fmt::format("cannot decode the PNG photo (damaged, or a kind of PNG the "
+                                   "decoder does not read): {}",
+                                   problem));
+      }
+      break;
+    case imagefile::ImageFormat::kTiff:
+      if (!imagefile::DecodeTiff(bytes, &photo.image, &problem)) {
+        Refuse(source, fmt::format("cannot decode the TIFF photo (damaged, or a kind of TIFF the "
+                                   "decoder does not read): {}",
+                                   problem));
+      }
+      break;
   }
   if (static_cast<std::uint64_t>(photo.image.total()) > digitize::kMaxPhotoPixels) {
     Refuse(source, fmt::format("the photo decoded to {}x{} pixels, more than its header declared",
@@ -337,13 +307,12 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
 }
 
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image) {
-  bool written = false;
-  try {
-    written = cv::imwrite(path.string(), image);
-  } catch (const cv::Exception& e) {
-    throw InputError({path, "", std::nullopt}, fmt::format("cannot write the image: {}", e.what()));
+  imagefile::Bytes bytes;
+  if (std::string problem;
+      !imagefile::EncodeForExtension(path.extension().string(), image, {}, &bytes, &problem)) {
+    throw InputError({path, "", std::nullopt}, "cannot write the image: " + problem);
   }
-  if (!written) throw InputError({path, "", std::nullopt}, "cannot write the image");
+  WriteFileAtomically(path, {reinterpret_cast<const char*>(bytes.data()), bytes.size()});
 }
 
 }  // namespace impactlab

@@ -1,9 +1,12 @@
 #include "pipeline/photo_traces.h"
 
-#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+#include <string>
+
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/digitize.h"
+#include "imagefile/image_file.h"
 #include "io/errors.h"
 #include "io/session_file.h"
 
@@ -23,7 +26,10 @@ constexpr double kPreviewScale = 0.25;
 
 void DrawOverlays(const Photo& photo, const DigitizeResult& result, PhotoOverlay& out) {
   const cv::Mat bgr = DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx});
-  cv::imencode(".jpg", bgr, out.jpeg, {cv::IMWRITE_JPEG_QUALITY, 82});
+  if (std::string problem; !imagefile::EncodeJpeg(bgr, 82, &out.jpeg, &problem)) {
+    throw std::runtime_error("the overlay's JPEG: " +
+                             problem);  // an 8-bit BGR image always encodes
+  }
   cv::Mat small;
   cv::resize(bgr, small, cv::Size(), kPreviewScale, kPreviewScale, cv::INTER_AREA);
   RgbImage& preview = out.preview;

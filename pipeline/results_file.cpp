@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "imagefile/image_file.h"
 #include "io/errors.h"
 #include "io/hdf5_extras.h"
 #include "io/hdf5_file.h"
@@ -189,11 +189,11 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
 // The overlay's pixels, red-green-blue, as its JPEG decodes at a quarter of its width
 // (none if it does not): the preview of an overlay read from an earlier
 // results file (a reused run's), which keeps only the JPEG. libjpeg scales
-// while it decodes.
+// while it decodes (what cv::imdecode's IMREAD_REDUCED_COLOR_4 gave).
 RgbImage DecodeOverlay(const std::vector<unsigned char>& jpeg) {
   if (jpeg.empty()) return {};
-  const cv::Mat bgr = cv::imdecode(jpeg, cv::IMREAD_REDUCED_COLOR_4);
-  if (bgr.empty()) return {};
+  cv::Mat bgr;
+  if (std::string ignored; !imagefile::DecodeJpegBgr(jpeg, 4, &bgr, &ignored)) return {};
   RgbImage image{bgr.rows, bgr.cols, {}};
   image.pixels.resize(static_cast<std::size_t>(bgr.rows) * bgr.cols * 3);
   cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, image.pixels.data());

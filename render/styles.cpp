@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "imagefile/image_file.h"
 #include "render/random_draw.h"
 
 namespace impactlab::render {
@@ -249,9 +250,14 @@ void FinishPhoto(const StyleLook& look, cv::Mat& image) {
   }
   if (look.jpeg_quality > 0) {
     CV_Assert(image.depth() == CV_8U);
-    std::vector<uchar> bytes;
-    cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
-    image = cv::imdecode(bytes, look.grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+    // Through libjpeg directly, as cv::imencode and cv::imdecode (IMREAD_GRAYSCALE
+    // or IMREAD_COLOR) did it: render/ does not load OpenCV's codecs.
+    imagefile::Bytes bytes;
+    std::string problem;
+    const bool ok = imagefile::EncodeJpeg(image, look.jpeg_quality, &bytes, &problem) &&
+                    (look.grey ? imagefile::DecodeJpegGrey(bytes, &image, &problem)
+                               : imagefile::DecodeJpegBgr(bytes, 1, &image, &problem));
+    CV_Assert(ok);  // an 8-bit image, encoded here
     if (look.sixteen_bit) image.convertTo(image, CV_16U, 257.0);
   }
 }

@@ -1,7 +1,9 @@
 #include "synth/session_writer.h"
 
-#include <opencv2/imgcodecs.hpp>
+#include <fstream>
+#include <string>
 
+#include "imagefile/image_file.h"
 #include "io/errors.h"
 #include "io/trace.h"
 
@@ -11,13 +13,26 @@ namespace {
 namespace fs = std::filesystem;
 constexpr const char* kSubfolders[] = {"calibration", "runs", "traces"};
 
+// As cv::imwrite wrote it, by the file's extension: JPEG at the photo's
+// quality, PNG at zlib level 6, TIFF as OpenCV wrote it.
 void WritePhoto(const fs::path& folder, const SessionPhoto& photo) {
-  const std::vector<int> params =
-      photo.jpeg_quality > 0 ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, photo.jpeg_quality}
-                             : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 6};
-  if (!cv::imwrite((folder / photo.file).string(), photo.image, params)) {
-    throw InputError({folder / photo.file, "", std::nullopt}, "cannot write the photo");
+  const fs::path path = folder / photo.file;
+  imagefile::EncodeOptions options;
+  if (photo.jpeg_quality > 0) {
+    options.jpeg_quality = photo.jpeg_quality;
+  } else {
+    options.png_compression = 6;
   }
+  imagefile::Bytes bytes;
+  std::string problem;
+  if (!imagefile::EncodeForExtension(path.extension().string(), photo.image, options, &bytes,
+                                     &problem)) {
+    throw InputError({path, "", std::nullopt}, "cannot write the photo: " + problem);
+  }
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  if (!out.flush()) throw InputError({path, "", std::nullopt}, "cannot write the photo");
 }
 
 }  // namespace

@@ -15,7 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "digitize/digitize.h"
-#include "digitize/image_header.h"
+#include "imagefile/image_header.h"
 #include "io/errors.h"
 
 namespace impactlab {
@@ -65,11 +65,11 @@ Bytes Encode(const std::string& extension, const cv::Mat& image, std::vector<int
   return bytes;
 }
 
-digitize::ImageHeader Header(const Bytes& bytes) {
-  digitize::ImageHeader header;
+imagefile::ImageHeader Header(const Bytes& bytes) {
+  imagefile::ImageHeader header;
   std::string error;
   INFO(error);
-  REQUIRE(digitize::ReadImageHeader(bytes, &header, &error));
+  REQUIRE(imagefile::ReadImageHeader(bytes, &header, &error));
   return header;
 }
 
@@ -156,9 +156,9 @@ TEST_CASE("photo_safety: the header reader gives the size, depth and channels of
       const cv::Mat image = Scene(123, 77, CV_MAKETYPE(depth, channels));
       for (const std::string extension : {".png", ".tiff"}) {
         INFO(extension << " depth " << depth << " channels " << channels);
-        const digitize::ImageHeader h = Header(Encode(extension, image));
+        const imagefile::ImageHeader h = Header(Encode(extension, image));
         CHECK(h.format ==
-              (extension == ".png" ? digitize::ImageFormat::kPng : digitize::ImageFormat::kTiff));
+              (extension == ".png" ? imagefile::ImageFormat::kPng : imagefile::ImageFormat::kTiff));
         CHECK(h.width == 123);
         CHECK(h.height == 77);
         CHECK(h.bits_per_sample == (depth == CV_8U ? 8 : 16));
@@ -174,8 +174,8 @@ TEST_CASE("photo_safety: the header reader walks a JPEG's segments to its frame 
       INFO("channels " << channels << " progressive " << progressive);
       const Bytes jpeg = Encode(".jpg", Scene(321, 123, CV_MAKETYPE(CV_8U, channels)),
                                 {cv::IMWRITE_JPEG_PROGRESSIVE, progressive ? 1 : 0});
-      const digitize::ImageHeader h = Header(jpeg);
-      CHECK(h.format == digitize::ImageFormat::kJpeg);
+      const imagefile::ImageHeader h = Header(jpeg);
+      CHECK(h.format == imagefile::ImageFormat::kJpeg);
       CHECK(h.width == 321);
       CHECK(h.height == 123);
       CHECK(h.bits_per_sample == 8);
@@ -183,7 +183,7 @@ TEST_CASE("photo_safety: the header reader walks a JPEG's segments to its frame 
     }
   }
   // A sample photo, whose JFIF segment comes before the frame header.
-  const digitize::ImageHeader h = Header(ReadFile(SamplePhoto("0.405.jpg")));
+  const imagefile::ImageHeader h = Header(ReadFile(SamplePhoto("0.405.jpg")));
   CHECK(h.width == 2000);
   CHECK(h.height == 1500);
   CHECK(h.channels == 3);
@@ -213,8 +213,8 @@ TEST_CASE("photo_safety: the header reader reads big-endian TIFF and BigTIFF") {
   PutBe32(be, 0);  // no next IFD
   REQUIRE(be.size() == 62);
   be.insert(be.end(), {0, 16, 0, 16, 0, 16});
-  digitize::ImageHeader h = Header(be);
-  CHECK(h.format == digitize::ImageFormat::kTiff);
+  imagefile::ImageHeader h = Header(be);
+  CHECK(h.format == imagefile::ImageFormat::kTiff);
   CHECK(h.width == 300);
   CHECK(h.height == 200);
   CHECK(h.bits_per_sample == 16);
@@ -381,7 +381,7 @@ TEST_CASE("photo_safety: a CMYK or YCCK JPEG decodes to the grey OpenCV gave") {
   for (const J_COLOR_SPACE stored : {JCS_CMYK, JCS_YCCK}) {
     INFO("stored as " << (stored == JCS_CMYK ? "CMYK" : "YCCK"));
     const Bytes jpeg = EncodeCmykJpeg(200, 150, stored);
-    const digitize::ImageHeader h = Header(jpeg);
+    const imagefile::ImageHeader h = Header(jpeg);
     CHECK(h.channels == 4);
     const cv::Mat ours = DecodePhoto(jpeg, "cmyk.jpg").image;
     CHECK(ours.type() == CV_8UC1);
@@ -400,7 +400,7 @@ TEST_CASE("photo_safety: a JPEG's EXIF orientation is applied as OpenCV applies 
     app1[3] = static_cast<unsigned char>(app1.size() - 2);
     Bytes jpeg = plain;
     jpeg.insert(jpeg.begin() + static_cast<std::ptrdiff_t>(after_app0), app1.begin(), app1.end());
-    CHECK(digitize::ReadJpegExifOrientation(jpeg) == orientation);
+    CHECK(imagefile::ReadJpegExifOrientation(jpeg) == orientation);
     const cv::Mat ours = DecodePhoto(jpeg, "o.jpg").image;
     CHECK(ours.cols == (orientation >= 5 ? 160 : 240));
     CHECK(MaxDifference(ours, cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE)) == 0.0);

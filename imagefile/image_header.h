@@ -1,28 +1,22 @@
 // What a PNG, JPEG or TIFF file declares about its image, read from the
 // header alone, before anything is decoded: a decoder allocates what the
 // header declares, so a 3 MB PNG that declares 32000 x 32000 pixels would
-// cost 3 GB and most of a minute. LoadPhoto/DecodePhoto refuse such a photo
-// from these numbers instead.
+// cost 3 GB and most of a minute. LoadPhoto/DecodePhoto (digitize/) refuse
+// such a photo from these numbers instead.
 //
 // Formats: PNG (the IHDR chunk, PNG spec. 11.2.2), JPEG (the first SOFn
 // frame header, found by walking the marker segments; ITU T.81 B.2.2),
 // TIFF (the first IFD, either byte order, classic and BigTIFF; TIFF 6.0
 // section 2). Also the EXIF orientation a JPEG's APP1 segment may carry
-// (EXIF 2.3, tag 0x0112), since a JPEG decoded by hand must be turned as
-// OpenCV would turn it.
+// (EXIF 2.3, tag 0x0112) or a PNG's eXIf chunk may carry, since a photo
+// decoded by hand must be turned as OpenCV would turn it.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <string>
 
-namespace impactlab::digitize {
-
-// The largest photo decoded, in pixels (width x height). A 1200 dpi scan of a
-// 4 x 5 inch print is 29 Mpx and a phone photo 12-50 Mpx; 100 Mpx leaves room
-// for those while bounding what one photo can cost: at most 100 MB for a
-// JPEG (decoded to 8-bit grey), 800 MB for a 16-bit BGRA PNG or TIFF.
-constexpr std::uint64_t kMaxPhotoPixels = 100'000'000;
+namespace impactlab::imagefile {
 
 enum class ImageFormat { kPng, kJpeg, kTiff };
 
@@ -54,4 +48,9 @@ bool ReadImageHeader(std::span<const unsigned char> bytes, ImageHeader* header, 
 // (as stored) when there is none or it cannot be read.
 int ReadJpegExifOrientation(std::span<const unsigned char> bytes);
 
-}  // namespace impactlab::digitize
+// The orientation (1-8) in the first IFD of an EXIF block (a TIFF header and
+// its IFDs, as after a JPEG APP1's "Exif\0\0" or in a PNG's eXIf chunk), or
+// 1 when there is none or it cannot be read.
+int ReadExifOrientation(std::span<const unsigned char> tiff_block);
+
+}  // namespace impactlab::imagefile

@@ -1,4 +1,4 @@
-#include "digitize/image_header.h"
+#include "imagefile/image_header.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-namespace impactlab::digitize {
+namespace impactlab::imagefile {
 namespace {
 
 bool StartsWith(std::span<const unsigned char> bytes, std::initializer_list<unsigned char> magic) {
@@ -269,6 +269,17 @@ bool ReadImageHeader(std::span<const unsigned char> bytes, ImageHeader* header,
   return true;
 }
 
+int ReadExifOrientation(std::span<const unsigned char> tiff_block) {
+  std::optional<TiffLayout> t = ReadTiffLayout(tiff_block);
+  std::array<IfdEntry, 1> wanted = {{{0x0112, {}}}};
+  std::string ignored;
+  if (t && !t->big && ReadIfd(*t, wanted, &ignored) && wanted[0].value && *wanted[0].value >= 1 &&
+      *wanted[0].value <= 8) {
+    return static_cast<int>(*wanted[0].value);
+  }
+  return 1;
+}
+
 int ReadJpegExifOrientation(std::span<const unsigned char> bytes) {
   int orientation = 1;
   std::string ignored;
@@ -277,15 +288,10 @@ int ReadJpegExifOrientation(std::span<const unsigned char> bytes) {
         !StartsWith(bytes.subspan(payload), {'E', 'x', 'i', 'f', 0, 0})) {
       return false;
     }
-    std::optional<TiffLayout> t = ReadTiffLayout(bytes.subspan(payload + 6, length - 6));
-    std::array<IfdEntry, 1> wanted = {{{0x0112, {}}}};
-    if (t && !t->big && ReadIfd(*t, wanted, &ignored) && wanted[0].value && *wanted[0].value >= 1 &&
-        *wanted[0].value <= 8) {
-      orientation = static_cast<int>(*wanted[0].value);
-    }
+    orientation = ReadExifOrientation(bytes.subspan(payload + 6, length - 6));
     return true;  // only the first EXIF segment counts
   });             // (or up to the first scan, where the walk stops)
   return orientation;
 }
 
-}  // namespace impactlab::digitize
+}  // namespace impactlab::imagefile
