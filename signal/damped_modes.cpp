@@ -48,6 +48,34 @@ struct LinearFit {
   double noise_variance = 0.0;
 };
 
+// exp(s t_i) at t_i = i dt, i = 0, 1, ..., for a complex rate s: each value
+// the last times exp(s dt) (a rotation and a decay: one complex product where
+// exp, cos and sin were a sample's cost), computed afresh every kAnchorEvery
+// samples so that the products' rounding (an ulp or so each) never grows
+// beyond some 1e-14 of the value.
+class SampledExponential {
+ public:
+  SampledExponential(std::complex<double> rate, double interval_s)
+      : rate_(rate), interval_s_(interval_s), step_(std::exp(rate * interval_s)) {}
+
+  std::complex<double> Next() {
+    const std::complex<double> value =
+        i_ % kAnchorEvery == 0 ? std::exp(rate_ * (interval_s_ * static_cast<double>(i_)))
+                               : last_ * step_;
+    ++i_;
+    last_ = value;
+    return value;
+  }
+
+ private:
+  static constexpr std::size_t kAnchorEvery = 64;
+  std::complex<double> rate_;
+  double interval_s_;
+  std::complex<double> step_;
+  std::complex<double> last_{1.0, 0.0};
+  std::size_t i_ = 0;
+};
+
 // c + sum of modes exp(-sigma t)(a cos w t + b sin w t) + sum of decays
 // B exp(-r t), with derivatives by each block: (a, b, f, zeta), (B, r), (c).
 class DampedModesCost : public ceres::CostFunction {
@@ -75,17 +103,18 @@ class DampedModesCost : public ceres::CostFunction {
       const double dsigma_df = kTwoPi * zeta / root;
       const double dsigma_dzeta = omega / (root * root * root);
       double* jac = jacobians ? jacobians[k] : nullptr;
+      SampledExponential phasor({-sigma, omega}, interval_s_);
       for (std::size_t i = 0; i < n; ++i) {
         const double t = interval_s_ * static_cast<double>(i);
-        const double e = std::exp(-sigma * t);
-        const double cw = std::cos(omega * t), sw = std::sin(omega * t);
-        const double m = e * (a * cw + b * sw);
+        const std::complex<double> z = phasor.Next();  // e (cos wt + i sin wt)
+        const double ecw = z.real(), esw = z.imag();
+        const double m = a * ecw + b * esw;
         residuals[i] += m;
         if (jac) {
-          const double dm_domega = e * t * (b * cw - a * sw);
+          const double dm_domega = t * (b * ecw - a * esw);
           const double dm_dsigma = -t * m;
-          jac[4 * i + 0] = e * cw;
-          jac[4 * i + 1] = e * sw;
+          jac[4 * i + 0] = ecw;
+          jac[4 * i + 1] = esw;
           jac[4 * i + 2] = kTwoPi * dm_domega + dm_dsigma * dsigma_df;
           jac[4 * i + 3] = dm_dsigma * dsigma_dzeta;
         }
@@ -94,9 +123,10 @@ class DampedModesCost : public ceres::CostFunction {
     for (int j = 0; j < decays_; ++j) {
       const double* p = parameters[modes_ + j];
       double* jac = jacobians ? jacobians[modes_ + j] : nullptr;
+      SampledExponential decay({-p[1], 0.0}, interval_s_);
       for (std::size_t i = 0; i < n; ++i) {
         const double t = interval_s_ * static_cast<double>(i);
-        const double e = std::exp(-p[1] * t);
+        const double e = decay.Next().real();
         residuals[i] += p[0] * e;
         if (jac) {
           jac[2 * i + 0] = e;
