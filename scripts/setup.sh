@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libceres-dev libopencv-dev libjpeg-dev libpng-dev libtiff-dev libhdf5-dev hdf5-tools
-  libboost-dev
+  libboost-dev libmetis-dev
   catch2 libcli11-dev libtomlplusplus-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
   libjs-dygraphs chromium
 )
