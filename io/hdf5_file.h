@@ -15,7 +15,7 @@
 
 namespace impactlab {
 
-// The HDF5 library in use, e.g. "1.10.8".
+// The HDF5 library in use (linked statically: the one compiled against), e.g. "1.10.8".
 std::string Hdf5Version();
 
 class Hdf5File {
