@@ -160,6 +160,64 @@ std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
   return foreign;
 }
 
+std::vector<Chosen> StrayExcursions(const std::vector<Chosen>& chosen,
+                                    const std::vector<std::vector<Node>>& columns,
+                                    double jump_rows) {
+  const auto row_of = [&](const Chosen& c) { return columns[c.column][c.index].row; };
+  // The slope (rows per column) over up to kSlopeColumns at one end of
+  // chosen[first, end).
+  constexpr int kSlopeColumns = 4;
+  const auto end_slope = [&](std::size_t first, std::size_t end, bool at_end) {
+    const std::size_t a = at_end ? end - 1 : first;
+    std::size_t b = a;
+    while (true) {
+      if (std::abs(chosen[b].column - chosen[a].column) >= kSlopeColumns) break;
+      if (at_end ? b == first : b + 1 == end) break;
+      b = at_end ? b - 1 : b + 1;
+    }
+    const int dc = chosen[a].column - chosen[b].column;
+    return dc != 0 ? (row_of(chosen[a]) - row_of(chosen[b])) / dc : 0.0;
+  };
+  // Pieces between restarts, [first, end) into `chosen`.
+  struct Piece {
+    std::size_t first = 0, end = 0;
+  };
+  std::vector<Piece> pieces;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    if (i == 0 || chosen[i].link == CoarsePath::kRestart) pieces.push_back({i, i});
+    pieces.back().end = i + 1;
+  }
+  // How far the course after a restart lands from where the piece before
+  // it pointed, and the reverse, whichever is less (rows).
+  const auto miss = [&](const Piece& before, const Piece& after) {
+    const Chosen& from = chosen[before.end - 1];
+    const Chosen& to = chosen[after.first];
+    const int dc = to.column - from.column;
+    const double forward =
+        std::abs(row_of(to) - (row_of(from) + end_slope(before.first, before.end, true) * dc));
+    const double backward =
+        std::abs(row_of(from) - (row_of(to) - end_slope(after.first, after.end, false) * dc));
+    return std::min(forward, backward);
+  };
+  // Excursions: runs of pieces joined by explained restarts, [first, end)
+  // into `pieces`.
+  std::vector<Piece> groups;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k == 0 || miss(pieces[k - 1], pieces[k]) > jump_rows) groups.push_back({k, k});
+    groups.back().end = k + 1;
+  }
+  std::vector<Chosen> stray;
+  for (std::size_t g = 1; g + 1 < groups.size(); ++g) {
+    // The courses either side agree across it.
+    const Piece& before = pieces[groups[g - 1].end - 1];
+    const Piece& after = pieces[groups[g + 1].first];
+    if (miss(before, after) > jump_rows) continue;
+    const std::size_t from = pieces[groups[g].first].first, to = pieces[groups[g].end - 1].end;
+    stray.insert(stray.end(), chosen.begin() + from, chosen.begin() + to);
+  }
+  return stray;
+}
+
 // Whether `course` (on the candidates `kept`) runs more than `away_rows`
 // from the `suspect` candidates (on `all`) in at least half their columns,
 // its row taken between its own candidates either side.

@@ -41,6 +41,16 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
 // when the course does not show a chopper the columns resolve.
 std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen);
 
+// The candidates of excursions a continuous trace's course made where it
+// lost the trace: stretches reached and left by restarts whose jumps the
+// stretch's own slope does not explain, more than `jump_rows` each, between
+// courses on either side that agree with each other (a label beside the
+// trace, taken where the trace ran faint along a grid line). Empty when
+// there are none. Not for a contact trace, whose levels jump by design.
+std::vector<Chosen> StrayExcursions(const std::vector<Chosen>& chosen,
+                                    const std::vector<std::vector<Node>>& columns,
+                                    double jump_rows);
+
 // Whether `course` (on the candidates `kept`) runs more than `away_rows`
 // from the `suspect` candidates (on `all`) in at least half their columns.
 bool RunsElsewhere(const std::vector<Chosen>& course, const std::vector<std::vector<Node>>& kept,

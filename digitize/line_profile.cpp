@@ -31,6 +31,10 @@ bool ValueAt(const Profile& profile, double offset_px, double* value) {
   return true;
 }
 
+// A crossing runs along the measured line when the profile crosses it no
+// wider than this many of its widths (within about 30 degrees of square).
+constexpr double kAlongWidths = 1.15;
+
 bool NearCrossing(const std::vector<Profile::Crossing>& crossings, double offset_px) {
   for (const Profile::Crossing& c : crossings) {
     if (std::abs(offset_px - c.offset_px) < c.reach_px) return true;
@@ -169,8 +173,22 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
   peak_height +=
       settings.crossing_height * CrossingLight(profile.crossings, profile.OffsetAt(peak));
 
+  // A grid line running beside the trace, along it and clear of its core (a
+  // level of the contact trace just off the centre axis), would merge with
+  // it at half maximum where ink saturates (printed figures) or glow fills
+  // the gap: its modelled light is taken off the profile for the width.
+  // One crossing the trace is left to the symmetric centre below.
+  std::vector<Profile::Crossing> beside;
+  const double peak_u = profile.OffsetAt(peak);
+  for (const Profile::Crossing& c : profile.crossings) {
+    const bool along = c.fwhm_px <= kAlongWidths * settings.crossing_fwhm_px;
+    if (along && std::abs(c.offset_px - peak_u) > c.fwhm_px) beside.push_back(c);
+  }
+  auto lit = [&](double u) {
+    return background(u) + settings.crossing_height * CrossingLight(beside, u);
+  };
   // Half-maximum crossings either side of the peak.
-  auto above = [&](int i) { return v[i] - background(profile.OffsetAt(i)) - 0.5 * peak_height; };
+  auto above = [&](int i) { return v[i] - lit(profile.OffsetAt(i)) - 0.5 * peak_height; };
   int l = peak;
   while (l > 0 && above(l - 1) >= 0.0) --l;
   int r = peak;
@@ -212,7 +230,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
         for (int i = first; i <= last; ++i) {
           const double u = profile.OffsetAt(i);
           if (std::abs(u - centre) > window) continue;
-          const double w = v[i] - background(u) - level;
+          const double w = v[i] - lit(u) - level;
           if (w <= 0.0) continue;
           sum += w;
           moment += w * u;
@@ -237,7 +255,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
         for (int i = first; i <= last; ++i) {
           const double u = profile.OffsetAt(i);
           if (std::abs(u - centre) > window) continue;
-          const double height = v[i] - background(u);
+          const double height = v[i] - lit(u);
           if (height <= 0.15 * peak_height) continue;
           const double d = u - centre, w = height * height;
           const cv::Vec3d basis(1.0, d, d * d);
@@ -258,7 +276,7 @@ LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings
       // Through the brightest sample and those about a pixel either side.
       int top = peak;
       for (int i = l; i <= r; ++i) {
-        if (v[i] - background(profile.OffsetAt(i)) > v[top] - background(profile.OffsetAt(top))) {
+        if (v[i] - lit(profile.OffsetAt(i)) > v[top] - lit(profile.OffsetAt(top))) {
           top = i;
         }
       }

@@ -58,6 +58,10 @@ struct CentreSettings {
   double search_px = 1e9;        // the peak is looked for within this distance of offset 0
   double crossing_height = 0.0;  // a crossing line's height: its light counts this much less
                                  // in the search for the peak
+  // A grid line's full width at half maximum across it, pixels (0: not
+  // known): a crossing no wider than about this in the profile runs along
+  // the measured line rather than across it.
+  double crossing_fwhm_px = 0.0;
   // Where a crossing line reaches the core, the symmetric centre below
   // instead of `method`.
   bool symmetric_near_crossings = true;

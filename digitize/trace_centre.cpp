@@ -447,6 +447,7 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
   settings.centre.centroid_level = options.centroid_level;
   settings.centre.search_px = settings.search_px;
   settings.centre.crossing_height = graticule.line_contrast;
+  settings.centre.crossing_fwhm_px = graticule.line_width_px;
   settings.centre.symmetric_near_crossings = options.grid_model;
 
   // A first look at every tenth position gives the trace's width, and tells

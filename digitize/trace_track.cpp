@@ -26,6 +26,11 @@ constexpr int kCandidatesPerColumn = 6;
 // A course found without a suspected foreign run that passes this far from it
 // went elsewhere: the run was not the trace's, divisions.
 constexpr double kAwayDiv = 0.1;
+// An excursion of a continuous trace's course reached and left by jumps
+// its own slope does not explain, more than this each, divisions, is not
+// the trace (StrayExcursions); the course is sought again without the
+// candidates within kStrayClearDiv of it (a label's strokes stacked).
+constexpr double kStrayJumpDiv = 1.0, kStrayClearDiv = 0.5;
 // A peak beside a point the user gave (TraceSettings::points_px) earns this
 // much more: more than any detour to reach it costs (a restart costs
 // 3, course_search.cpp), so the best path passes through every hinted point.
@@ -351,6 +356,23 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
       } else {
         kept.clear();
       }
+    }
+  }
+  if (!step_trace) {
+    // Once more without an excursion onto something beside the trace.
+    const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
+    const std::vector<Chosen> stray =
+        StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
+    if (!stray.empty()) {
+      std::vector<std::vector<Node>> cleared = before;
+      const double reach = kStrayClearDiv * grid.px_per_div;
+      for (const Chosen& c : stray) {
+        const double row = before[c.column][c.index].row;
+        std::erase_if(cleared[c.column],
+                      [&](const Node& n) { return std::abs(n.row - row) <= reach; });
+      }
+      chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
+      kept = std::move(cleared);
     }
   }
   const std::vector<std::vector<Node>>& used = kept.empty() ? columns : kept;
