@@ -400,10 +400,14 @@ struct DivisionProblem {
 // So every line of the lattice must be seen along much of its length, and
 // no line may be seen a division beyond the outermost ones. Returns the
 // first thing the lines say against the lattice, nullopt when nothing.
+// `samples` were measured over `measured_half_length_px` either side of
+// where the fit puts their lines; the lines beyond are measured over
+// `half_length_px`.
 std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
                                               const std::vector<LineSample>& samples,
                                               const GraticuleOptions& options,
-                                              double half_length_px, double search_px) {
+                                              double measured_half_length_px, double half_length_px,
+                                              double search_px) {
   const std::array<int, 2> divisions = fit.divisions;
   const char* axis[2] = {"x", "y"};
   // A measurement sees its line when it found a line where the fit puts it
@@ -422,10 +426,14 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
   // How many of the places `along` line `index` of `family` is measured at
   // have something far brighter than a grid line within the reach of the
   // profiles measured there, or 0.2 division: a trace running on or near the
-  // line, a bezel's lip or a print's edge beside it. The line may be there,
-  // its measurements disturbed.
-  const int reach = static_cast<int>(
-      std::ceil(std::max(0.2, (half_length_px + 2.0 * fit.line_width_px) / fit.px_per_div) / 0.02));
+  // line, a bezel's lip or a print's edge beside it; or, off the line (more
+  // than two of its widths from where it should be), ink as high as half a
+  // grid line's: a trace printed in the same ink as the grid. The line may be
+  // there, its measurements disturbed.
+  const int reach = static_cast<int>(std::ceil(
+      std::max(0.2, (std::max(measured_half_length_px, half_length_px) + 2.0 * fit.line_width_px) /
+                        fit.px_per_div) /
+      0.02));
   auto HiddenPlaces = [&](int family, int index, const std::vector<double>& along) {
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
     const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
@@ -433,12 +441,16 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
     for (const double a : along) {
       const cv::Point2d on =
           family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
-      double brightest = 0.0, darkest = 1.0;
+      double brightest = 0.0, darkest = 1.0, brightest_off = 0.0;
       for (int k = -reach; k <= reach; ++k) {
         const double v = ink(ImageFromScreen(fit.mapping, on + across * k));
         brightest = std::max(brightest, v), darkest = std::min(darkest, v);
+        if (std::abs(k) * 0.02 * fit.px_per_div > 2.0 * fit.line_width_px) {
+          brightest_off = std::max(brightest_off, v);
+        }
       }
-      hidden += brightest - darkest > 2.5 * fit.line_contrast;
+      hidden += brightest - darkest > 2.5 * fit.line_contrast ||
+                brightest_off - darkest > 0.5 * fit.line_contrast;
     }
     return hidden;
   };
@@ -606,8 +618,10 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
   MappingFit fit;
   // Two rounds: a wide look from the lattice, a narrow one from the first fit.
   constexpr int kRounds = 2;
+  double measured_half_length_px = half_length_px;  // the last round's
   for (int round = 0; round < kRounds; ++round) {
     const bool last = round == kRounds - 1;
+    measured_half_length_px = half_length_px;
     // The wide look only places the narrow one, which measures the lines
     // afresh: averaging along them would triple its reading for nothing.
     samples = MeasureGridLines(ink, model.ToMapping(params), divisions, GridLines(divisions),
@@ -669,8 +683,8 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                          result.samples_used, expected),
              hinted);
   }
-  std::optional<DivisionProblem> problem =
-      CheckDivisions(ink, result, samples, options, half_length_px, search_px);
+  std::optional<DivisionProblem> problem = CheckDivisions(
+      ink, result, samples, options, measured_half_length_px, half_length_px, search_px);
   const double residual_limit_px =
       std::max(options.max_residual_px, options.max_residual_widths * result.line_width_px);
   if (!problem && result.residual_px > residual_limit_px) {
