@@ -634,7 +634,7 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
     const auto wi = p + static_cast<Eigen::Index>(i);
     fit.run_rebound0_speed.push_back({std::exp(w[i]), std::exp(w[i]) * std::sqrt(cov(wi, wi))});
   }
-  if (options.profile_tolerance > 0.0) {
+  if (options.intervals && options.profile_tolerance > 0.0) {
     const double inf = std::numeric_limits<double>::infinity();
     for (Eigen::Index i = 0; i < p; ++i) {
       const bool is_n = names[static_cast<std::size_t>(i)] == "n";
@@ -703,6 +703,75 @@ bool ContactLawFitOptions::Check(std::string* why) const {
          fit_internal::CheckRelativeSingularValue(min_relative_singular_value, why);
 }
 
+std::string ContactLawUninformed(ContactLawKind kind, const std::vector<LawRun>& runs,
+                                 const ContactLawFitOptions& options) {
+  if (kind == ContactLawKind::kKelvinVoigt || kind == ContactLawKind::kHuntCrossley) return {};
+  // The contact times the fit would use (as Prepare takes them), and the
+  // impact speed of each whose maximum before it was read.
+  int contacts = 0;
+  std::vector<double> log_speed, weight;
+  for (const LawRun& run : runs) {
+    const ReboundMeasurements& m = run.measured;
+    if (!options.use_contact_times || !m.contact_time || !(m.contact_time_sigma > 0.0) ||
+        !(*m.contact_time > 0.0)) {
+      continue;
+    }
+    int last = -1;
+    for (std::size_t i = 0; i < m.xmax.size(); ++i) {
+      if (!std::isnan(m.xmax[i])) last = static_cast<int>(i);
+    }
+    const int c = run.contact_rebound;
+    if (c < -1 || c > last) continue;
+    ++contacts;
+    const double amplitude = c < 0 ? run.initial_displacement : m.xmax[static_cast<std::size_t>(c)];
+    if (!(amplitude > 0.0) || !(run.mass > 0.0)) continue;
+    log_speed.push_back(std::log(SpeedFromAmplitude(run.pendulum, amplitude)));
+    const double relative = m.contact_time_sigma / *m.contact_time;
+    weight.push_back(1.0 / (relative * relative));
+  }
+  if (contacts == 0) {
+    switch (kind) {
+      case ContactLawKind::kHertz:
+        return "the elastic law has nothing to fit in the maxima (e = 1), and no run has its own "
+               "contact time with a sigma to fix k";
+      case ContactLawKind::kHertzDamper:
+        return "the maxima alone fix only the combination c k^(-1/(n+1)), and no run has its own "
+               "contact time with a sigma to fix k";
+      default:
+        return "n is fixed by how the contact time changes with impact speed, and no run has its "
+               "own contact time with a sigma";
+    }
+  }
+  if (kind != ContactLawKind::kHuntCrossleyExponent) return {};
+  // tau_c ~ v^s, s = -(n-1)/(n+1) (the Hertz part): the weighted line of
+  // ln tau_c on ln v fixes s to 1/sqrt(Sxx), and n = (1-s)/(1+s) to
+  // (n+1)^2/2 times that at the fixed n. Worse than kMaxExponentSigma, n is
+  // not fixed within its range [0.5, 5].
+  constexpr double kMaxExponentSigma = 1.0;
+  double sw = 0.0, swx = 0.0;
+  for (std::size_t i = 0; i < log_speed.size(); ++i) {
+    sw += weight[i];
+    swx += weight[i] * log_speed[i];
+  }
+  double sxx = 0.0;
+  for (std::size_t i = 0; i < log_speed.size(); ++i) {
+    const double d = log_speed[i] - swx / sw;
+    sxx += weight[i] * d * d;
+  }
+  const double n = options.exponent;
+  const double sigma_n = sxx > 0.0 ? 0.5 * (n + 1.0) * (n + 1.0) / std::sqrt(sxx)
+                                   : std::numeric_limits<double>::infinity();
+  if (sigma_n <= kMaxExponentSigma) return {};
+  return fmt::format(
+      "n is fixed by how the contact time changes with impact speed: the {} contact time{} "
+      "(ln v spread {:.2g}) would fix n to +-{:.2g} at best, more than {}",
+      contacts, contacts == 1 ? "" : "s",
+      log_speed.empty() ? 0.0
+                        : *std::max_element(log_speed.begin(), log_speed.end()) -
+                              *std::min_element(log_speed.begin(), log_speed.end()),
+      sigma_n, kMaxExponentSigma);
+}
+
 ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
                             const ContactLawFitOptions& options) {
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
@@ -720,7 +789,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
   // Leave one run out: the law refitted on the others predicts it (no
   // intervals needed of the refits).
   ContactLawFitOptions refit_options = options;
-  refit_options.profile_tolerance = 0.0;
+  refit_options.intervals = false;
   double ss_norm = 0.0, ss_length = 0.0;
   int count = 0;
   bool ok = true;

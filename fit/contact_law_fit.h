@@ -61,18 +61,20 @@ struct ContactLawFitOptions {
   Separation separation = Separation::kKinematic;  // Kelvin-Voigt's convention
   double exponent = 1.5;                           // n where it is not fitted
   bool use_contact_times = true;                   // false: the maxima alone
-  bool leave_one_out = true;                       // also refit without each run
+  bool leave_one_out = true;                       // also refit without each run (3 runs or more)
+  bool intervals = true;                           // each parameter's 68 % interval
   // Where the chi^2 profile's rise at the linearised ends (1 sigma out) is off
   // 1 by more than this fraction, the interval comes from the profile.
   double profile_tolerance = 0.2;
   SolverControl solver;
   double min_relative_singular_value = 1e-8;
 
-  // The settings: the separation is the session's; what data to use is the pipeline's.
+  // The settings: the separation is the session's; what data to use, and
+  // whether to refit without each run or give intervals, is the pipeline's
+  // (the products asked for, pipeline/products.h).
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {
     visit("exponent", self.exponent, "n of the Hertz and Hunt-Crossley laws where not fitted");
-    visit("leave_one_out", self.leave_one_out, "also refit without each run and predict it");
     visit("profile_tolerance", self.profile_tolerance,
           "profile-likelihood interval where the chi2 rise at 1 sigma is off 1 by more");
     visit("solver", self.solver, "");
@@ -128,6 +130,15 @@ struct ContactLawFit {
   double loo_rms_length = 0.0;
   int loo_maxima = 0;
 };
+
+// Why the runs' data cannot fix the law's parameters, so that it is not
+// fitted; empty when they can. Kelvin-Voigt and Hunt-Crossley (n fixed) are
+// fixed by the maxima alone; Hertz and Hertz with a damper need a run's own
+// contact time (with a sigma) to fix k; Hunt-Crossley with n free needs
+// contact times at impact speeds spread enough that the line of ln tau_c on
+// ln v would fix n to +-1 or better (tau_c ~ v^(-(n-1)/(n+1)) at the fixed n).
+std::string ContactLawUninformed(ContactLawKind kind, const std::vector<LawRun>& runs,
+                                 const ContactLawFitOptions& options);
 
 // Throws std::invalid_argument for fewer than two runs, a run without two
 // read maxima, a maximum without sigma > 0, a non-positive mass or X0.

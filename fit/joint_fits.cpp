@@ -381,7 +381,7 @@ SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& run
   double best_bic = std::numeric_limits<double>::infinity();
   for (const Kind kind : {Kind::kPerRun, Kind::kCommon, Kind::kLinear}) {
     JointModelFit fit = FitModel(kind, all, options);
-    fit.leave_one_out = LeaveRunsOut(kind, prepared, options);
+    if (options.leave_one_out) fit.leave_one_out = LeaveRunsOut(kind, prepared, options);
     if (fit.ok && fit.bic < best_bic) {
       best_bic = fit.bic;
       out.best_by_bic = fit.name;

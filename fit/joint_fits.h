@@ -49,6 +49,7 @@ struct JointFitOptions {
   std::vector<std::string> runs;  // names of the runs to use; empty = all
   SolverControl solver;
   double min_relative_singular_value = 1e-10;  // below: the model is not identifiable
+  bool leave_one_out = true;                   // refit without each run (the pipeline's)
 
   // The settings: which runs is the session's.
   template <typename Self, typename Visit>

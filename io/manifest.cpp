@@ -1236,9 +1236,9 @@ Session ReadSession(const TableReader& root) {
 
   root.WarnUnknownKeys({"format", "title", "units", "apparatus", "scope", "calibration", "run",
                         "log", "reduction", "prediction", kStageTables[0], kStageTables[1],
-                        kStageTables[2], kStageTables[3], kStageTables[4]});
-  session.settings = ReadSettings(
-      root, {kStageTables[0], kStageTables[1], kStageTables[2], kStageTables[3], kStageTables[4]});
+                        kStageTables[2], kStageTables[3], kStageTables[4], kStageTables[5]});
+  session.settings = ReadSettings(root, {kStageTables[0], kStageTables[1], kStageTables[2],
+                                         kStageTables[3], kStageTables[4], kStageTables[5]});
   session.title = root.String("title", "a title (a string)").value_or("");
   if (auto units = root.Choice("units", {"in-lbf-s", "SI"})) {
     session.units = *ParseUnitSystem(*units);

@@ -35,9 +35,10 @@ struct StageSetting {
 // By key below the stage tables, e.g. "digitize.traces.method".
 using StageSettings = std::map<std::string, StageSetting>;
 
-// The stage tables, in the order reduce runs the stages.
-inline constexpr std::array<std::string_view, 5> kStageTables = {
-    "digitize", "photocell", "rebound_extraction", "fit", "log_analysis"};
+// The stage tables, in the order reduce runs the stages, and [products]: which
+// session-level products to make (pipeline/products.h).
+inline constexpr std::array<std::string_view, 6> kStageTables = {
+    "digitize", "photocell", "rebound_extraction", "fit", "log_analysis", "products"};
 
 struct Apparatus {
   double pendulum_length = 0.0;  // L, length units

@@ -242,12 +242,13 @@ const NamedEstimate* ParameterOf(const ModelComparisonRow& m, const std::string&
 // ratio, as an F-test would), so that understated errors do not turn small
 // differences into rejections. Verdicts on the BIC difference from the best
 // (Kass and Raftery): < 2 comparable, < 10 disfavoured, else rejected.
-void Judge(ModelComparison& c) {
+void Judge(ModelComparison& c, bool leave_one_out) {
   const ModelComparisonRow* general = nullptr;
   const ModelComparisonRow* best_loo = nullptr;
   for (const ModelComparisonRow& m : c.models) {
     if (!m.ok) continue;
     if (!general || m.parameter_count > general->parameter_count) general = &m;
+    if (!leave_one_out) continue;
     if (!best_loo || m.loo_rms_normalized < best_loo->loo_rms_normalized) best_loo = &m;
   }
   c.best_by_leave_one_out = best_loo ? best_loo->model : "";
@@ -340,7 +341,8 @@ void Evidence(ModelComparison& c, const std::vector<const RunResult*>& runs,
 }  // namespace
 
 std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitOptions& fit,
-                                             const std::vector<RunResult>& runs, std::string* why) {
+                                             const std::vector<RunResult>& runs, bool leave_one_out,
+                                             std::string* why) {
   const std::vector<const RunResult*> comparable = ComparableRuns(runs);
   std::vector<JointRun> joint;
   for (const RunResult* run : comparable) {
@@ -358,7 +360,9 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
     return std::nullopt;
   }
   try {
-    const SessionModelComparison c = CompareRestitutionModels(joint, fit.restitution_models);
+    JointFitOptions joint_options = fit.restitution_models;
+    joint_options.leave_one_out = leave_one_out;
+    const SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
     ModelComparison out;
     out.run_ids = c.run_names;
     for (const JointModelFit& m : c.models) {
@@ -383,6 +387,8 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
     ContactLawFitOptions options = fit.contact_laws;
     options.separation = inputs.separation;
     options.use_contact_times = false;
+    options.leave_one_out = leave_one_out;
+    options.intervals = false;  // a row has none
     for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
       try {
         out.models.push_back(RowOf(FitContactLaw(kind, law_runs, options), law_runs));
@@ -393,7 +399,7 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
         out.models.push_back(std::move(row));
       }
     }
-    Judge(out);
+    Judge(out, leave_one_out);
     Evidence(out, comparable, inputs.pendulum);
     return out;
   } catch (const std::exception& e) {
@@ -403,17 +409,52 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
 }
 
 std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOptions& fit,
-                                          const std::vector<RunResult>& runs, std::string* why) {
+                                          const std::vector<RunResult>& runs,
+                                          const ProductOptions& asked,
+                                          std::vector<ProductRecord>* records, std::string* why) {
+  struct Law {
+    ContactLawKind kind;
+    const char* product;
+    bool asked;
+  };
+  const ContactLawProducts& laws = asked.contact_laws;
+  const Law all[] = {
+      {ContactLawKind::kKelvinVoigt, "contact_laws.kelvin_voigt", laws.kelvin_voigt},
+      {ContactLawKind::kHertz, "contact_laws.hertz", laws.hertz},
+      {ContactLawKind::kHuntCrossley, "contact_laws.hunt_crossley", laws.hunt_crossley},
+      {ContactLawKind::kHuntCrossleyExponent, "contact_laws.hunt_crossley_n", laws.hunt_crossley_n},
+      {ContactLawKind::kHertzDamper, "contact_laws.hertz_damper", laws.hertz_damper}};
   const std::vector<const RunResult*> comparable = ComparableRuns(runs);
+  const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
+  ContactLawFitOptions options = fit.contact_laws;
+  options.separation = inputs.separation;
+  options.leave_one_out = asked.leave_one_out;
+  options.intervals = asked.intervals;
+  std::vector<ContactLawKind> to_fit;
+  for (const Law& law : all) {
+    ProductRecord record{law.product, false, std::string(kNotAsked)};
+    if (!law.asked) {
+      // not asked
+    } else if (comparable.size() < 2) {
+      record.reason = fmt::format(
+          "{}a contact law needs two runs whose maxima all carry an uncertainty, found {}",
+          kUninformed, comparable.size());
+    } else if (const std::string problem = ContactLawUninformed(law.kind, law_runs, options);
+               !problem.empty()) {
+      record.reason = std::string(kUninformed) + problem;
+    } else {
+      record.made = true;
+      record.reason.clear();
+      to_fit.push_back(law.kind);
+    }
+    records->push_back(std::move(record));
+  }
   if (comparable.size() < 2) {
     *why = fmt::format(
         "contact laws skipped: they need two runs whose maxima all carry an uncertainty, found {}",
         comparable.size());
     return {};
   }
-  const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
-  ContactLawFitOptions options = fit.contact_laws;
-  options.separation = inputs.separation;
   // The laws are independent problems: with jobs > 1 they run side by side
   // (the damper's and the free exponent's leave-one-out dominate).
   const auto fit_law = [&](ContactLawKind kind) {
@@ -427,15 +468,76 @@ std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOpti
     }
   };
   std::vector<std::future<ContactLawFit>> pending;
-  for (ContactLawKind kind :
-       {ContactLawKind::kKelvinVoigt, ContactLawKind::kHertz, ContactLawKind::kHuntCrossley,
-        ContactLawKind::kHuntCrossleyExponent, ContactLawKind::kHertzDamper}) {
+  for (ContactLawKind kind : to_fit) {
     pending.push_back(
         std::async(inputs.jobs > 1 ? std::launch::async : std::launch::deferred, fit_law, kind));
   }
   std::vector<ContactLawFit> out;
   for (auto& p : pending) out.push_back(p.get());
   return out;
+}
+
+void MakeSessionFits(const LawInputs& inputs, const FitOptions& fit, const ProductOptions& asked,
+                     SessionResult& result) {
+  std::vector<ProductRecord>& records = result.products;
+  const auto record = [&](const char* name, bool asked_for, const std::string& uninformed) {
+    ProductRecord r{name, asked_for && uninformed.empty(), ""};
+    if (!asked_for) {
+      r.reason = kNotAsked;
+    } else if (!uninformed.empty()) {
+      r.reason = std::string(kUninformed) + uninformed;
+    }
+    records.push_back(r);
+    return r.made;
+  };
+  const std::size_t fitted_runs = static_cast<std::size_t>(
+      std::count_if(result.runs.begin(), result.runs.end(),
+                    [](const RunResult& r) { return r.ok && r.measured.xmax.size() >= 2; }));
+  const std::size_t comparable = ComparableRuns(result.runs).size();
+
+  if (record("joint_fits", asked.joint_fits,
+             fitted_runs < 2 ? fmt::format("a joint fit needs two reduced runs with two maxima or "
+                                           "more, found {}",
+                                           fitted_runs)
+                             : "")) {
+    result.joint_fits =
+        FitSessionJointly(inputs.pendulum, inputs.mass, inputs.separation, fit, result.runs);
+  }
+  // Leave-one-out refits the comparison and the laws: it needs three runs.
+  const bool leave_one_out = asked.leave_one_out && comparable >= 3;
+  std::string why;
+  if (record("model_comparison", asked.model_comparison, "")) {
+    // Fewer than three runs: CompareModels says why, as a warning too.
+    result.model_comparison = CompareModels(inputs, fit, result.runs, leave_one_out, &why);
+    if (!result.model_comparison) {
+      result.warnings.push_back(why);
+      records.back().made = false;
+      const std::string prefix = "model comparison skipped: ";
+      records.back().reason =
+          std::string(kUninformed) + (why.starts_with(prefix) ? why.substr(prefix.size()) : why);
+    }
+  }
+  why.clear();
+  result.contact_laws = FitContactLaws(inputs, fit, result.runs, asked, &records, &why);
+  const bool any_law = std::any_of(records.begin(), records.end(), [](const ProductRecord& r) {
+    return r.made && r.name.starts_with("contact_laws.");
+  });
+  if (comparable >= 2 && !any_law &&
+      std::any_of(records.begin(), records.end(), [](const ProductRecord& r) {
+        return r.name.starts_with("contact_laws.") && r.reason != kNotAsked;
+      })) {
+    why = "contact laws skipped: the runs inform none of those asked for";
+  }
+  if (result.contact_laws.empty() && !why.empty()) result.warnings.push_back(why);
+  record("intervals", asked.intervals,
+         any_law ? "" : "intervals are of the contact laws' parameters, and no law is fitted");
+  record("leave_one_out", asked.leave_one_out,
+         comparable < 3 ? fmt::format("leave-one-out needs three runs whose maxima all carry an "
+                                      "uncertainty, found {}",
+                                      comparable)
+         : !any_law && !result.model_comparison
+             ? "there is no model comparison or contact law to refit"
+             : "");
 }
 
 }  // namespace impactlab

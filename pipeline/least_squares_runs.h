@@ -40,13 +40,25 @@ struct LawInputs {
 // (Hunt-Crossley, elastic Hertz; a linear law's is "common"), compared over
 // the runs whose maxima all carry an uncertainty (at least three runs), with
 // each model's verdict against the best and the evidence in sentences;
-// nullopt otherwise, with `why`.
+// nullopt otherwise, with `why`. `leave_one_out`: refit without each run too.
 std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitOptions& fit,
-                                             const std::vector<RunResult>& runs, std::string* why);
+                                             const std::vector<RunResult>& runs, bool leave_one_out,
+                                             std::string* why);
 
-// The contact laws fitted across those runs, maxima and own contact times
-// together. Empty (with `why`) when fewer than two runs qualify.
+// The contact laws asked for in `asked` (every one when all are), fitted
+// across those runs, maxima and own contact times together; a law the runs
+// cannot inform (fit/contact_law_fit.h ContactLawUninformed) is not fitted.
+// One record per law (pipeline/products.h) goes to `records`. Empty (with
+// `why`) when fewer than two runs qualify.
 std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOptions& fit,
-                                          const std::vector<RunResult>& runs, std::string* why);
+                                          const std::vector<RunResult>& runs,
+                                          const ProductOptions& asked,
+                                          std::vector<ProductRecord>* records, std::string* why);
+
+// Every session-level fit product (joint fits, model comparison, the contact
+// laws, their intervals, leave-one-out) that `asked` names and the runs can
+// inform, into `result`, with a record of each in `result.products`.
+void MakeSessionFits(const LawInputs& inputs, const FitOptions& fit, const ProductOptions& asked,
+                     SessionResult& result);
 
 }  // namespace impactlab

@@ -24,12 +24,14 @@ constexpr int kOverlayWidthPx = 1200;
 // 1 s reduce; at a quarter of the width the whole reduce took 68 ms less.
 constexpr double kPreviewScale = 0.25;
 
-void DrawOverlays(const Photo& photo, const DigitizeResult& result, PhotoOverlay& out) {
+void DrawOverlays(const Photo& photo, const DigitizeResult& result, bool thumbnail,
+                  PhotoOverlay& out) {
   const cv::Mat bgr = DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx});
   if (std::string problem; !imagefile::EncodeJpeg(bgr, 82, &out.jpeg, &problem)) {
     throw std::runtime_error("the overlay's JPEG: " +
                              problem);  // an 8-bit BGR image always encodes
   }
+  if (!thumbnail) return;
   cv::Mat small;
   cv::resize(bgr, small, cv::Size(), kPreviewScale, kPreviewScale, cv::INTER_AREA);
   RgbImage& preview = out.preview;
@@ -59,7 +61,7 @@ std::optional<GraticuleCorners> CornersHintOf(const std::filesystem::path& path,
 
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
                                     const std::map<std::string, TraceSettings>& traces,
-                                    DigitizeOptions options) {
+                                    DigitizeOptions options, bool thumbnail) {
   // Read from inside the session folder only, and only a regular file.
   const Photo photo = DecodePhoto(ReadSessionFile(session.folder, path), path);
   std::vector<TraceRequest> requests;
@@ -69,7 +71,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
 
   DigitizedPhoto out;
   out.overlay.photo = std::filesystem::relative(path, session.folder).string();
-  DrawOverlays(photo, result, out.overlay);
+  DrawOverlays(photo, result, thumbnail, out.overlay);
   out.overlay.graticule_residual_px = result.graticule.residual_px;
   out.overlay.processing_ms = result.ProcessingMs();
   out.overlay.hints = HintsUsed(result);

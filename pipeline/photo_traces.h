@@ -27,8 +27,9 @@ struct DigitizedPhoto {
 // Throws InputError naming the photo and what was not found (no graticule, a
 // trace missing from its band, an unreadable file).
 // `options`: the photo's entry's; the manifest's corners hint, when it gives one, is added.
+// `thumbnail`: make the overlay's quarter-width pixels too (products.thumbnails).
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& photo, const Session& session,
                                     const std::map<std::string, TraceSettings>& traces,
-                                    DigitizeOptions options);
+                                    DigitizeOptions options, bool thumbnail = true);
 
 }  // namespace impactlab

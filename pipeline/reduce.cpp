@@ -337,6 +337,32 @@ void KeepRejectedEntries(const Session& session, const ReduceOptions& options,
   }
 }
 
+// Thumbnails: made when asked for and some photo was digitized (or reused).
+void RecordThumbnails(const ProductOptions& asked, SessionResult& result) {
+  bool photos = false;
+  for (const RunResult& run : result.runs) {
+    photos = photos || !run.measured.overlays.empty();
+    for (const CellCalibration& c : run.measured.calibrations) photos = photos || c.overlay;
+  }
+  for (const CellCalibration& c : result.calibrations) photos = photos || c.overlay;
+  ProductRecord record{"thumbnails", asked.thumbnails && photos, ""};
+  if (!asked.thumbnails) {
+    record.reason = kNotAsked;
+  } else if (!photos) {
+    record.reason = std::string(kUninformed) + "the session has no digitized photo";
+  }
+  result.products.push_back(std::move(record));
+}
+
+// `reduce --only calibration|rebounds`: no session-level fit is asked for.
+void RecordNotAsked(const ProductOptions& asked, SessionResult& result) {
+  ForEachSetting(asked, [&](const std::string& key, const auto&, const char*) {
+    if (key == "thumbnails") return;
+    result.products.push_back({key, false, std::string(kNotAsked) + " (reduce --only)"});
+  });
+  RecordThumbnails(asked, result);
+}
+
 // Counts the work done for ReduceOptions::on_progress, from any thread.
 class ProgressCounter {
  public:
@@ -424,6 +450,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     for (auto& c : done) {
       if (c) result.calibrations.push_back(std::move(*c));
     }
+    RecordNotAsked(session_options.products, result);
     return result;
   }
 
@@ -467,17 +494,15 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
                                             disagreement->rebound, disagreement->why));
     }
   }
-  if (options.products != Products::kFit) return result;
+  if (options.products != Products::kFit) {
+    RecordNotAsked(session_options.products, result);
+    return result;
+  }
 
-  result.joint_fits = FitSessionJointly(pendulum, session.apparatus->mass, result.separation,
-                                        session_options.fit, result.runs);
   const LawInputs law_inputs{pendulum, session.apparatus->mass, result.separation,
                              ContactRebounds(session), options.jobs};
-  std::string why;
-  result.model_comparison = CompareModels(law_inputs, session_options.fit, result.runs, &why);
-  if (!result.model_comparison) result.warnings.push_back(why);
-  result.contact_laws = FitContactLaws(law_inputs, session_options.fit, result.runs, &why);
-  if (result.contact_laws.empty()) result.warnings.push_back(why);
+  MakeSessionFits(law_inputs, session_options.fit, session_options.products, result);
+  RecordThumbnails(session_options.products, result);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
 

@@ -23,6 +23,7 @@ struct Out {
   const Hdf5Extras& x;
   UnitLabels u;
   const SettingValues& session_settings;  // /settings: the others are written as changes
+  bool thumbnails = true;                 // the overlays' HDF5 images (products.thumbnails)
 };
 
 // The file being read and its layout (1 or 2), where the two differ.
@@ -210,7 +211,9 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   if (!o.hints.empty()) f.SetAttribute(h, "hints", o.hints);
   // The pixels as an HDF5 image, which HDFView shows (it cannot decode a
   // JPEG); the JPEG itself for the report's HTML, a tenth of the size.
-  if (!o.preview.pixels.empty()) {
+  if (!out.thumbnails) {
+    // Not asked for: the JPEG alone.
+  } else if (!o.preview.pixels.empty()) {
     out.x.WriteImage(h + "/overlay", o.preview);
   } else if (const RgbImage image = DecodeOverlay(o.jpeg); !image.pixels.empty()) {
     out.x.WriteImage(h + "/overlay", image);
@@ -459,6 +462,7 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
     f.WriteScalar(h + "/aic", m.aic, "1");
     f.WriteScalar(h + "/bic", m.bic, "1");
     f.WriteScalar(h + "/log_restitution_spread", m.log_restitution_spread, "1");
+    if (c.best_by_leave_one_out.empty()) continue;  // no leave-one-out (products)
     f.WriteScalar(h + "/leave_one_out_rms_normalized", m.loo_rms_normalized, "1");
     f.WriteScalar(h + "/leave_one_out_rms", m.loo_rms_length, out.u.length);
   }
@@ -492,8 +496,8 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     m.aic = f.ReadScalar(h + "/aic");
     m.bic = f.ReadScalar(h + "/bic");
     m.log_restitution_spread = f.ReadScalar(h + "/log_restitution_spread");
-    m.loo_rms_normalized = f.ReadScalar(h + "/leave_one_out_rms_normalized");
-    m.loo_rms_length = f.ReadScalar(h + "/leave_one_out_rms");
+    m.loo_rms_normalized = f.ReadScalarIfPresent(h + "/leave_one_out_rms_normalized").value_or(0.0);
+    m.loo_rms_length = f.ReadScalarIfPresent(h + "/leave_one_out_rms").value_or(0.0);
     c.models.push_back(std::move(m));
   }
   return c;
@@ -536,8 +540,10 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
   f.WriteScalar(g + "/bic", fit.bic, "1");
   f.WriteScalar(g + "/birge_ratio", fit.scatter.birge_ratio, "1");
   f.WriteScalar(g + "/chi2_p_value", fit.scatter.p_value, "1");
-  f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
-  f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
+  if (fit.loo_ok || fit.loo_maxima > 0) {  // left out: fewer than three runs, or not asked
+    f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
+    f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
+  }
   f.WriteScalar(g + "/seconds", fit.status.seconds, "s");
 }
 
@@ -575,9 +581,10 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   fit.scatter.birge_ratio = f.ReadScalar(g + "/birge_ratio");
   fit.scatter.p_value = f.ReadScalar(g + "/chi2_p_value");
   fit.scatter.excess = f.ReadIntegerAttribute(g, "excess_scatter") != 0;
-  fit.loo_rms_normalized = f.ReadScalar(g + "/leave_one_out_rms_normalized");
-  fit.loo_rms_length = f.ReadScalar(g + "/leave_one_out_rms");
-  fit.loo_ok = fit.ok;
+  const std::optional<double> loo = f.ReadScalarIfPresent(g + "/leave_one_out_rms_normalized");
+  fit.loo_rms_normalized = loo.value_or(0.0);
+  fit.loo_rms_length = f.ReadScalarIfPresent(g + "/leave_one_out_rms").value_or(0.0);
+  fit.loo_ok = fit.ok && loo.has_value();
   fit.status.seconds = f.ReadScalar(g + "/seconds");
   return fit;
 }
@@ -889,7 +896,8 @@ bool HasPendulum(const SessionResult& r) { return !r.runs.empty() || !r.calibrat
 
 void WriteAll(Hdf5File& f, const SessionResult& r) {
   const Hdf5Extras extras(f);
-  Out out{f, extras, LabelsFor(r.units), r.settings};
+  const ProductRecord* thumbnails = r.FindProduct("thumbnails");
+  Out out{f, extras, LabelsFor(r.units), r.settings, thumbnails == nullptr || thumbnails->made};
   f.SetAttribute("/", "layout", static_cast<long long>(kResultsLayout));
   f.SetAttribute("/", "producer", r.producer);
   f.SetAttribute("/", "session_title", r.title);
@@ -906,6 +914,11 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   }
   if (r.session_contact_time) f.WriteScalar("/session/contact_time", *r.session_contact_time, "s");
   f.WriteStrings("/session/warnings", r.warnings);
+  if (!r.products.empty()) {
+    f.CreateGroup("/session/products");
+    for (const ProductRecord& p : r.products)
+      f.SetAttribute("/session/products", p.name, p.Status());
+  }
   if (!r.runs.empty()) f.CreateGroup("/runs");
   for (const RunResult& run : r.runs) WriteRun(out, run);
   for (const CellCalibration& c : r.calibrations) {
@@ -1109,6 +1122,14 @@ void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
   }
   r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
   r.warnings = f.ReadStrings("/session/warnings");
+  if (f.Exists("/session/products")) {
+    for (const std::string& name : f.AttributeNames("/session/products")) {
+      const std::string status = f.ReadStringAttribute("/session/products", name);
+      const std::string skipped = "skipped: ";
+      r.products.push_back({name, status == "made",
+                            status.starts_with(skipped) ? status.substr(skipped.size()) : ""});
+    }
+  }
 }
 
 std::vector<std::string> ChildrenIfPresent(const Hdf5File& f, const std::string& group) {

@@ -89,18 +89,6 @@ void AddSettings(Hasher& h, const std::string& stage, const Options& options) {
   });
 }
 
-const char* ProductsName(Products products) {
-  switch (products) {
-    case Products::kCalibration:
-      return "calibration";
-    case Products::kRebounds:
-      return "rebounds";
-    case Products::kFit:
-      return "fit";
-  }
-  return "?";
-}
-
 }  // namespace
 
 std::string RunFingerprint(const Run& run, const Session& session, const ReduceOptions& options) {
@@ -112,7 +100,8 @@ std::string RunFingerprint(const Run& run, const Session& session, const ReduceO
   const Separation separation =
       options.separation.value_or(ParseSeparation(session.reduction.separation));
   h.Add(std::string(ConventionName(convention))).Add(std::string(SeparationName(separation)));
-  h.Add(std::string(ProductsName(options.products)));
+  // Not the products asked for (--only, [products]): a measurement is the
+  // same whatever is made of it, so asking for more later re-measures nothing.
   if (session.apparatus) {
     h.Add(session.apparatus->pendulum_length).Add(session.apparatus->mass);
     h.Add(session.apparatus->gravity);

@@ -1,7 +1,7 @@
 // A run's fingerprint: a hash of everything its measurement depends on (the
 // manifest entries of the run and its calibrations, the apparatus and
 // reduction settings as reduce resolves them: pendulum convention,
-// separation, products; the program version and commit; the settings of the
+// separation; the program version and commit; the settings of the
 // stages that measure this run and its calibrations, as each resolves them
 // (pipeline/stage_options.h); and the bytes of every input file). An unchanged fingerprint lets
 // `reduce` reuse the run's earlier measurement from the existing results file.
@@ -15,8 +15,8 @@
 
 namespace impactlab {
 
-// 32 hex digits (XXH3-128). `options`: the reduce's (producer, products and
-// the overrides of the manifest's convention and separation, the stages'
+// 32 hex digits (XXH3-128). `options`: the reduce's (producer and the
+// overrides of the manifest's convention and separation, the stages'
 // options and settings). Throws InputError if an input file cannot be read or
 // a setting does not apply, std::invalid_argument for an unknown convention
 // or separation.

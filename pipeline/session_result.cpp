@@ -18,6 +18,12 @@ const RunResult* SessionResult::FindRun(const std::string& id) const {
   return it == runs.end() ? nullptr : &*it;
 }
 
+const ProductRecord* SessionResult::FindProduct(std::string_view name) const {
+  const auto it = std::find_if(products.begin(), products.end(),
+                               [&](const ProductRecord& p) { return p.name == name; });
+  return it == products.end() ? nullptr : &*it;
+}
+
 const char* ConventionName(PendulumConvention convention) {
   return convention == PendulumConvention::kThesis ? "thesis" : "exact";
 }

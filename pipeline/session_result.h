@@ -15,6 +15,7 @@
 #include "io/units.h"
 #include "model/pendulum.h"
 #include "options/settings.h"
+#include "pipeline/products.h"
 #include "rebounds/bar_rebounds.h"
 
 namespace impactlab {
@@ -283,9 +284,13 @@ struct SessionResult {
   std::vector<LogResult> logs;
   std::vector<std::string> warnings;  // manifest warnings and non-fatal findings
   SettingValues settings;             // every stage setting as the session resolves them
+  // The session-level products (pipeline/products.h): each made, or skipped
+  // with why; empty in a file written before they were recorded.
+  std::vector<ProductRecord> products;
 
   int FailedRuns() const;
   const RunResult* FindRun(const std::string& id) const;
+  const ProductRecord* FindProduct(std::string_view name) const;
 };
 
 const char* ConventionName(PendulumConvention convention);    // "exact" or "thesis"

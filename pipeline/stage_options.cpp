@@ -19,7 +19,8 @@ bool StageOptions::Check(std::string* why) const {
   };
   return in("digitize", digitize.Check(&inner)) && in("photocell", photocell.Check(&inner)) &&
          in("rebound_extraction", rebound_extraction.Check(&inner)) &&
-         in("fit", fit.Check(&inner)) && in("log_analysis", log_analysis.Check(&inner));
+         in("fit", fit.Check(&inner)) && in("log_analysis", log_analysis.Check(&inner)) &&
+         in("products", products.Check(&inner));
 }
 
 StageOptions WithSettings(StageOptions options, const StageSettings& settings) {

@@ -1,6 +1,7 @@
 // Every stage's options as `reduce` uses them, and where their settings come
 // from: the defaults, then the manifest's stage tables ([digitize],
-// [photocell], [rebound_extraction], [fit], [log_analysis]), then an entry's own
+// [photocell], [rebound_extraction], [fit], [log_analysis], [products]: the
+// session-level products to make, pipeline/products.h), then an entry's own
 // ([run.digitize], [calibration.photocell], [log.log_analysis], ...), then
 // the command line's. One list per options struct (options/settings.h) gives
 // the keys of all four, the fingerprint and the results file's attributes.
@@ -12,6 +13,7 @@
 #include "digitize/options.h"
 #include "fit/fit_options.h"
 #include "io/session.h"
+#include "pipeline/products.h"
 #include "rebounds/rebound_extraction.h"
 #include "signal/log_analysis.h"
 
@@ -23,6 +25,7 @@ struct StageOptions {
   ReboundExtractionOptions rebound_extraction;  // the maxima from a displacement history
   FitOptions fit;                               // the least-squares fits
   LogAnalysisOptions log_analysis;              // encoder/accelerometer logs
+  ProductOptions products;                      // the session-level products asked for
 
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {
@@ -31,6 +34,7 @@ struct StageOptions {
     visit("rebound_extraction", self.rebound_extraction, "");
     visit("fit", self.fit, "");
     visit("log_analysis", self.log_analysis, "");
+    visit("products", self.products, "");
   }
 
   // False with `why` naming the first setting out of range ("digitize.traces.min_coverage ...").

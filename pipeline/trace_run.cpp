@@ -160,7 +160,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
                     {session_.manifest, key + ".trace.time_per_div", std::nullopt});
     DigitizedPhoto digitized = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}},
-                                  options.digitize);
+                                  options.digitize, options.products.thumbnails);
     });
     trace = std::move(digitized.traces.at("trace"));
     cell->overlay = std::move(digitized.overlay);
@@ -210,7 +210,8 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
                        "traces without `csv` are read from the run's photo, and it has none");
     }
     photo = Timed(seconds.load, [&] {
-      return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize);
+      return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize,
+                                  options.products.thumbnails);
     });
     out.overlays.push_back(photo->overlay);
   }

@@ -247,6 +247,7 @@ std::string ParameterText(const NamedEstimate& p, double scale) {
 }
 
 Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
+  const bool loo = !c.best_by_leave_one_out.empty();  // leave-one-out made
   Table t;
   t.name = "model_comparison";
   t.caption =
@@ -278,14 +279,29 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
     }
     t.rows.push_back({m.model, parameters, Count(m.parameter_count), Sig(m.chi2, 4), Count(m.dof),
                       Sig(m.aic, 5), Sig(m.bic, 5), Sig(m.log_restitution_spread, 3),
-                      Sig(m.loo_rms_normalized, 4), Sig(m.loo_rms_length, 4), m.verdict});
+                      loo ? Sig(m.loo_rms_normalized, 4) : Cell("-"),
+                      loo ? Sig(m.loo_rms_length, 4) : Cell("-"), m.verdict});
   }
-  t.notes = {fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
-                         c.best_by_leave_one_out, c.best_by_bic),
+  t.notes = {loo ? fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
+                               c.best_by_leave_one_out, c.best_by_bic)
+                 : fmt::format("Lowest BIC: {} (no leave-one-out refits).", c.best_by_bic),
              "chi2 / dof far above 1 means the stated uncertainties understate the scatter; "
              "\"scaled\" standard errors are multiplied by sqrt(chi2/dof) (Birge) where that "
              "excess is significant (p < 0.001)."};
   for (const std::string& e : c.evidence) t.notes.push_back(e);
+  return t;
+}
+
+// The session-level products a reduce did not make, and why (pipeline/products.h).
+Table SkippedProductTable(const SessionResult& r) {
+  Table t;
+  t.name = "products_skipped";
+  t.caption = "Session-level products not made";
+  t.columns = {"Product", "Why"};
+  for (const ProductRecord& p : r.products) {
+    if (!p.made) t.rows.push_back({p.name, p.reason});
+  }
+  t.notes = {"Asked for with [products] in session.toml or reduce --products.KEY true."};
   return t;
 }
 
@@ -332,7 +348,8 @@ Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& 
     t.rows.push_back({fit.law + (fit.ok ? "" : " (failed)"), parameters, Count(fit.parameter_count),
                       Sig(fit.chi2_maxima, 4), Sig(fit.chi2_contact, 4), Count(fit.dof),
                       Sig(fit.scatter.birge_ratio, 3), Sig(fit.bic, 5),
-                      Sig(fit.loo_rms_normalized, 4), fit.ok ? fit.identifiability : fit.reason});
+                      fit.loo_ok ? Sig(fit.loo_rms_normalized, 4) : Cell("-"),
+                      fit.ok ? fit.identifiability : fit.reason});
   }
   t.notes = {
       "Each law predicts every impact's e and contact time from its speed; a run's "
@@ -522,6 +539,10 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   }
   if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
   if (!r.contact_laws.empty()) tables.push_back(ContactLawTable(r.contact_laws, u));
+  if (std::any_of(r.products.begin(), r.products.end(),
+                  [](const ProductRecord& p) { return !p.made; })) {
+    tables.push_back(SkippedProductTable(r));
+  }
   tables.push_back(ReboundAnomalyTable(r));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
   for (const LogResult& log : r.logs) {

@@ -232,3 +232,51 @@ TEST_CASE("Each parameter's 68 % interval: linear where chi2 is quadratic, else 
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+namespace {
+
+TEST_CASE("What the data can inform: no contact time fixes no k, one speed fixes no n",
+          "[contact_law]") {
+  LawSessionOptions options;
+  options.contact_time_sigma = 0.5e-6;
+  options.seed = 11;
+  const std::vector<LawRun> timed =
+      AsLawRuns(DrawLawSession(kPendulum, HuntCrossleyContactLaw(kHuntCrossleyTruth), options));
+  const ContactLawFitOptions fit_options;
+  // Contact times at several speeds: every law can be fitted, n among them
+  // (the test above recovers it within sigma < 0.5).
+  for (const ContactLawKind kind :
+       {ContactLawKind::kKelvinVoigt, ContactLawKind::kHertz, ContactLawKind::kHuntCrossley,
+        ContactLawKind::kHuntCrossleyExponent, ContactLawKind::kHertzDamper}) {
+    INFO(ContactLawName(kind));
+    CHECK(ContactLawUninformed(kind, timed, fit_options).empty());
+  }
+  // Without contact times: the maxima fix zeta and chi, nothing else.
+  std::vector<LawRun> untimed = timed;
+  for (LawRun& run : untimed) run.measured.contact_time.reset();
+  CHECK(ContactLawUninformed(ContactLawKind::kKelvinVoigt, untimed, fit_options).empty());
+  CHECK(ContactLawUninformed(ContactLawKind::kHuntCrossley, untimed, fit_options).empty());
+  CHECK_THAT(ContactLawUninformed(ContactLawKind::kHertz, untimed, fit_options),
+             Catch::Contains("no run has its own contact time"));
+  CHECK_THAT(ContactLawUninformed(ContactLawKind::kHertzDamper, untimed, fit_options),
+             Catch::Contains("c k^(-1/(n+1))"));
+  CHECK_THAT(ContactLawUninformed(ContactLawKind::kHuntCrossleyExponent, untimed, fit_options),
+             Catch::Contains("no run has its own contact time"));
+  // The maxima alone, by choice: the same.
+  ContactLawFitOptions maxima_only;
+  maxima_only.use_contact_times = false;
+  CHECK_FALSE(ContactLawUninformed(ContactLawKind::kHertz, timed, maxima_only).empty());
+  // Every contact time at one speed: k is fixed, n is not.
+  std::vector<LawRun> one_speed = timed;
+  for (LawRun& run : one_speed) {
+    run.initial_displacement = timed.front().initial_displacement;
+    run.contact_rebound = -1;  // the release's impact, at the speed X0 gives
+  }
+  CHECK(ContactLawUninformed(ContactLawKind::kHertz, one_speed, fit_options).empty());
+  CHECK_THAT(ContactLawUninformed(ContactLawKind::kHuntCrossleyExponent, one_speed, fit_options),
+             Catch::Contains("would fix n to"));
+}
+
+}  // namespace
+}  // namespace impactlab

@@ -324,7 +324,7 @@ TEST_CASE("reuse: a changed convention measures again and matches a fresh run") 
   CHECK(again.runs[0].measured.xmax != exact.runs[0].measured.xmax);
 }
 
-TEST_CASE("reuse: the fingerprint covers the convention, separation, products and producer") {
+TEST_CASE("reuse: the fingerprint covers the convention, separation and producer, not products") {
   testing::TempDir dir;
   const Session session = TwoRunSession(dir.path());
   const Run& run = session.runs[0];
@@ -339,15 +339,60 @@ TEST_CASE("reuse: the fingerprint covers the convention, separation, products an
   o = {};
   o.separation = Separation::kForce;
   CHECK(RunFingerprint(run, session, o) != base);
+  // What is made of a measurement is no part of it.
   o = {};
   o.products = Products::kRebounds;
-  CHECK(RunFingerprint(run, session, o) != base);
+  CHECK(RunFingerprint(run, session, o) == base);
+  o = {};
+  o.overrides = CommandLineSettings(
+      {{"products.model_comparison", "false"}, {"products.contact_laws.hertz", "false"}});
+  CHECK(RunFingerprint(run, session, o) == base);
   o = {};
   o.producer = "impactlab 0.1.0+gdeadbee";
   CHECK(RunFingerprint(run, session, o) != base);
   Session thesis = session;
   thesis.reduction.convention = "thesis";
   CHECK(RunFingerprint(run, thesis, {}) != base);
+}
+
+TEST_CASE("reuse: a product asked for later is added without measuring any run again") {
+  testing::TempDir dir;
+  const Session session = ThreeRunSession(dir.path());
+  ReduceOptions fewer;
+  fewer.overrides = CommandLineSettings(
+      {{"products.contact_laws.hunt_crossley", "false"}, {"products.joint_fits", "false"}});
+  const SessionResult first = ReduceSession(session, fewer);
+  REQUIRE(first.FailedRuns() == 0);
+  REQUIRE(first.FindProduct("contact_laws.hunt_crossley") != nullptr);
+  CHECK(first.FindProduct("contact_laws.hunt_crossley")->Status() == "skipped: not asked");
+  CHECK(first.joint_fits.empty());
+  const auto file = dir.path() / "out.h5";
+  WriteResults(first, file);
+
+  // The same session with the defaults, the earlier file as reduce reads it.
+  const SessionResult previous = ReadResults(file);
+  ReduceOptions more;
+  more.previous = &previous;
+  const SessionResult second = ReduceSession(session, more);
+  CHECK(Remeasured(second) == std::vector<std::string>{"typed"});  // typed-in: always read afresh
+  for (std::size_t i = 0; i < second.runs.size(); ++i) {
+    CHECK(second.runs[i].fingerprint == first.runs[i].fingerprint);
+    CHECK(second.runs[i].measured.xmax == first.runs[i].measured.xmax);
+  }
+  CHECK(second.FindProduct("contact_laws.hunt_crossley")->Status() == "made");
+  CHECK(std::any_of(second.contact_laws.begin(), second.contact_laws.end(),
+                    [](const ContactLawFit& f) { return f.law == "hunt-crossley"; }));
+  CHECK_FALSE(second.joint_fits.empty());
+  // And the other way: --only rebounds, then everything, re-measures nothing.
+  ReduceOptions rebounds;
+  rebounds.products = Products::kRebounds;
+  const SessionResult measured_only = ReduceSession(session, rebounds);
+  CHECK(measured_only.contact_laws.empty());
+  CHECK_THAT(measured_only.FindProduct("model_comparison")->Status(),
+             Catch::StartsWith("skipped: not asked"));
+  ReduceOptions fit;
+  fit.previous = &measured_only;
+  CHECK(Remeasured(ReduceSession(session, fit)) == std::vector<std::string>{"typed"});
 }
 
 TEST_CASE("reuse: a NaN written into one run's xmax measures that run again, others reused") {
