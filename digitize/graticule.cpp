@@ -427,9 +427,11 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
   // have something far brighter than a grid line within the reach of the
   // profiles measured there, or 0.2 division: a trace running on or near the
   // line, a bezel's lip or a print's edge beside it; or, off the line (more
-  // than two of its widths from where it should be), ink as high as half a
-  // grid line's: a trace printed in the same ink as the grid. The line may be
-  // there, its measurements disturbed.
+  // than two of its widths from where it should be), ink higher than a grid
+  // line by half: a trace printed in the grid's own ink, bolder than a line
+  // but not far brighter (a true grid line beside a wrong lattice's line is
+  // no higher than a line, and the wrong lattice is still caught). The line
+  // may be there, its measurements disturbed.
   const int reach = static_cast<int>(std::ceil(
       std::max(0.2, (std::max(measured_half_length_px, half_length_px) + 2.0 * fit.line_width_px) /
                         fit.px_per_div) /
@@ -450,7 +452,7 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
         }
       }
       hidden += brightest - darkest > 2.5 * fit.line_contrast ||
-                brightest_off - darkest > 0.5 * fit.line_contrast;
+                brightest_off - darkest > 1.5 * fit.line_contrast;
     }
     return hidden;
   };
