@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "io/hdf5_file.h"
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
@@ -134,6 +135,38 @@ TEST_CASE("products: the manifest's [products] table asks, and a bad key is refu
   std::ofstream(dir.path() / "session.toml") << text << "\n[products]\nmodel_comparisons = false\n";
   CHECK_THROWS_WITH(ReduceSession(ReadManifest(dir.path()).session, {}),
                     Catch::Contains("no such setting") && Catch::Contains("model_comparison"));
+}
+
+TEST_CASE("products: thumbnails not asked for are neither drawn nor written; asked later, added") {
+  Session session = ReadManifest(kSampleData / "thesis-photos").session;
+  session.runs.resize(1);
+  ReduceOptions options;
+  options.overrides = CommandLineSettings({{"products.thumbnails", "false"}});
+  const SessionResult without = ReduceSession(session, options);
+  REQUIRE(without.runs.at(0).ok);
+  REQUIRE(without.runs[0].measured.overlays.size() == 1);
+  CHECK(without.runs[0].measured.overlays[0].preview.pixels.empty());
+  CHECK_FALSE(without.runs[0].measured.overlays[0].jpeg.empty());
+  CHECK(StatusOf(without, "thumbnails") == "skipped: not asked");
+  testing::TempDir dir;
+  const auto file = dir.path() / "photos.h5";
+  const std::string group = "/runs/" + without.runs[0].id + "/digitized/0";
+  WriteResults(without, file);
+  {
+    const Hdf5File f = Hdf5File::OpenReadOnly(file);
+    CHECK(f.Exists(group + "/overlay_jpeg"));
+    CHECK_FALSE(f.Exists(group + "/overlay"));
+  }
+  // Asked for with the earlier file: the run is reused, the thumbnail made from its JPEG.
+  const SessionResult previous = ReadResults(file);
+  ReduceOptions again;
+  again.previous = &previous;
+  const SessionResult with = ReduceSession(session, again);
+  CHECK(with.runs.at(0).reused);
+  CHECK(StatusOf(with, "thumbnails") == "made");
+  WriteResults(with, file);
+  const Hdf5File f = Hdf5File::OpenReadOnly(file);
+  CHECK(f.Exists(group + "/overlay"));
 }
 
 }  // namespace
