@@ -162,7 +162,8 @@ struct LawModel {
     if (!(exit.gap > 0.0)) return false;
     const T e = hunt_crossley::RestitutionOf(eps);
     const T gap = T(exit.gap) - (eps * e - T(ValueOf(eps) * exit.restitution));
-    const auto s = hunt_crossley::ContactTimes(n, eps, e, gap);
+    const auto s = FitsExponent() ? hunt_crossley::ContactTimes(n, eps, e, gap)
+                                  : hunt_crossley::ContactTimes<T, double>(exponent, eps, e, gap);
     *tau = x_star / speed * (s.compression + s.restitution);
     return true;
   }

@@ -180,22 +180,27 @@ inline std::vector<double> RestitutionPieces(double exponent, double gap) {
   return cuts;
 }
 
-template <typename T>
-Times<T> ContactTimes(const T& n, const T& eps, const T& e, const T& gap) {
+// N, the exponent's type, is T when n is fitted and double when it is
+// fixed: the nodes' powers d = rho^(n+1) and the integrands' exponent are
+// then plain doubles, and a Jet's pow takes a double exponent (half the
+// work of pow(Jet, Jet), which is most of a fit's time).
+template <typename T, typename N = T>
+Times<T> ContactTimes(const N& n, const T& eps, const T& e, const T& gap) {
   using std::pow;
   const TanhSinhRule& rule = UnitIntervalRule();
   const T one(1.0);
-  const T power = -n / (n + one);
+  const N n_plus_one = n + N(1.0);
+  const N power = -n / n_plus_one;
   const T lead = one + eps;
   const T eps_e = eps * e;
   Times<T> out{T(0.0), T(0.0)};
   for (int j = 0; j < TanhSinhRule::kCount; ++j) {
-    const T d = pow(T(rule.node[j]), n + one);
+    const T d = T(pow(N(rule.node[j]), n_plus_one));
     const T h_c = T(2.0) / lead - T(2.0) * d * Psi2(-eps * d / lead) / (lead * lead);
     out.compression += T(rule.weight[j]) * T(2.0) * pow(h_c, power) / (one + eps * (one - d));
   }
-  const auto value = [](const T& x) {
-    if constexpr (std::is_same_v<T, double>) {
+  const auto value = [](const auto& x) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(x)>, double>) {
       return x;
     } else {
       return x.a;
@@ -205,7 +210,7 @@ Times<T> ContactTimes(const T& n, const T& eps, const T& e, const T& gap) {
   for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double a = cuts[k], width = cuts[k + 1] - cuts[k];
     for (int j = 0; j < TanhSinhRule::kCount; ++j) {
-      const T d = pow(T(a + width * rule.node[j]), n + one);
+      const T d = T(pow(N(a + width * rule.node[j]), n_plus_one));
       const T h_r = RestitutionShape(eps_e, gap, d);
       out.restitution +=
           T(width * rule.weight[j]) * T(2.0) * e * pow(e * e * h_r, power) / (gap + d * eps_e);
