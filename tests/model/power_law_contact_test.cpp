@@ -3,10 +3,12 @@
 #include <cmath>
 #include <vector>
 
+#include <ceres/jet.h>
 #include <boost/math/special_functions/beta.hpp>
 #include <catch2/catch.hpp>
 
 #include "model/contact_integration.h"
+#include "model/hunt_crossley_terms.h"
 #include "model/kelvin_voigt.h"
 #include "model/pendulum.h"
 #include "model/power_law_contact.h"
@@ -199,6 +201,33 @@ TEST_CASE("The damper's derivatives in beta by the variational equations match d
       const double c = beta / HertzPeakCompression(1.0, 1.0, n, 1.0);
       const ContactResponse r = HertzDamperContact({1.0, 1.0, n, c}, 1.0, sep);
       CHECK(at.restitution == Approx(r.restitution).epsilon(1e-9));
+    }
+  }
+}
+
+}  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE("Hunt-Crossley's contact time with n fixed as a double is the one with n a constant Jet",
+          "[power_law]") {
+  // The fits pass a fixed exponent as a double (a cheaper pow); values and
+  // derivatives in eps must be those of the general form with n a Jet whose
+  // derivative part is zero.
+  using Jet = ceres::Jet<double, 2>;
+  for (const double n : {1.0, 1.5, 2.3}) {
+    for (const double eps0 : {1e-4, 0.3, 2.0, 40.0}) {
+      const Jet eps(eps0, 0);
+      const hunt_crossley::Exit exit = hunt_crossley::ExitOf(eps0);
+      const Jet e = hunt_crossley::RestitutionOf(eps);
+      const Jet gap = Jet(exit.gap) - (eps * e - Jet(eps0 * exit.restitution));
+      const auto general = hunt_crossley::ContactTimes(Jet(n), eps, e, gap);
+      const auto fixed = hunt_crossley::ContactTimes<Jet, double>(n, eps, e, gap);
+      INFO("n = " << n << ", eps = " << eps0);
+      CHECK(RelDiff(fixed.compression.a, general.compression.a) < 1e-14);
+      CHECK(RelDiff(fixed.restitution.a, general.restitution.a) < 1e-14);
+      CHECK(RelDiff(fixed.compression.v[0], general.compression.v[0]) < 1e-12);
+      CHECK(RelDiff(fixed.restitution.v[0], general.restitution.v[0]) < 1e-12);
     }
   }
 }
