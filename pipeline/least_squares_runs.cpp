@@ -432,22 +432,16 @@ std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOpti
   options.intervals = asked.intervals;
   std::vector<ContactLawKind> to_fit;
   for (const Law& law : all) {
-    ProductRecord record{law.product, false, std::string(kNotAsked)};
-    if (!law.asked) {
-      // not asked
-    } else if (comparable.size() < 2) {
-      record.reason = fmt::format(
-          "{}a contact law needs two runs whose maxima all carry an uncertainty, found {}",
-          kUninformed, comparable.size());
-    } else if (const std::string problem = ContactLawUninformed(law.kind, law_runs, options);
-               !problem.empty()) {
-      record.reason = std::string(kUninformed) + problem;
-    } else {
-      record.made = true;
-      record.reason.clear();
-      to_fit.push_back(law.kind);
-    }
-    records->push_back(std::move(record));
+    const std::string uninformed =
+        !law.asked ? ""
+        : comparable.size() < 2
+            ? fmt::format(
+                  "a contact law needs two runs whose maxima all carry an uncertainty, "
+                  "found {}",
+                  comparable.size())
+            : ContactLawUninformed(law.kind, law_runs, options);
+    records->push_back(DecideProduct(law.product, law.asked, uninformed));
+    if (records->back().made) to_fit.push_back(law.kind);
   }
   if (comparable.size() < 2) {
     *why = fmt::format(
@@ -481,14 +475,8 @@ void MakeSessionFits(const LawInputs& inputs, const FitOptions& fit, const Produ
                      SessionResult& result) {
   std::vector<ProductRecord>& records = result.products;
   const auto record = [&](const char* name, bool asked_for, const std::string& uninformed) {
-    ProductRecord r{name, asked_for && uninformed.empty(), ""};
-    if (!asked_for) {
-      r.reason = kNotAsked;
-    } else if (!uninformed.empty()) {
-      r.reason = std::string(kUninformed) + uninformed;
-    }
-    records.push_back(r);
-    return r.made;
+    records.push_back(DecideProduct(name, asked_for, uninformed));
+    return records.back().made;
   };
   const std::size_t fitted_runs = static_cast<std::size_t>(
       std::count_if(result.runs.begin(), result.runs.end(),

@@ -12,6 +12,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace impactlab {
@@ -80,5 +81,13 @@ struct ProductRecord {
 
 inline constexpr std::string_view kNotAsked = "not asked";
 inline constexpr std::string_view kUninformed = "the data cannot inform it: ";
+
+// The record of product `name`: made when asked for and nothing keeps the
+// data from informing it (`uninformed` empty), else skipped with why.
+inline ProductRecord DecideProduct(std::string name, bool asked, const std::string& uninformed) {
+  if (!asked) return {std::move(name), false, std::string(kNotAsked)};
+  if (!uninformed.empty()) return {std::move(name), false, std::string(kUninformed) + uninformed};
+  return {std::move(name), true, ""};
+}
 
 }  // namespace impactlab
