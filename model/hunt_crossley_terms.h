@@ -87,13 +87,13 @@ inline Exit ExitOf(double eps) {
 //   de/deps = (gap/((1 + eps) e) - e) / eps,
 // written for small eps (where it cancels) as one Newton step of
 // f(e) = e^2 psi2(-eps e) - psi2(eps), f'(e) = e/gap, in T.
+// `exit` is ExitOf(the value of eps), for a caller that has it already.
 template <typename T>
-T RestitutionOf(const T& eps) {
+T RestitutionOf(const T& eps, const Exit& exit) {
   if constexpr (std::is_same_v<T, double>) {
-    return ExitOf(eps).restitution;
+    return exit.restitution;
   } else {
     const double eps0 = eps.a;
-    const Exit exit = ExitOf(eps0);
     const double e0 = exit.restitution;
     if (eps0 < 0.5) {
       const T f = T(e0 * e0) * Psi2(T(-e0) * eps) - Psi2(eps);
@@ -101,6 +101,15 @@ T RestitutionOf(const T& eps) {
     }
     const double slope = (exit.gap / ((1.0 + eps0) * e0) - e0) / eps0;
     return T(e0) + T(slope) * (eps - T(eps0));
+  }
+}
+
+template <typename T>
+T RestitutionOf(const T& eps) {
+  if constexpr (std::is_same_v<T, double>) {
+    return ExitOf(eps).restitution;
+  } else {
+    return RestitutionOf(eps, ExitOf(eps.a));
   }
 }
 

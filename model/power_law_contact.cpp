@@ -10,6 +10,7 @@
 
 #include "model/contact_integration.h"
 #include "model/hunt_crossley_terms.h"
+#include "model/power_law_tables.h"
 
 namespace impactlab {
 namespace {
@@ -153,6 +154,15 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
 
 HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
                                           double tolerance) {
+  if (const auto t = power_law_tables::HertzDamperImpact(exponent, beta, separation)) {
+    return {t->contact_time.value, t->restitution.value, t->contact_time.slope,
+            t->restitution.slope};
+  }
+  return IntegrateHertzDamperScaledImpact(exponent, beta, separation, tolerance);
+}
+
+HertzDamperScaled IntegrateHertzDamperScaledImpact(double exponent, double beta,
+                                                   Separation separation, double tolerance) {
   const double half = 0.5 * (exponent + 1.0);
   const ScaledForceWithPartials force{[=](double u, double w) {
     const double a = std::abs(u);

@@ -66,7 +66,10 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
 
 // The damper's impact in the Hertz scaling (u = x/x*, s = t v0/x*) as a
 // function of beta = c x*/(M v0) alone, with the derivatives in beta that the
-// fits need (the variational equations, model/contact_integration.h).
+// fits need. Where model/power_law_tables.h covers n and beta (n = 3/2,
+// beta up to 1.1 kinematic, 8 force) from its Chebyshev series, to 1e-12
+// relative whatever `tolerance` asks; elsewhere integrated with the
+// variational equations (model/contact_integration.h) at `tolerance`.
 struct HertzDamperScaled {
   double contact_time = 0.0;    // s_c
   double restitution = 0.0;     // e
@@ -75,6 +78,9 @@ struct HertzDamperScaled {
 };
 HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
                                           double tolerance = 1e-13);
+// Always integrated: the tables' independent check.
+HertzDamperScaled IntegrateHertzDamperScaledImpact(double exponent, double beta,
+                                                   Separation separation, double tolerance = 1e-13);
 
 // Hunt-Crossley restitution at eps = chi v0 >= 0 (1 at eps = 0), exact to a
 // few ulp over eps in [0, 1e300).
