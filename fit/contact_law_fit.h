@@ -9,7 +9,9 @@
 // known speed of the release from X0). Residuals are whitened by the
 // measurements' sigmas; derivatives are exact (ceres::Jet through the laws'
 // closed forms and the Hunt-Crossley quadrature, whose restitution enters by
-// the implicit-function theorem); parameters are fitted as logarithms.
+// the implicit-function theorem; at n = 3/2 through the Chebyshev tables of
+// Hunt-Crossley's and the damper's e and contact time and their derivative
+// series, model/power_law_tables.h); parameters are fitted as logarithms.
 //
 // The laws and what fixes their parameters:
 //   kelvin-voigt     e and tau_c the same at every speed: zeta from the maxima,

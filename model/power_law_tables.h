@@ -9,11 +9,13 @@
 //                     force separation: beta in (0, 8], in z = beta^(1/3)
 // each with its exact derivative. Relative error against the quadrature
 // (model/hunt_crossley_terms.h) and against an integration of the damper in
-// sqrt(u) near contact and separation (tests/model/damper_reference.h):
-// below 1e-12 for the values, 1e-9 for the slopes (measured on a dense grid
-// by tests/model/power_law_tables_test.cpp, which also regenerates the
-// coefficients). Outside its range, or for another n, each function returns
-// nullopt and the caller evaluates the exact form.
+// sqrt(u) near contact and separation (tests/model/damper_reference.h),
+// measured on a grid ten times denser than the nodes by
+// tests/model/power_law_tables_test.cpp (which also regenerates the
+// coefficients): values below 1e-10 (Hunt-Crossley 1e-14, the damper 3e-13
+// kinematic and 5e-11 under force separation), slopes below 2e-8. Outside
+// its range, or for another n, each function returns nullopt and the caller
+// evaluates the exact form.
 #pragma once
 
 #include <optional>
