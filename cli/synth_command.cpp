@@ -43,6 +43,8 @@ void AddSynthCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_flag("--csv-run", args->options.csv_run, "Add a run given as CSV traces");
   cmd->add_flag("--typed-run", args->options.typed_run, "Add a run with typed-in maxima");
+  cmd->add_flag("!--no-photo-handling", args->options.photo_handling,
+                "Randomised style: no hand marks about traces, tape or print reproductions");
   cmd->callback([&action, args] {
     action = [args] {
       args->options.style = *ParsePhotoStyle(args->style);

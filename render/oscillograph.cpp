@@ -120,6 +120,43 @@ bool RenderOptions::Check(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// Tape and the handling's trace marks, from the handling's own stream, laid
+// with the look's dirt: the marks in the same pencil as the look's own.
+void AddHandling(const render::StyleLook& look, cv::Size size,
+                 const std::vector<TraceTruth>& traces, double px_per_div, std::mt19937_64& random,
+                 render::Dirt& dirt) {
+  const render::HandlingLook& handling = look.handling;
+  if (handling.tape > 0) dirt.tape = render::DrawTape(handling.tape, size, random);
+  const cv::Mat marks = render::DrawTraceMarks(handling, size, traces, px_per_div, random);
+  if (marks.empty()) return;
+  if (dirt.mark.empty()) {
+    dirt.mark = marks;
+  } else {
+    cv::max(dirt.mark, marks, dirt.mark);
+  }
+}
+
+// Points on the graticule's lines, between their crossings, in the photo:
+// where a print's tones are set from.
+std::vector<cv::Point2d> GridLinePoints(const CameraMapping& mapping, const cv::Rect2d& g) {
+  std::vector<cv::Point2d> points;
+  for (int i = 0; i <= static_cast<int>(std::lround(g.width)); ++i) {
+    for (double y = g.y + 0.25; y < g.br().y; y += 0.5) {
+      points.push_back(mapping.ImageFromScreen({g.x + i, y}));
+    }
+  }
+  for (int j = 0; j <= static_cast<int>(std::lround(g.height)); ++j) {
+    for (double x = g.x + 0.25; x < g.br().x; x += 0.5) {
+      points.push_back(mapping.ImageFromScreen({x, g.y + j}));
+    }
+  }
+  return points;
+}
+
+}  // namespace
+
 RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOptions& options) {
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("render options: " + error);
@@ -127,8 +164,9 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
   CheckScene(scene);
 
   std::mt19937_64 random(options.seed);
+  std::mt19937_64 handling_random = render::HandlingStream(options.seed);
   const render::ScreenLayout layout = render::LayOutScreen(scene.divisions);
-  const render::StyleLook look = render::DrawStyleLook(options, layout, random);
+  const render::StyleLook look = render::DrawStyleLook(options, layout, random, handling_random);
   const cv::Size size = render::PhotoSize(look);
 
   RenderedPhoto photo;
@@ -151,8 +189,32 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
                                 render::PixelsPerDivisionAt(photo.mapping, layout.centre_div);
   const render::PhosphorCanvas phosphor =
       render::RenderPhosphor(layout, beams, look.screen, canvas_px_per_div, canvas_blur_px);
-  const render::Dirt dirt = render::DrawDirt(look, size, random);
-  photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, random);
+  render::Dirt dirt = render::DrawDirt(look, size, random);
+  const double px_per_div = render::PixelsPerDivisionAt(photo.mapping, layout.centre_div);
+  AddHandling(look, size, photo.traces, px_per_div, handling_random, dirt);
+  if (look.handling.print.halftone) {
+    // The photograph as the report's printer had it (grey, 8 bits, without
+    // what was later laid on the printed page), then printed and scanned.
+    render::StyleLook original = look;
+    original.grey = true;
+    original.sixteen_bit = false;
+    original.jpeg_quality = 0;
+    render::Dirt on_photo = dirt;
+    on_photo.tape = cv::Mat();
+    on_photo.mark = cv::Mat();
+    const cv::Mat developed =
+        render::Photograph(phosphor, layout, original, photo.mapping, on_photo, random);
+    // The caption 0.8 division under the graticule, along its bottom line.
+    const cv::Rect2d& g = layout.graticule_div;
+    const cv::Point2d caption_div(g.x + 0.5 * g.width, g.y - 0.8);
+    const cv::Point2d caption_px = photo.ImageFromScreen(caption_div);
+    photo.image = render::ReproduceInPrint(
+        look, developed, GridLinePoints(photo.mapping, g), caption_px,
+        photo.ImageFromScreen(caption_div + cv::Point2d(1.0, 0.0)) - caption_px, 0.3 * px_per_div,
+        dirt, handling_random);
+  } else {
+    photo.image = render::Photograph(phosphor, layout, look, photo.mapping, dirt, random);
+  }
   render::FinishPhoto(look, photo.image);
   photo.jpeg_quality = look.jpeg_quality;
   if (options.style == PhotoStyle::kRandomised)

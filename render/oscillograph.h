@@ -76,6 +76,10 @@ struct RenderOptions {
   std::uint64_t seed = 1;    // every random choice follows from it (std::mt19937_64)
   bool sixteen_bit = false;  // CV_16U samples instead of CV_8U (randomised: or as drawn)
   bool grey = false;         // one channel instead of BGR (randomised: or as drawn)
+  // Randomised style: what happened to the photo after it was taken (marks
+  // about its traces, tape, a quarter reproduced in print and scanned), drawn
+  // from a stream of its own. Off, a seed's photo is the same but for them.
+  bool handling = true;
 
   // Style overrides; unset values are drawn from the style's range with the seed.
   std::optional<double> rotation_deg;  // screen rotation in the photo, counter-clockwise, |.| <= 15

@@ -206,6 +206,10 @@ class Darkroom {
       value +=
           (look_.paper_bgr - value) * (0.8f / 255.0f * dirt_.light.at<uchar>(row, col) * in_image);
     }
+    if (!dirt_.tape.empty()) {
+      value += (look_.handling.tape_bgr - value) *
+               (look_.handling.tape_opacity / 255.0f * dirt_.tape.at<uchar>(row, col));
+    }
     if (!dirt_.mark.empty()) {
       value += (look_.mark_bgr - value) * (1.0f / 255.0f * dirt_.mark.at<uchar>(row, col));
     }

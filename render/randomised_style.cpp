@@ -19,14 +19,6 @@ namespace impactlab::render {
 
 namespace {
 
-// Uniform in log: for scale factors whose small values matter as much as
-// their large ones (size, blur, noise, brightness).
-double LogUniform(std::mt19937_64& random, double lo, double hi) {
-  return std::exp(Uniform(random, std::log(lo), std::log(hi)));
-}
-
-bool Chance(std::mt19937_64& random, double p) { return Uniform(random, 0.0, 1.0) < p; }
-
 // Phosphors a scope of the time might have: P31 (green, most), P11 (blue,
 // for photography), P7 (bluish white).
 const std::array<cv::Vec3f, 3> kPhosphorBgr = {
@@ -180,7 +172,10 @@ void DrawDirtLook(StyleLook& look, std::mt19937_64& random) {
                                             cv::Vec3f{0.2f, 0.85f, 0.95f},   // yellow
                                             cv::Vec3f{0.05f, 0.05f, 0.05f},  // black ink
                                             cv::Vec3f{0.75f, 0.35f, 0.1f}};  // blue ink
-  look.mark_bgr = pencils[UniformInt(random, 0, 4)];
+  const std::array<const char*, 5> names = {"red", "white", "yellow", "black", "blue"};
+  const int pencil = UniformInt(random, 0, 4);
+  look.mark_bgr = pencils[pencil];
+  look.mark_colour = names[pencil];
 }
 
 std::string PolarityName(Development development) {
@@ -210,7 +205,7 @@ void DrawRandomised(StyleLook& look, const ScreenLayout& layout, std::mt19937_64
   DrawDirtLook(look, random);
 }
 
-cv::Mat DrawHandMarks(int count, cv::Size size, std::mt19937_64& random) {
+cv::Mat DrawHandMarks(int count, cv::Size size, double width_scale, std::mt19937_64& random) {
   cv::Mat mark = cv::Mat::zeros(size, CV_8UC1);
   const double scale = size.width / 2000.0;
   const std::array<const char*, 10> words = {"X0=.405", "run 3", "R", "L",    "#12",
@@ -221,7 +216,7 @@ cv::Mat DrawHandMarks(int count, cv::Size size, std::mt19937_64& random) {
     const cv::Point at(UniformInt(random, 0, size.width - 1),
                        UniformInt(random, 0, size.height - 1));
     const int thickness =
-        std::max(1, static_cast<int>(std::lround(scale * Uniform(random, 2.0, 8.0))));
+        std::max(1, static_cast<int>(std::lround(scale * width_scale * Uniform(random, 2.0, 8.0))));
     const int coverage = UniformInt(random, 160, 255);
     switch (UniformInt(random, 0, 3)) {
       case 0:  // a word or a number
@@ -267,7 +262,8 @@ std::vector<LookFactor> DescribeLook(const StyleLook& look, const cv::Mat& image
   number("width_px", image.cols);
   number("bit_depth", image.depth() == CV_16U ? 16 : 8);
   category("channels", image.channels() == 1 ? "grey" : "colour");
-  category("polarity", PolarityName(look.development));
+  // A figure reproduced in print is dark ink on light paper, whatever the photo was.
+  category("polarity", look.handling.print.halftone ? "negative" : PolarityName(look.development));
   category("development", DevelopmentName(look.development));
   number("jpeg_quality", look.jpeg_quality);  // 0: lossless
   category("surround", look.surround_kind);
@@ -299,7 +295,33 @@ std::vector<LookFactor> DescribeLook(const StyleLook& look, const cv::Mat& image
   number("dust_specks", look.dust_specks);
   number("scratches", look.scratches);
   number("hairs", look.hairs);
-  number("hand_marks", look.hand_marks);
+  // Handling (handling.cpp): every mark, the look's written anywhere and the
+  // handling's about a trace, and the pencil they share.
+  const HandlingLook& handling = look.handling;
+  const auto marks = [&handling](TraceMark kind) {
+    return static_cast<double>(
+        std::count(handling.trace_marks.begin(), handling.trace_marks.end(), kind));
+  };
+  const double all_marks = look.hand_marks + static_cast<double>(handling.trace_marks.size());
+  number("hand_marks", all_marks);
+  number("marks_along_traces", marks(TraceMark::kAlong));
+  number("marks_across_traces", marks(TraceMark::kAcross));
+  number("rings_on_traces", marks(TraceMark::kRing));
+  number("arrows_at_traces", marks(TraceMark::kArrow));
+  number("labels_by_traces", marks(TraceMark::kLabel));
+  // The pencil's stroke in this photo's pixels, and its colour; 0 and "none" without marks.
+  number("mark_width_px", all_marks == 0 ? 0.0 : handling.mark_width_px * image.cols / 2000.0);
+  category("mark_colour", all_marks == 0 ? "none" : look.mark_colour);
+  number("tape", handling.tape);
+  const PrintLook& print = handling.print;
+  category("reproduction", print.halftone ? "halftone" : "photo");
+  // The print's numbers; 0 for a photo.
+  number("halftone_period_px", print.halftone ? print.period_px : 0.0);
+  number("halftone_angle_deg", print.halftone ? print.angle_deg : 0.0);
+  number("ink_spread", print.halftone ? print.ink_spread : 0.0);
+  number("paper_tone", print.halftone ? print.paper_tone : 0.0);
+  number("scan_blur_px", print.halftone ? print.scan_blur_px : 0.0);
+  number("scan_skew_deg", print.halftone ? print.skew_deg : 0.0);
   return f;
 }
 

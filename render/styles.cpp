@@ -165,7 +165,7 @@ std::vector<cv::Point> RandomCurve(cv::Size size, double length_px, double curl,
 }  // namespace
 
 StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout,
-                        std::mt19937_64& random) {
+                        std::mt19937_64& random, std::mt19937_64& handling_random) {
   StyleLook look;
   look.screen.phosphor_bgr = kP31Bgr;
   switch (options.style) {
@@ -186,6 +186,7 @@ StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout
       break;
     case PhotoStyle::kRandomised:
       DrawRandomised(look, layout, random);
+      if (options.handling) DrawHandling(look, layout, handling_random);
       break;
   }
   // The randomised style draws its file format; an option asking for grey or
@@ -238,7 +239,10 @@ Dirt DrawDirt(const StyleLook& look, cv::Size size, std::mt19937_64& random) {
   }
   cv::GaussianBlur(dirt.dark, dirt.dark, cv::Size(), 0.5);
   cv::GaussianBlur(dirt.light, dirt.light, cv::Size(), 0.5);
-  if (look.hand_marks > 0) dirt.mark = DrawHandMarks(look.hand_marks, size, random);
+  // The pencil's mean stroke relative to these marks' own mean (5 px at 2000 px).
+  if (look.hand_marks > 0) {
+    dirt.mark = DrawHandMarks(look.hand_marks, size, look.handling.mark_width_px / 5.0, random);
+  }
   return dirt;
 }
 

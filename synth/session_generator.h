@@ -30,6 +30,9 @@ struct SynthOptions {
   PhotoStyle style = PhotoStyle::kPolaroid;
   std::uint64_t seed = 1;  // every random choice follows from it
   int width_px = 0;        // photo width; 0: the preset's (thesis 2000, quick 1000)
+  // Randomised style: marks, tape and print reproductions on the photos
+  // (RenderOptions::handling); off, the same photos without them.
+  bool photo_handling = true;
   // Support-wire forcing with the non-physical heavy wire that reproduces the
   // thesis's anomalies (rebounds exceeding their predecessor, durations a few
   // % short); see SupportWireOptions::kThesisAnomalyMassPerLength.

@@ -44,6 +44,7 @@ SessionPhoto Photograph(const OscillographScene& scene, const PhotoPlan& plan,
                     : randomised         ? 0
                                          : (options.preset == "quick" ? 1000 : 0);
   render.seed = plan.render_seed;
+  render.handling = options.photo_handling;
   // A real chopper switches at ~100 kHz, invisible at 0.5 s/div: 0.01 div
   // slots (a pixel or two) draw the traces chopped but nearly continuous, as
   // such a photo shows them. Long dashes would hide rebound peaks in the gaps.

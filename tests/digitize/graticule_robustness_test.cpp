@@ -122,6 +122,9 @@ std::vector<std::pair<std::string, RandomisedPhoto>> LoadRandomisedSession(
   synth.style = PhotoStyle::kRandomised;
   synth.seed = seed;
   synth.width_px = width_px;
+  // The photos these cases were found on: without the handling (marks about
+  // the traces, tape, prints), which draws from a stream of its own.
+  synth.photo_handling = false;
   const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
   std::vector<std::pair<std::string, RandomisedPhoto>> photos;
   for (const char* kind : {"runs", "calibrations"}) {

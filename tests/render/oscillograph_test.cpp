@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/oscillograph.h"
+#include "render/styles.h"
 
 namespace impactlab {
 namespace {
@@ -110,7 +111,8 @@ struct Disagreement {
 
 constexpr double kMaxCurvaturePerDiv = 0.25;
 
-Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, double px_per_div) {
+Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, double px_per_div,
+                          double along_px = 0.0) {
   std::vector<double> errors;
   const double half_width_px = std::max(6.0, 0.08 * px_per_div);
   for (std::size_t i = 1; i + 1 < truth.centre_px.size(); i += 7) {
@@ -131,7 +133,8 @@ Disagreement MeasureTrace(const cv::Mat1f& image, const TraceTruth& truth, doubl
     }
     const cv::Point2d tangent = Unit(truth.centre_px[i + 1] - truth.centre_px[i - 1]);
     const cv::Point2d normal(-tangent.y, tangent.x);
-    errors.push_back(MeasureLineOffsetPx(image, truth.centre_px[i], normal, half_width_px));
+    errors.push_back(
+        MeasureLineOffsetPx(image, truth.centre_px[i], normal, half_width_px, along_px));
   }
   Disagreement d;
   d.count = errors.size();
@@ -163,6 +166,8 @@ struct Tolerance {
 // The randomised style (the last tests): median and bias of |measured - truth|.
 constexpr double kRandomisedMedianPx = 0.2;  // worst seen 0.12 px
 constexpr double kRandomisedBiasPx = 0.1;    // worst seen 0.054 px
+constexpr double kPrintMedianPx = 0.7;       // randomised prints: worst seen 0.46 px
+constexpr double kPrintBiasPx = 0.4;         // worst seen 0.24 px
 
 const std::map<PhotoStyle, Tolerance> kTolerance = {
     {PhotoStyle::kClean, {0.05, 0.1, 0.05, 0.05}}, {PhotoStyle::kPolaroid, {0.2, 0.4, 0.08, 0.5}},
@@ -464,13 +469,49 @@ TEST_CASE("oscillograph: the randomised style draws every factor within its rang
     const double quality = Factor(photo, "jpeg_quality").value;
     CHECK((quality == 0.0 || (quality >= 10.0 && quality <= 95.0)));
     CHECK(photo.jpeg_quality == quality);
-    CHECK(std::abs(Factor(photo, "rotation_deg").value) <= 10.0);
     CHECK(Factor(photo, "tilt_deg").value <= 25.0);
     CHECK(Factor(photo, "blur_px").value >= 0.3);
     CHECK(Factor(photo, "blur_px").value <= 2.5);
     CHECK(Factor(photo, "bit_depth").value == (photo.image.depth() == CV_16U ? 16 : 8));
     // A JPEG is 8-bit: 16 bits are drawn only for lossless photos.
     if (quality > 0) CHECK(photo.image.depth() == CV_8U);
+    // The look's own marks (up to 4) and the handling's about the traces (up to 4).
+    const double trace_marks =
+        Factor(photo, "marks_along_traces").value + Factor(photo, "marks_across_traces").value +
+        Factor(photo, "rings_on_traces").value + Factor(photo, "arrows_at_traces").value +
+        Factor(photo, "labels_by_traces").value;
+    CHECK(trace_marks <= 4.0);
+    CHECK(Factor(photo, "hand_marks").value <= 8.0);
+    CHECK(trace_marks <= Factor(photo, "hand_marks").value);
+    if (Factor(photo, "hand_marks").value > 0) {
+      CHECK(Factor(photo, "mark_width_px").value >= 2.0 * 640 / 2000 - 1e-9);
+      CHECK(Factor(photo, "mark_width_px").value <= 16.0 * 640 / 2000 + 1e-9);
+      CHECK(Factor(photo, "mark_colour").category != "none");
+    } else {
+      CHECK(Factor(photo, "mark_colour").category == "none");
+    }
+    CHECK(Factor(photo, "tape").value <= 2.0);
+    if (Factor(photo, "reproduction").category == "halftone") {
+      CHECK(Factor(photo, "halftone_period_px").value >= 2.5);
+      CHECK(Factor(photo, "halftone_period_px").value <= 8.0);
+      CHECK(Factor(photo, "halftone_angle_deg").value >= 0.0);
+      CHECK(Factor(photo, "halftone_angle_deg").value <= 90.0);
+      CHECK(Factor(photo, "ink_spread").value <= 0.15);
+      CHECK(Factor(photo, "paper_tone").value <= 1.0);
+      CHECK(Factor(photo, "scan_blur_px").value >= 0.3);
+      CHECK(Factor(photo, "scan_blur_px").value <= 1.5);
+      CHECK(std::abs(Factor(photo, "scan_skew_deg").value) <= 3.0);
+      CHECK(Factor(photo, "polarity").category == "negative");
+      // The camera's roll and the page's skew on the scanner.
+      CHECK(std::abs(Factor(photo, "rotation_deg").value) <= 13.0);
+      if (quality > 0) CHECK(quality >= 50.0);
+    } else {
+      CHECK(Factor(photo, "reproduction").category == "photo");
+      CHECK(Factor(photo, "halftone_period_px").value == 0.0);
+      CHECK(Factor(photo, "scan_skew_deg").value == 0.0);
+      CHECK(std::abs(Factor(photo, "rotation_deg").value) <= 10.0);
+    }
+    ++seen[Factor(photo, "reproduction").category];
     ++seen[Factor(photo, "polarity").category];
     ++seen[Factor(photo, "channels").category];
     ++seen[Factor(photo, "surround").category];
@@ -480,7 +521,7 @@ TEST_CASE("oscillograph: the randomised style draws every factor within its rang
   }
   // Sixteen seeds show every kind at least once.
   for (const char* kind : {"positive", "negative", "grey", "colour", "hood", "panel", "print",
-                           "cropped", "8-bit", "16-bit"}) {
+                           "cropped", "8-bit", "16-bit", "photo", "halftone"}) {
     INFO(kind);
     CHECK(seen[kind] > 0);
   }
@@ -498,11 +539,13 @@ TEST_CASE("oscillograph: the randomised style's traces lie where the truth says"
   // Scratches, hairs and hand marks may cross a trace and the photo may be a
   // JPEG of quality 10, so single measurements scatter; the median and the
   // bias still follow the truth. Tolerances about 1.5 times the worst of seeds
-  // 1..8 at 1600 px.
+  // 1..8 at 1600 px. Without the handling (prints, marks beside traces): the
+  // photos as the look draws them; the prints are checked below.
   const OscillographScene scene = TwoSineScene();
   RenderOptions options;
   options.style = PhotoStyle::kRandomised;
   options.width_px = 1600;
+  options.handling = false;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     options.seed = seed;
     const RenderedPhoto photo = RenderOscillograph(scene, options);
@@ -564,6 +607,288 @@ TEST_CASE("oscillograph: the chopper's phase shifts the dashes, a beam's brightn
   CHECK(other_change == 0.0);
   scene.traces[0].brightness = 0.0;
   CHECK_THROWS_AS(RenderOscillograph(scene, options), std::invalid_argument);
+}
+
+namespace {
+
+// The strongest spatial frequency of `image` other than its mean: cycles per
+// pixel along x and y.
+cv::Point2d StrongestFrequency(const cv::Mat1f& image) {
+  cv::Mat1f centred = image - cv::mean(image)[0];
+  cv::Mat spectrum;
+  cv::dft(centred, spectrum, cv::DFT_COMPLEX_OUTPUT);
+  std::vector<cv::Mat1f> parts;
+  cv::split(spectrum, parts);
+  cv::Mat1f power = parts[0].mul(parts[0]) + parts[1].mul(parts[1]);
+  power(0, 0) = 0.0f;
+  cv::Point at;
+  cv::minMaxLoc(power, nullptr, nullptr, nullptr, &at);
+  const auto signed_index = [](int i, int n) { return i <= n / 2 ? i : i - n; };
+  return {static_cast<double>(signed_index(at.x, image.cols)) / image.cols,
+          static_cast<double>(signed_index(at.y, image.rows)) / image.rows};
+}
+
+// A polyline's distance map: each pixel's distance to the nearest point of it.
+cv::Mat1f DistanceTo(const std::vector<cv::Point2d>& line, cv::Size size) {
+  cv::Mat1b off(size, 255);
+  std::vector<cv::Point> points;
+  for (const cv::Point2d& p : line) points.emplace_back(cvRound(p.x * 16), cvRound(p.y * 16));
+  cv::polylines(off, points, false, cv::Scalar(0), 1, cv::LINE_8, 4);
+  cv::Mat1f distance;
+  cv::distanceTransform(off, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return distance;
+}
+
+}  // namespace
+
+TEST_CASE("oscillograph: a halftone screen prints each tone as dots of its area on its lattice") {
+  render::PrintLook print;
+  print.halftone = true;
+  print.period_px = 5.3;
+  print.angle_deg = 27.0;
+  print.ink_spread = 0.0;
+  for (const float tone : {0.1f, 0.3f, 0.5f, 0.8f}) {
+    cv::Mat ink(512, 512, CV_32FC1, cv::Scalar(tone));
+    render::ScreenHalftone(print, ink);
+    INFO("tone " << tone);
+    // Amplitude modulation: the dots' area is the tone.
+    CHECK(cv::mean(ink)[0] == Approx(tone).margin(0.015));
+    // Dots, not a flat tint: most pixels are all paper or all ink.
+    const cv::Mat partial = (ink > 0.05f) & (ink < 0.95f);
+    CHECK(cv::countNonZero(partial) < static_cast<int>(ink.total() / 2));
+    // The spectrum's peak: the screen's ruling, along the screen's angle
+    // (or a right angle on: the lattice is square).
+    const cv::Point2d f = StrongestFrequency(ink);
+    CHECK(std::hypot(f.x, f.y) == Approx(1.0 / print.period_px).margin(1.5 / 512));
+    const double angle = std::fmod(std::atan2(f.y, f.x) * 180.0 / std::numbers::pi + 360.0, 90.0);
+    CHECK(angle == Approx(print.angle_deg).margin(1.0));
+  }
+  // The ink spreads: every dot grows.
+  cv::Mat thin(256, 256, CV_32FC1, cv::Scalar(0.3f));
+  cv::Mat spread = thin.clone();
+  render::ScreenHalftone(print, thin);
+  print.ink_spread = 0.1;
+  render::ScreenHalftone(print, spread);
+  CHECK(cv::mean(spread)[0] > cv::mean(thin)[0] + 0.1);
+  // Where there is no tone there is no dot, even with the spread.
+  cv::Mat blank(64, 64, CV_32FC1, cv::Scalar(0.0f));
+  render::ScreenHalftone(print, blank);
+  CHECK(cv::countNonZero(blank) == 0);
+}
+
+// The mean of `image` at the graticule's lines between their crossings.
+double MeanOnGridLines(const cv::Mat1f& image, const RenderedPhoto& photo) {
+  double sum = 0.0;
+  int count = 0;
+  for (int x = 0; x <= 10; ++x) {
+    for (double y = -3.75; y < 4.0; y += 0.5) {
+      sum += Bilinear(image, photo.ImageFromScreen({static_cast<double>(x), y}));
+      ++count;
+    }
+  }
+  for (int y = -4; y <= 4; ++y) {
+    for (double x = 0.25; x < 10.0; x += 0.5) {
+      sum += Bilinear(image, photo.ImageFromScreen({x, static_cast<double>(y)}));
+      ++count;
+    }
+  }
+  return sum / count;
+}
+
+TEST_CASE("oscillograph: a randomised print is dark ink on light paper, its grid printed") {
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 900;
+  int halftones = 0;
+  for (std::uint64_t seed = 1; seed <= 60 && halftones < 6; ++seed) {
+    options.seed = seed;
+    const RenderedPhoto photo = RenderOscillograph(scene, options);
+    if (Factor(photo, "reproduction").category != "halftone") continue;
+    ++halftones;
+    INFO("seed " << seed << ", period " << Factor(photo, "halftone_period_px").value);
+    const cv::Mat1f image = BrightTraces(photo, PhotoStyle::kClean);
+    // The paper: the lightest quarter of the photo is light.
+    cv::Mat1f sorted = image.reshape(1, 1).clone();
+    cv::sort(sorted, sorted, cv::SORT_ASCENDING);
+    const float paper = sorted(0, static_cast<int>(sorted.cols * 0.75));
+    CHECK(paper > 0.6f);
+    // The grid printed, as every such figure a reader could use shows it
+    // (the line's dots average to less than full ink: its mean along it).
+    const double grid = MeanOnGridLines(image, photo);
+    INFO("grid " << grid << " on paper " << paper);
+    CHECK(grid < paper - 0.1);
+    // The traces: dark at the truth's centre line, darker than the grid.
+    for (const TraceTruth& truth : photo.traces) {
+      double sum = 0.0;
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < truth.centre_px.size(); ++i) {
+        if (!truth.drawn[i]) continue;
+        sum += Bilinear(image, truth.centre_px[i]);
+        ++count;
+      }
+      REQUIRE(count > 100);
+      INFO("trace " << truth.name << ": " << sum / count);
+      CHECK(sum / count < paper - 0.15);
+    }
+    // The same seed, the same bytes.
+    CHECK(cv::norm(photo.image, RenderOscillograph(scene, options).image, cv::NORM_INF) == 0.0);
+  }
+  CHECK(halftones >= 3);
+}
+
+TEST_CASE("oscillograph: a randomised print's traces lie where the truth says") {
+  // A printed trace is a band of dots: its profile is averaged over a period
+  // either side along it; a mark beside it pulls the measured line a little.
+  // Tolerances about 1.5 times the worst of the first four prints of seeds
+  // 1..60 at 1600 px (seeds 3, 4, 14, 15).
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 1600;
+  int halftones = 0;
+  for (std::uint64_t seed = 1; seed <= 60 && halftones < 4; ++seed) {
+    options.seed = seed;
+    const RenderedPhoto photo = RenderOscillograph(scene, options);
+    if (Factor(photo, "reproduction").category != "halftone") continue;
+    ++halftones;
+    const cv::Mat1f image = BrightTraces(photo, PhotoStyle::kNegative);
+    const double along_px = Factor(photo, "halftone_period_px").value;
+    for (const TraceTruth& truth : photo.traces) {
+      const Disagreement d = MeasureTrace(image, truth, PixelsPerDivision(photo), along_px);
+      INFO("seed " << seed << " trace " << truth.name << ": median " << d.median_px << " px, bias "
+                   << d.mean_px << " px over " << d.count);
+      REQUIRE(d.count > 40);
+      CHECK(d.median_px <= kPrintMedianPx);
+      CHECK(std::abs(d.mean_px) <= kPrintBiasPx);
+    }
+  }
+  CHECK(halftones == 4);
+}
+
+TEST_CASE("oscillograph: without the handling a randomised photo is the same but for it") {
+  // The handling draws from a stream of its own: a seed's other factors, its
+  // dirt and its noise do not move when it is on.
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 800;
+  int compared = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    options.seed = seed;
+    options.handling = true;
+    const RenderedPhoto handled = RenderOscillograph(scene, options);
+    options.handling = false;
+    const RenderedPhoto plain = RenderOscillograph(scene, options);
+    INFO("seed " << seed);
+    CHECK(Factor(plain, "reproduction").category == "photo");
+    CHECK(Factor(plain, "tape").value == 0.0);
+    CHECK(Factor(plain, "marks_along_traces").value == 0.0);
+    if (Factor(handled, "reproduction").category == "halftone") continue;
+    ++compared;
+    for (const char* name : {"rotation_deg", "tilt_deg", "blur_px", "grain", "exposure_gain",
+                             "dust_specks", "scratches", "hairs", "glare", "jpeg_quality"}) {
+      INFO(name);
+      CHECK(Factor(handled, name).value == Factor(plain, name).value);
+    }
+    // Only where marks and tape lie do the pixels differ (a JPEG's blocks
+    // spread that a little).
+    cv::Mat differs;
+    cv::compare(handled.image, plain.image, differs, cv::CMP_NE);
+    if (differs.channels() > 1) {
+      cv::Mat any = differs.reshape(1, static_cast<int>(differs.total()));
+      cv::reduce(any, differs, 1, cv::REDUCE_MAX);
+    }
+    const double changed = static_cast<double>(cv::countNonZero(differs)) / differs.total();
+    if (Factor(handled, "hand_marks").value == 0 && Factor(handled, "tape").value == 0) {
+      CHECK(changed == 0.0);
+    }
+    CHECK(changed < 0.35);
+  }
+  CHECK(compared >= 6);
+}
+
+TEST_CASE("oscillograph: marks along a trace run beside it, clear of it, and across it cross it") {
+  const cv::Size size(1600, 1200);
+  const double px_per_div = 150.0;
+  TraceTruth trace;
+  for (int i = 0; i <= 1500; ++i) {
+    const double x = 50.0 + i;
+    trace.centre_px.push_back({x, 600.0 + 200.0 * std::sin(x / 180.0)});
+  }
+  const cv::Mat1f distance = DistanceTo(trace.centre_px, size);
+  render::HandlingLook handling;
+  handling.mark_width_px = 10.0;  // at 2000 px: 8 px here, up to 9.6 px with the jitter
+  handling.trace_marks.assign(5, render::TraceMark::kAlong);
+  const double half_width_px = 0.5 * 1.2 * 10.0 * size.width / 2000.0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    std::mt19937_64 random(seed);
+    const cv::Mat1b mark = render::DrawTraceMarks(handling, size, {trace}, px_per_div, random);
+    INFO("seed " << seed);
+    double farthest = 0.0, nearest = 1e9;
+    int marked = 0;
+    for (int row = 0; row < size.height; ++row) {
+      for (int col = 0; col < size.width; ++col) {
+        if (mark(row, col) < 32) continue;
+        ++marked;
+        farthest = std::max(farthest, static_cast<double>(distance(row, col)));
+        nearest = std::min(nearest, static_cast<double>(distance(row, col)));
+      }
+    }
+    // Five strokes 1..4 divisions long, clear of the trace's centre line by
+    // more than the beam's core, no farther than the gap allows.
+    CHECK(marked > 5 * px_per_div * 8);
+    CHECK(nearest >= 0.03 * px_per_div - 1.0);
+    CHECK(farthest <= render::kMarkAlongTraceMaxGapDiv * px_per_div + 0.03 * px_per_div +
+                          4 * half_width_px + 3.0);
+  }
+  // Strokes across it cross it.
+  handling.trace_marks.assign(4, render::TraceMark::kAcross);
+  std::mt19937_64 random(7);
+  const cv::Mat1b across = render::DrawTraceMarks(handling, size, {trace}, px_per_div, random);
+  int on_trace = 0;
+  for (const cv::Point2d& p : trace.centre_px) on_trace += across(cvRound(p.y), cvRound(p.x)) > 128;
+  CHECK(on_trace >= 4 * 4);
+  // Rings, arrows and labels lie near the trace.
+  handling.trace_marks = {render::TraceMark::kRing, render::TraceMark::kArrow,
+                          render::TraceMark::kLabel};
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    std::mt19937_64 again(seed);
+    const cv::Mat1b marks = render::DrawTraceMarks(handling, size, {trace}, px_per_div, again);
+    cv::Mat1f near_trace;
+    cv::threshold(distance, near_trace, 2.0 * px_per_div, 1.0, cv::THRESH_BINARY_INV);
+    CHECK(cv::countNonZero(marks) > 0);
+    CHECK(cv::countNonZero(marks & (near_trace < 0.5)) == 0);
+  }
+  // Without a trace, nothing.
+  std::mt19937_64 none(7);
+  const cv::Mat blank = render::DrawTraceMarks(handling, size, {}, px_per_div, none);
+  CHECK((blank.empty() || cv::countNonZero(blank) == 0));
+}
+
+TEST_CASE("oscillograph: randomised photos mark traces and tape corners, per seed") {
+  const OscillographScene scene = TwoSineScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kRandomised;
+  options.width_px = 800;
+  int along = 0, tape = 0;
+  std::map<std::string, int> colours;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    options.seed = seed;
+    const RenderedPhoto photo = RenderOscillograph(scene, options);
+    ++colours[Factor(photo, "mark_colour").category];
+    const bool marked = Factor(photo, "marks_along_traces").value > 0;
+    const bool taped = Factor(photo, "tape").value > 0;
+    if (!marked && !taped) continue;
+    along += marked;
+    tape += taped;
+    INFO("seed " << seed);
+    CHECK(cv::norm(photo.image, RenderOscillograph(scene, options).image, cv::NORM_INF) == 0.0);
+  }
+  CHECK(along >= 3);
+  CHECK(tape >= 2);
+  // Pencils beyond the look's own five.
+  CHECK(colours["green"] + colours["orange"] > 0);
 }
 
 }  // namespace impactlab

@@ -38,6 +38,10 @@ TEST_CASE("synth: a randomised sample reduces, and its maxima follow the truth")
     synth.style = PhotoStyle::kRandomised;
     synth.seed = seed;
     synth.width_px = 1000;
+    // The look as drawn, without the handling (marks about the traces, tape,
+    // prints): the sample this floor was measured on. The handling's kinds
+    // are measured by bench_robustness per factor.
+    synth.photo_handling = false;
     const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
     ReduceOptions options;
     options.products = Products::kRebounds;
