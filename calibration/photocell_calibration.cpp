@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -56,6 +58,22 @@ OrderFit FitOrder(const Eigen::MatrixXd& basis_all, const Eigen::VectorXd& v,
   fit.bic = static_cast<double>(n) * std::log(std::max(fit.rss, 1e-300) / static_cast<double>(n)) +
             static_cast<double>(order + 1) * std::log(static_cast<double>(n));
   return fit;
+}
+
+// Why `curve` is not monotone over [0, x_max], nullopt when it is.
+std::optional<std::string> NonMonotone(const PhotocellCurve& curve, double x_max) {
+  const int grid = 2048;
+  const double first_slope = curve.SlopeAt(0.5 * x_max);
+  for (int k = 0; k <= grid; ++k) {
+    const double x = x_max * k / grid;
+    if (curve.SlopeAt(x) * first_slope <= 0.0) {
+      return fmt::format(
+          "the calibration curve is not monotone: its slope changes sign near X = {:.4g} "
+          "({:.5g} V); the photocell output does not determine the displacement there",
+          x, curve.VoltsAt(x));
+    }
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -179,42 +197,61 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
     v(i) = out.volts[i];
     weight(i) = 1.0 / sigma[i];
   }
-  OrderFit best;
-  int best_order = 0;
+  std::vector<OrderFit> fits;
   for (int order = 1; order <= max_order; ++order) {
-    OrderFit fit = FitOrder(basis, v, weight, order);
-    out.bic.push_back(fit.bic);
-    if (best_order == 0 || fit.bic < best.bic) {
-      best = std::move(fit);
-      best_order = order;
-    }
+    fits.push_back(FitOrder(basis, v, weight, order));
+    out.bic.push_back(fits.back().bic);
   }
-
+  // The order the BIC prefers, unless its curve is not monotone over the
+  // swing (the conversion would be ambiguous) while a lower-ranked order's
+  // is and fits the samples as well as the data can tell: a photocell's
+  // output is monotone in X, and where the trace has a gap a high order can
+  // wiggle there or at its ends and still fit the samples best. A cell that
+  // truly folds back is refused: no monotone order fits it.
+  std::vector<int> by_bic(fits.size());
+  for (std::size_t i = 0; i < fits.size(); ++i) by_bic[i] = static_cast<int>(i);
+  std::stable_sort(by_bic.begin(), by_bic.end(),
+                   [&](int a, int b) { return fits[a].bic < fits[b].bic; });
   // The band from the residuals as they are: correlated along the trace.
-  const Eigen::VectorXd weighted_residual =
-      weight.cwiseProduct(v - basis.leftCols(best_order + 1) * best.coefficients);
-  out.correlation_inflation = CorrelationInflation(
-      {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
-  best.covariance *= out.correlation_inflation;
-
-  std::vector<double> coefficients(best.coefficients.data(),
-                                   best.coefficients.data() + best.coefficients.size());
-  std::vector<double> covariance(best.covariance.data(),
-                                 best.covariance.data() + best.covariance.size());
-  out.curve = PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
-                             options.range_margin);
-
-  // Monotone over the whole swing, or the conversion would be ambiguous.
-  const int grid = 2048;
-  const double first_slope = out.curve.SlopeAt(0.5 * release_x);
-  for (int k = 0; k <= grid; ++k) {
-    const double x = release_x * k / grid;
-    if (out.curve.SlopeAt(x) * first_slope <= 0.0) {
-      throw std::domain_error(fmt::format(
-          "the calibration curve is not monotone: its slope changes sign near X = {:.4g} "
-          "({:.5g} V); the photocell output does not determine the displacement there",
-          x, out.curve.VoltsAt(x)));
+  const auto inflation_of = [&](int index) {
+    const Eigen::VectorXd weighted_residual =
+        weight.cwiseProduct(v - basis.leftCols(index + 2) * fits[index].coefficients);
+    return CorrelationInflation(
+        {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
+  };
+  const auto curve_of = [&](int index, double inflation) {
+    const OrderFit& fit = fits[index];
+    std::vector<double> coefficients(fit.coefficients.data(),
+                                     fit.coefficients.data() + fit.coefficients.size());
+    const Eigen::MatrixXd inflated = fit.covariance * inflation;
+    std::vector<double> covariance(inflated.data(), inflated.data() + inflated.size());
+    return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
+                          options.range_margin);
+  };
+  const int best = by_bic.front();
+  const double best_inflation = inflation_of(best);
+  out.curve = curve_of(best, best_inflation);
+  out.correlation_inflation = best_inflation;
+  if (std::optional<std::string> problem = NonMonotone(out.curve, release_x)) {
+    // The residual's rise over the best order's scatter, in effective
+    // samples (each inflation-many correlated ones count once), against a
+    // chi-square of as many degrees of freedom as terms dropped, at 3 sigma.
+    const double scatter = fits[best].rss / static_cast<double>(n - (best + 2));
+    bool found = false;
+    for (const int index : by_bic) {
+      if (index >= best) continue;
+      const double terms = best - index;
+      const double rise = (fits[index].rss - fits[best].rss) / scatter / best_inflation;
+      if (rise > terms + 3.0 * std::sqrt(2.0 * terms)) continue;
+      const double inflation = inflation_of(index);
+      PhotocellCurve curve = curve_of(index, inflation);
+      if (NonMonotone(curve, release_x)) continue;
+      out.curve = std::move(curve);
+      out.correlation_inflation = inflation;
+      found = true;
+      break;
     }
+    if (!found) throw std::domain_error(*problem);
   }
 
   double sum_v = 0.0, sum_x = 0.0;

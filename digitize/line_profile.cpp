@@ -129,6 +129,22 @@ Profile ReadProfile(const InkSampler& ink, cv::Point2d origin_px, cv::Point2d di
   return profile;
 }
 
+bool CutToClearStretch(Profile& profile, double min_reach_px) {
+  if (!profile.beside_short_line) return true;
+  if (!(profile.clear_lo_px <= -min_reach_px && profile.clear_hi_px >= min_reach_px)) return false;
+  const double n = static_cast<double>(profile.values.size());
+  // In doubles first: a side no line lit stays at +-infinity.
+  const int first = static_cast<int>(
+      std::clamp(std::ceil((profile.clear_lo_px - profile.start_px) / profile.step_px), 0.0, n));
+  const int last = static_cast<int>(std::clamp(
+      std::floor((profile.clear_hi_px - profile.start_px) / profile.step_px), -1.0, n - 1.0));
+  profile.values.erase(profile.values.begin() + last + 1, profile.values.end());
+  profile.values.erase(profile.values.begin(), profile.values.begin() + first);
+  profile.start_px += first * profile.step_px;
+  profile.beside_short_line = false;
+  return true;
+}
+
 LineCentre FindLineCentre(const Profile& profile, const CentreSettings& settings) {
   LineCentre result;
   const std::vector<float>& v = profile.values;

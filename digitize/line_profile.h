@@ -4,6 +4,7 @@
 // centre along the profile is found by one of the sub-pixel methods.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -31,10 +32,18 @@ struct Profile {
   // A short line (a minor tick, the graticule's end) runs along part of the
   // profile: it lights a stretch of it that no crossing model describes.
   bool beside_short_line = false;
+  // The stretch on the origin's side of every such line (offsets): clear of
+  // their light.
+  double clear_lo_px = -HUGE_VAL, clear_hi_px = HUGE_VAL;
 
   double OffsetAt(int i) const { return start_px + i * step_px; }
   cv::Point2d PointAt(double offset_px) const { return origin_px + direction * offset_px; }
 };
+
+// Cuts a profile beside a short line to its clear stretch (Profile::clear_*)
+// when that still reaches `min_reach_px` either side of the origin; returns
+// whether the profile can be used.
+bool CutToClearStretch(Profile& profile, double min_reach_px);
 
 // Reads a profile of half-length `half_length_px` centred on `origin_px`.
 Profile ReadProfile(const InkSampler& ink, cv::Point2d origin_px, cv::Point2d direction,

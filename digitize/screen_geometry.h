@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include <opencv2/core.hpp>
 
@@ -88,8 +89,31 @@ class GridCrossings {
         const double o1 =
             std::max(horizontal ? first_div.x : first_div.y, horizontal ? last_div.x : last_div.y);
         const bool covers = lo - m_ <= o0 && o1 <= hi + m_;
-        const bool touches = o1 >= lo - m_ && o0 <= hi + m_;
-        if (touches && !covers) profile.beside_short_line = true;
+        if (covers) return;
+        // The stretch of the profile within m_ of the line: beside it, or
+        // round either of its ends. (Distance from a segment is convex, so
+        // the stretch is one interval: the union of the three.)
+        const double a0 = horizontal ? first_div.x : first_div.y;
+        const double along_rate = horizontal ? per_px.x : per_px.y;
+        const auto [across_lo, across_hi] = Within(c0, rate, value - m_, value + m_);
+        const auto [along_lo, along_hi] = Within(a0, along_rate, lo, hi);
+        double lit_lo = std::max(across_lo, along_lo), lit_hi = std::min(across_hi, along_hi);
+        for (const double end : {lo, hi}) {
+          const auto [round_lo, round_hi] =
+              WithinDisc({c0 - value, a0 - end}, {rate, along_rate}, m_);
+          lit_lo = std::min(lit_lo, round_lo), lit_hi = std::max(lit_hi, round_hi);
+        }
+        lit_lo = std::max(lit_lo, 0.0), lit_hi = std::min(lit_hi, length);
+        if (!(lit_lo <= lit_hi)) return;
+        profile.beside_short_line = true;
+        // What lies on the origin's side of the lit stretch stays clear.
+        if (u0 + lit_hi < 0.0) {
+          profile.clear_lo_px = std::max(profile.clear_lo_px, u0 + lit_hi);
+        } else if (u0 + lit_lo > 0.0) {
+          profile.clear_hi_px = std::min(profile.clear_hi_px, u0 + lit_lo);
+        } else {
+          profile.clear_lo_px = profile.clear_hi_px = 0.0;
+        }
         return;
       }
       const double u = u0 + (value - (horizontal ? first_div.y : first_div.x)) / rate;
@@ -123,6 +147,27 @@ class GridCrossings {
   }
 
  private:
+  // Where along a profile (distance from its first point) a coordinate
+  // starting at `start` and changing by `rate` per pixel lies in [lo, hi].
+  static std::pair<double, double> Within(double start, double rate, double lo, double hi) {
+    if (std::abs(rate) < 1e-12) {
+      return start >= lo && start <= hi ? std::pair(-HUGE_VAL, HUGE_VAL)
+                                        : std::pair(HUGE_VAL, -HUGE_VAL);
+    }
+    const double a = (lo - start) / rate, b = (hi - start) / rate;
+    return {std::min(a, b), std::max(a, b)};
+  }
+
+  // Where a point starting at `start` and moving by `rate` per pixel lies
+  // within `radius` of the origin (empty: lo > hi).
+  static std::pair<double, double> WithinDisc(cv::Point2d start, cv::Point2d rate, double radius) {
+    const double a = rate.dot(rate), b = start.dot(rate), c = start.dot(start) - radius * radius;
+    const double discriminant = b * b - a * c;
+    if (!(a > 0.0) || discriminant < 0.0) return {HUGE_VAL, -HUGE_VAL};
+    const double root = std::sqrt(discriminant);
+    return {(-b - root) / a, (-b + root) / a};
+  }
+
   static constexpr double kTickDiv = 0.2, kTickHalfDiv = 0.1;
   int nx_, ny_;
   double fwhm_div_, m_;

@@ -27,6 +27,7 @@ namespace {
 using digitize::CentreSettings;
 using digitize::Claims;
 using digitize::CoarsePath;
+using digitize::CutToClearStretch;
 using digitize::FindLineCentre;
 using digitize::GridCrossings;
 using digitize::ImageFromScreen;
@@ -171,7 +172,13 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
     const int n = static_cast<int>(profile.values.size());
     grid.AddTo(profile, screen_from_pixel(profile.PointAt(profile.OffsetAt(0))),
                screen_from_pixel(profile.PointAt(profile.OffsetAt(n - 1))));
-    if (profile.beside_short_line) continue;
+    // Beside a tick's end the profile is cut short of its light, if it still
+    // reaches well past the trace's edges: a trace crossing a centre axis at
+    // a shallow angle has its profiles run along the axis's ticks, and would
+    // lose a division or two of its course there.
+    const double min_reach_px =
+        settings.search_px + 0.6 * (settings.half_length_px - settings.search_px);
+    if (!CutToClearStretch(profile, min_reach_px)) continue;
     const LineCentre centre = FindLineCentre(profile, settings.centre);
     if (!centre.found) continue;
     Sample sample;

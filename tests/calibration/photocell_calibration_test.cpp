@@ -148,6 +148,49 @@ TEST_CASE("photocell: a curve that is not monotone is refused, saying where") {
       Catch::Contains("not monotone") && Catch::Contains("X ="));
 }
 
+// A cell whose output flattens towards the release (its slope falls to a
+// hundredth there): noise lets a high order's slope change sign near it.
+double FlatteningCell(double x, double x0) {
+  const double s = x / x0;
+  return 2.0 - 1.9 * s + 0.94 * s * s;
+}
+
+TEST_CASE(
+    "photocell: where the best order's curve is not monotone, a monotone order that fits as well "
+    "is taken, with an honest band") {
+  // Sweeps with a gap of a third of the swing (the trace lost behind a mark)
+  // and noise: over 40 seeds, every one calibrates, and the curve's error
+  // at X0/2 and near the release stays within its 1-sigma band at least
+  // 60 % of the time (68 % expected: the band is not over-confident).
+  const double x0 = 0.405;
+  int taken_lower = 0, within = 0, checked = 0;
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    Trace sweep = Sweep(x0, FlatteningCell, 0.001, 4e-4, seed);
+    Trace gapped;
+    for (std::size_t i = 0; i < sweep.time_s.size(); ++i) {
+      const double x = ReleaseSwingDisplacement(kPendulum, x0, sweep.time_s[i]);
+      if (x > 0.34 * x0 && x < 0.66 * x0) continue;
+      gapped.time_s.push_back(sweep.time_s[i]);
+      // The digitized centre's slow wobble (grid crossings, grain): correlated.
+      gapped.volts.push_back(sweep.volts[i] +
+                             0.004 * std::sin(2.0 * M_PI * sweep.time_s[i] / 0.04 + seed));
+    }
+    const CalibrationResult c = CalibratePhotocell(gapped, kPendulum, x0, CalibrationOptions{});
+    const auto best = std::min_element(c.bic.begin(), c.bic.end()) - c.bic.begin() + 1;
+    taken_lower += c.curve.order() < best;
+    for (double s : {0.5, 0.9}) {
+      const double v = FlatteningCell(s * x0, x0);
+      const double error = c.curve.DisplacementFromVolts(v) - s * x0;
+      within += std::abs(error) < c.curve.DisplacementSigma(v);
+      ++checked;
+    }
+  }
+  // The BIC's own order was refused on 19 of the 40 (each refused whole
+  // before); 73 of the 80 errors lie within 1 sigma.
+  CHECK(taken_lower >= 10);
+  CHECK(within >= 0.6 * checked);
+}
+
 TEST_CASE("photocell: converting a voltage outside the calibrated range is refused") {
   const double x0 = 0.405;
   const CalibrationResult c = CalibratePhotocell(Sweep(x0, NonlinearCell, 0.0, 2e-4, 1), kPendulum,

@@ -1,7 +1,8 @@
-// Two ways a trace running beside something else is read as the trace: its
+// Ways a trace running beside something else is read as the trace: its
 // profile beside a parallel grid line (FindLineCentre, digitize/line_profile.h)
-// and a course that left it for a label (StrayExcursions,
-// digitize/course_search.h). Both on inputs made in closed form.
+// or a tick's end (GridCrossings, digitize/screen_geometry.h), and a course
+// that left it for a label (StrayExcursions,
+// digitize/course_search.h). All on inputs made in closed form.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "digitize/course_search.h"
 #include "digitize/line_profile.h"
+#include "digitize/screen_geometry.h"
 
 namespace impactlab::digitize {
 namespace {
@@ -138,6 +140,61 @@ TEST_CASE("course search: an excursion at either end of the course is not judged
   for (int c = 25; c < 80; ++c) rows[c] = 100.0;
   const Course course = CourseThrough(rows, {25});
   CHECK(StrayExcursions(course.chosen, course.columns, 30.0).empty());
+}
+
+// A profile 60 px long (0.5 px steps, 100 px a division) centred on
+// `origin_div`, running along `direction` (screen divisions), near the
+// horizontal centre axis's minor tick at x = 4.4 (from y = -0.1 to 0.1) of
+// a 10 x 8 screen; a grid line's light is taken to reach 0.06 division
+// (1.5 widths of 0.04).
+Profile NearATick(cv::Point2d origin_div, cv::Point2d direction) {
+  direction /= cv::norm(direction);
+  Profile profile;
+  profile.origin_px = origin_div * 100.0;
+  profile.direction = direction;
+  profile.step_px = 0.5;
+  profile.start_px = -30.0;
+  profile.values.assign(121, 0.0f);
+  const GridCrossings grid({10, 8}, 0.04, 1.5);
+  grid.AddTo(profile, origin_div - 0.3 * direction, origin_div + 0.3 * direction);
+  return profile;
+}
+
+TEST_CASE("grid crossings: a profile reaching a tick's light is cut short of it, not thrown away") {
+  // Straight down the screen at x = 4.43 from y = 0.7 to 0.1: the tick's
+  // light reaches round its end at y = 0.1 to 0.1 + sqrt(0.06^2 - 0.03^2).
+  Profile profile = NearATick({4.43, 0.4}, {0.0, -1.0});
+  CHECK(profile.beside_short_line);
+  CHECK(profile.clear_lo_px == -HUGE_VAL);
+  const double lit_from_px = 100.0 * (0.4 - 0.1 - std::sqrt(0.06 * 0.06 - 0.03 * 0.03));
+  CHECK(profile.clear_hi_px == Approx(lit_from_px));
+  // Reaching 20 px either side of the origin is enough: it is cut there.
+  REQUIRE(CutToClearStretch(profile, 20.0));
+  CHECK_FALSE(profile.beside_short_line);
+  const double end_px = profile.OffsetAt(static_cast<int>(profile.values.size()) - 1);
+  CHECK(profile.OffsetAt(0) == -30.0);
+  CHECK(end_px <= lit_from_px);
+  CHECK(end_px > lit_from_px - profile.step_px);
+  // Asked to reach 26 px, it cannot be used.
+  Profile again = NearATick({4.43, 0.4}, {0.0, -1.0});
+  CHECK_FALSE(CutToClearStretch(again, 26.0));
+}
+
+TEST_CASE("grid crossings: a profile whose origin lies in a tick's light cannot be cut clear") {
+  Profile profile = NearATick({4.43, 0.13}, {0.0, -1.0});
+  REQUIRE(profile.beside_short_line);
+  CHECK(profile.clear_lo_px == 0.0);
+  CHECK(profile.clear_hi_px == 0.0);
+  CHECK_FALSE(CutToClearStretch(profile, 1.0));
+}
+
+TEST_CASE("grid crossings: a profile passing a tick's end further than its light is not spoiled") {
+  // From (4.50, 0.75) to (4.45, 0.15): its end lies within 0.06 of the tick
+  // across (0.05) and beyond its end (0.05), but 0.07 from the end itself.
+  const Profile profile = NearATick({4.475, 0.45}, {-0.05, -0.6});
+  CHECK_FALSE(profile.beside_short_line);
+  // Moved 0.02 closer, its end is 0.043 from the tick's: lit.
+  CHECK(NearATick({4.455, 0.43}, {-0.05, -0.6}).beside_short_line);
 }
 
 }  // namespace impactlab::digitize
