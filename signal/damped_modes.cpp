@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "signal/qr_compressed_cost.h"
 #include "signal/signal_internal.h"
 #include "signal/singular_vectors.h"
 #include "signal/spectrum.h"
@@ -77,19 +78,23 @@ class SampledExponential {
 };
 
 // c + sum of modes exp(-sigma t)(a cos w t + b sin w t) + sum of decays
-// B exp(-r t), with derivatives by each block: (a, b, f, zeta), (B, r), (c).
-class DampedModesCost : public ceres::CostFunction {
+// B exp(-r t) minus the samples, with derivatives column-major by the blocks
+// (a, b, f, zeta) of each mode, (B, r) of each decay, then c.
+class DampedModesModel {
  public:
-  DampedModesCost(std::span<const double> y, double interval_s, int modes, int decays, bool offset)
-      : y_(y), interval_s_(interval_s), modes_(modes), decays_(decays), offset_(offset) {
-    set_num_residuals(static_cast<int>(y.size()));
-    for (int k = 0; k < modes; ++k) mutable_parameter_block_sizes()->push_back(4);
-    for (int k = 0; k < decays; ++k) mutable_parameter_block_sizes()->push_back(2);
-    if (offset) mutable_parameter_block_sizes()->push_back(1);
+  DampedModesModel(std::span<const double> y, double interval_s, int modes, int decays, bool offset)
+      : y_(y), interval_s_(interval_s), modes_(modes), decays_(decays), offset_(offset) {}
+
+  int parameters() const { return 4 * modes_ + 2 * decays_ + (offset_ ? 1 : 0); }
+  std::vector<int> block_sizes() const {
+    std::vector<int> sizes(static_cast<std::size_t>(modes_), 4);
+    sizes.insert(sizes.end(), static_cast<std::size_t>(decays_), 2);
+    if (offset_) sizes.push_back(1);
+    return sizes;
   }
 
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
+  // `jacobian`, when not null: y.size() x parameters(), column-major.
+  bool operator()(double const* const* parameters, double* residuals, double* jacobian) const {
     const std::size_t n = y_.size();
     const double c = offset_ ? parameters[modes_ + decays_][0] : 0.0;
     for (std::size_t i = 0; i < n; ++i) residuals[i] = c - y_[i];
@@ -102,7 +107,7 @@ class DampedModesCost : public ceres::CostFunction {
       const double sigma = omega * zeta / root;
       const double dsigma_df = kTwoPi * zeta / root;
       const double dsigma_dzeta = omega / (root * root * root);
-      double* jac = jacobians ? jacobians[k] : nullptr;
+      double* jac = jacobian ? jacobian + 4 * k * n : nullptr;
       SampledExponential phasor({-sigma, omega}, interval_s_);
       for (std::size_t i = 0; i < n; ++i) {
         const double t = interval_s_ * static_cast<double>(i);
@@ -113,29 +118,29 @@ class DampedModesCost : public ceres::CostFunction {
         if (jac) {
           const double dm_domega = t * (b * ecw - a * esw);
           const double dm_dsigma = -t * m;
-          jac[4 * i + 0] = ecw;
-          jac[4 * i + 1] = esw;
-          jac[4 * i + 2] = kTwoPi * dm_domega + dm_dsigma * dsigma_df;
-          jac[4 * i + 3] = dm_dsigma * dsigma_dzeta;
+          jac[i] = ecw;
+          jac[n + i] = esw;
+          jac[2 * n + i] = kTwoPi * dm_domega + dm_dsigma * dsigma_df;
+          jac[3 * n + i] = dm_dsigma * dsigma_dzeta;
         }
       }
     }
     for (int j = 0; j < decays_; ++j) {
       const double* p = parameters[modes_ + j];
-      double* jac = jacobians ? jacobians[modes_ + j] : nullptr;
+      double* jac = jacobian ? jacobian + (4 * modes_ + 2 * j) * n : nullptr;
       SampledExponential decay({-p[1], 0.0}, interval_s_);
       for (std::size_t i = 0; i < n; ++i) {
         const double t = interval_s_ * static_cast<double>(i);
         const double e = decay.Next().real();
         residuals[i] += p[0] * e;
         if (jac) {
-          jac[2 * i + 0] = e;
-          jac[2 * i + 1] = -t * p[0] * e;
+          jac[i] = e;
+          jac[n + i] = -t * p[0] * e;
         }
       }
     }
-    if (offset_ && jacobians && jacobians[modes_ + decays_]) {
-      std::fill_n(jacobians[modes_ + decays_], n, 1.0);
+    if (offset_ && jacobian) {
+      std::fill_n(jacobian + (4 * modes_ + 2 * decays_) * n, n, 1.0);
     }
     // A trial step with a growing decay (r < 0) overflows: say the step is
     // infeasible, as Ceres then expects, rather than hand it inf (which it
@@ -394,11 +399,12 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
   for (auto& block : decay_blocks) parameters.push_back(block.data());
   if (options.fit_offset) parameters.push_back(offset_block.data());
 
-  const double interval_s = 1.0 / sample_rate_hz;
+  const DampedModesModel model(samples, 1.0 / sample_rate_hz, mode_count, decay_count,
+                               options.fit_offset);
   ceres::Problem problem;
   problem.AddResidualBlock(
-      new DampedModesCost(samples, interval_s, mode_count, decay_count, options.fit_offset),
-      nullptr, parameters);
+      new QrCompressedCost(static_cast<int>(samples.size()), model.block_sizes(), model), nullptr,
+      parameters);
   for (auto& block : mode_blocks) {
     problem.SetParameterLowerBound(block.data(), 2, 0.0);
     problem.SetParameterUpperBound(block.data(), 2, 0.5 * sample_rate_hz);
@@ -425,23 +431,10 @@ DampedModeFit FitDampedModes(std::span<const double> samples, double sample_rate
 
   // Covariance s^2 (J^T J)^-1 from the analytic Jacobian at the solution.
   const auto n = static_cast<Eigen::Index>(samples.size());
-  const Eigen::Index p = 4 * mode_count + 2 * decay_count + (options.fit_offset ? 1 : 0);
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  std::vector<RowMajor> blocks;
-  for (int k = 0; k < mode_count; ++k) blocks.emplace_back(n, 4);
-  for (int k = 0; k < decay_count; ++k) blocks.emplace_back(n, 2);
-  if (options.fit_offset) blocks.emplace_back(n, 1);
-  std::vector<double*> jacobian_pointers;
-  for (auto& block : blocks) jacobian_pointers.push_back(block.data());
+  const Eigen::Index p = model.parameters();
   Eigen::VectorXd residuals(n);
-  DampedModesCost(samples, interval_s, mode_count, decay_count, options.fit_offset)
-      .Evaluate(parameters.data(), residuals.data(), jacobian_pointers.data());
   Eigen::MatrixXd jacobian(n, p);
-  Eigen::Index column = 0;
-  for (const auto& block : blocks) {
-    jacobian.middleCols(column, block.cols()) = block;
-    column += block.cols();
-  }
+  model(parameters.data(), residuals.data(), jacobian.data());
   const double s2 = residuals.squaredNorm() / static_cast<double>(n - p);
   fit.residual_rms = std::sqrt(s2);
   // Judged and inverted in correlation form (the columns' units differ); a

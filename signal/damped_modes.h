@@ -23,8 +23,10 @@
 //    least-squares fit): a term the data do not support would leave its
 //    frequency and damping undetermined. Of two pairs closer than the window's
 //    resolution (1 / duration), the weaker is dropped.
-// 3. Ceres (dense QR, analytic Jacobian) refines (a_k, b_k, f_k, zeta_k),
-//    (B_j, r_j) and c, with a_k = A_k cos phi_k, b_k = -A_k sin phi_k (linear).
+// 3. Ceres (analytic Jacobian) refines (a_k, b_k, f_k, zeta_k), (B_j, r_j)
+//    and c, with a_k = A_k cos phi_k, b_k = -A_k sin phi_k (linear). It sees
+//    the window's thousands of residuals through their Jacobian's QR, p + 1
+//    rows that give the same steps (signal/qr_compressed_cost.h).
 // Uncertainties: s^2 (J^T J)^-1 at the solution, s^2 = residual sum / (N - p),
 // i.e. white noise is assumed; a singular J^T J makes `covariance_ok` false.
 #pragma once
