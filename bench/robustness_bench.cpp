@@ -382,8 +382,14 @@ int main(int argc, char** argv) {
                      : r.outcome == Outcome::kFailed ? "FAILED"
                                                      : "not reached",
                      r.outcome == Outcome::kOk
-                         ? fmt::format("Xmax err max {} % X0, missed {}",
-                                       Format(Quantile(r.xmax_error_pct, 1.0)), r.rebounds_missed)
+                         ? fmt::format("Xmax err max {} % X0, missed {}{}",
+                                       Format(Quantile(r.xmax_error_pct, 1.0)), r.rebounds_missed,
+                                       r.contact_error_pct
+                                           ? fmt::format(", contact err {} %, pull {}",
+                                                         Format(*r.contact_error_pct),
+                                                         r.contact_pull ? Format(*r.contact_pull)
+                                                                        : std::string("—"))
+                                           : std::string())
                          : r.failure);
         }
         records.push_back(std::move(r));
