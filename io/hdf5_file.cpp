@@ -273,6 +273,20 @@ Hdf5File Hdf5File::CreateInMemory(const std::filesystem::path& path) {
   Handle access = impl->Make(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "", "create a property list");
   impl->Check(H5Pset_fapl_core(access.get(), kCoreIncrementBytes, /*backing_store=*/0), "",
               "select the in-memory driver");
+  {
+    // A results file holds a few thousand small objects; HDF5's default
+    // metadata cache (2 MB at first, up to 32 MB) is sized for far larger
+    // files, and filling its pages was most of a small session's page
+    // faults (the typed-in thesis: CPU 0.157 -> 0.126 s a reduce).
+    H5AC_cache_config_t config;
+    config.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+    impl->Check(H5Pget_mdc_config(access.get(), &config), "", "read the metadata cache's settings");
+    config.set_initial_size = true;
+    config.initial_size = 64 * 1024;
+    config.min_size = 64 * 1024;
+    config.max_size = 256 * 1024;
+    impl->Check(H5Pset_mdc_config(access.get(), &config), "", "size the metadata cache");
+  }
   // The name only identifies the in-memory file; nothing is read or written there.
   impl->file = impl->Make(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, create.get(), access.get()),
                           H5Fclose, "", "create the results file in memory");
