@@ -712,6 +712,16 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     }
   }
   if (rise_after < 0 || fall_after < 0) return std::nullopt;
+  // The bars touch once in a sweep: the pulse found must hold most of the
+  // samples at the pulse's level. Where it does not (a label written across
+  // the trace's rest level reads as a short pulse of its own), its edges
+  // would be timed on whatever drew them; the sampled trace's measure then
+  // says why (rebounds/contact_pulse.cpp).
+  const auto at_pulse_count = std::count_if(screen.begin(), screen.end(),
+                                            [&](const cv::Point2d& p) { return at_pulse(p.y); });
+  const auto in_pulse = std::count_if(screen.begin() + rise_after, screen.begin() + fall_after,
+                                      [&](const cv::Point2d& p) { return at_pulse(p.y); });
+  if (2 * in_pulse < at_pulse_count) return std::nullopt;
 
   const InkSampler ink(photo.image, photo.dark_traces);
   // A faint stroke beside a grid line needs the line's light modelled.

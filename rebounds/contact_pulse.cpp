@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
@@ -48,6 +50,20 @@ ContactPulse MeasureContactPulse(const Trace& trace) {
   std::size_t j = i + 1;
   while (j + 1 < n && !(trace.volts[j] >= mid && trace.volts[j + 1] < mid)) ++j;
   if (j + 1 >= n) throw std::invalid_argument("the contact pulse does not end within the trace");
+  // The bars touch once in a sweep: the first pulse must hold most of the
+  // samples at the pulse's level, or what it times is something else (a
+  // label across the trace read as a pulse of its own, a trace misread).
+  const auto high =
+      std::count_if(trace.volts.begin(), trace.volts.end(), [&](double v) { return v >= mid; });
+  const auto in_pulse = std::count_if(trace.volts.begin() + static_cast<std::ptrdiff_t>(i + 1),
+                                      trace.volts.begin() + static_cast<std::ptrdiff_t>(j + 1),
+                                      [&](double v) { return v >= mid; });
+  if (2 * in_pulse < high) {
+    throw std::invalid_argument(
+        fmt::format("the contact trace is at its pulse level in more than one stretch: the "
+                    "first pulse holds {} of its {} samples there",
+                    in_pulse, high));
+  }
   pulse.fall_s = edge(j);
   pulse.width_s = {pulse.fall_s.value - pulse.rise_s.value,
                    std::hypot(pulse.rise_s.sigma, pulse.fall_s.sigma)};

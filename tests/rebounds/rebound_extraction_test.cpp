@@ -384,6 +384,20 @@ TEST_CASE("contact_pulse: a trace without a complete pulse is refused") {
   CHECK_THROWS_WITH(MeasureContactPulse(flat), Catch::Contains("does not end"));
 }
 
+TEST_CASE("contact_pulse: a short stretch at the pulse's level before the pulse is refused") {
+  // A label written across the rest level reads as 15 us at the pulse's
+  // level, 50 us before the 353 us pulse: timing the first would say 15 us.
+  Trace trace;
+  for (int us = 0; us < 1000; ++us) {
+    const bool label = us >= 70 && us < 85;
+    const bool pulse = us >= 135 && us < 488;
+    trace.time_s.push_back(us * 1e-6);
+    trace.volts.push_back(label || pulse ? 2.5 : 0.1);
+  }
+  CHECK_THROWS_WITH(MeasureContactPulse(trace),
+                    Catch::Contains("more than one stretch") && Catch::Contains("15 of its 368"));
+}
+
 // Issue 14: a wrong unit or a typo in the time axis (time_per_div = 1e8, a
 // CSV's time column in ns) once walked billions of empty swings (16.9 GB and
 // 108 s before bad_alloc at 1e300). Refused at once, with the figures.
