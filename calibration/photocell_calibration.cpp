@@ -203,11 +203,12 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
     out.bic.push_back(fits.back().bic);
   }
   // The order the BIC prefers, unless its curve is not monotone over the
-  // swing (the conversion would be ambiguous) while a lower-ranked order's
-  // is and fits the samples as well as the data can tell: a photocell's
-  // output is monotone in X, and where the trace has a gap a high order can
-  // wiggle there or at its ends and still fit the samples best. A cell that
-  // truly folds back is refused: no monotone order fits it.
+  // swing (the conversion would be ambiguous) while a lower order's is (the
+  // first in the BIC's ranking) and fits the samples as well as the data can
+  // tell: a photocell's output is monotone in X, and where the trace has a
+  // gap a high order can wiggle there or at its ends and still fit the
+  // samples best. A cell that truly folds back is refused: no monotone order
+  // fits it.
   std::vector<int> by_bic(fits.size());
   for (std::size_t i = 0; i < fits.size(); ++i) by_bic[i] = static_cast<int>(i);
   std::stable_sort(by_bic.begin(), by_bic.end(),
