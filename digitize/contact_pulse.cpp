@@ -144,7 +144,7 @@ class RowReader {
       const int n = static_cast<int>(p.values.size());
       grid_.AddTo(p, screen_from_pixel_(p.PointAt(p.OffsetAt(0))),
                   screen_from_pixel_(p.PointAt(p.OffsetAt(n - 1))));
-      if (p.beside_short_line) continue;
+      if (p.BesideShortLine()) continue;
       if (rows.offsets.empty()) {
         for (int i = 0; i < n; ++i) rows.offsets.push_back(p.OffsetAt(i));
       }

@@ -130,7 +130,7 @@ Profile ReadProfile(const InkSampler& ink, cv::Point2d origin_px, cv::Point2d di
 }
 
 bool CutToClearStretch(Profile& profile, double min_reach_px) {
-  if (!profile.beside_short_line) return true;
+  if (!profile.BesideShortLine()) return true;
   if (!(profile.clear_lo_px <= -min_reach_px && profile.clear_hi_px >= min_reach_px)) return false;
   const double n = static_cast<double>(profile.values.size());
   // In doubles first: a side no line lit stays at +-infinity.
@@ -141,7 +141,7 @@ bool CutToClearStretch(Profile& profile, double min_reach_px) {
   profile.values.erase(profile.values.begin() + last + 1, profile.values.end());
   profile.values.erase(profile.values.begin(), profile.values.begin() + first);
   profile.start_px += first * profile.step_px;
-  profile.beside_short_line = false;
+  profile.clear_lo_px = -HUGE_VAL, profile.clear_hi_px = HUGE_VAL;
   return true;
 }
 

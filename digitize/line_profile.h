@@ -29,12 +29,13 @@ struct Profile {
     double reach_px = 0.0;   // how far either side its light is taken to reach
   };
   std::vector<Crossing> crossings;
-  // A short line (a minor tick, the graticule's end) runs along part of the
-  // profile: it lights a stretch of it that no crossing model describes.
-  bool beside_short_line = false;
-  // The stretch on the origin's side of every such line (offsets): clear of
-  // their light.
+  // Where a short line (a minor tick, the graticule's end) runs along part
+  // of the profile, it lights a stretch that no crossing model describes:
+  // the stretch on the origin's side of every such line (offsets) is clear
+  // of their light. Both infinite: nothing lit.
   double clear_lo_px = -HUGE_VAL, clear_hi_px = HUGE_VAL;
+
+  bool BesideShortLine() const { return clear_lo_px > -HUGE_VAL || clear_hi_px < HUGE_VAL; }
 
   double OffsetAt(int i) const { return start_px + i * step_px; }
   cv::Point2d PointAt(double offset_px) const { return origin_px + direction * offset_px; }

@@ -105,7 +105,6 @@ class GridCrossings {
         }
         lit_lo = std::max(lit_lo, 0.0), lit_hi = std::min(lit_hi, length);
         if (!(lit_lo <= lit_hi)) return;
-        profile.beside_short_line = true;
         // What lies on the origin's side of the lit stretch stays clear.
         if (u0 + lit_hi < 0.0) {
           profile.clear_lo_px = std::max(profile.clear_lo_px, u0 + lit_hi);

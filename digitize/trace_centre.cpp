@@ -155,6 +155,12 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
   std::vector<Sample> samples;
   constexpr double kTangentDiv = 0.02;
   const int count = static_cast<int>(std::floor(nx / step_div + 1e-9));
+  // Beside a tick's end a profile is cut short of its light, if it still
+  // reaches this far either side, well past the trace's edges: a trace
+  // crossing a centre axis at a shallow angle has its profiles run along the
+  // axis's ticks, and would lose a division or two of its course there.
+  const double min_reach_px =
+      settings.search_px + 0.6 * (settings.half_length_px - settings.search_px);
   for (int i = 0; i <= count; ++i) {
     const double x = std::min(nx, i * step_div);
     double y = 0.0, slope = 0.0;
@@ -172,12 +178,6 @@ std::vector<Sample> MeasureAlong(const InkSampler& ink, const GraticuleFit& grat
     const int n = static_cast<int>(profile.values.size());
     grid.AddTo(profile, screen_from_pixel(profile.PointAt(profile.OffsetAt(0))),
                screen_from_pixel(profile.PointAt(profile.OffsetAt(n - 1))));
-    // Beside a tick's end the profile is cut short of its light, if it still
-    // reaches well past the trace's edges: a trace crossing a centre axis at
-    // a shallow angle has its profiles run along the axis's ticks, and would
-    // lose a division or two of its course there.
-    const double min_reach_px =
-        settings.search_px + 0.6 * (settings.half_length_px - settings.search_px);
     if (!CutToClearStretch(profile, min_reach_px)) continue;
     const LineCentre centre = FindLineCentre(profile, settings.centre);
     if (!centre.found) continue;

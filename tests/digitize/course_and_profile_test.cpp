@@ -164,13 +164,13 @@ TEST_CASE("grid crossings: a profile reaching a tick's light is cut short of it,
   // Straight down the screen at x = 4.43 from y = 0.7 to 0.1: the tick's
   // light reaches round its end at y = 0.1 to 0.1 + sqrt(0.06^2 - 0.03^2).
   Profile profile = NearATick({4.43, 0.4}, {0.0, -1.0});
-  CHECK(profile.beside_short_line);
+  CHECK(profile.BesideShortLine());
   CHECK(profile.clear_lo_px == -HUGE_VAL);
   const double lit_from_px = 100.0 * (0.4 - 0.1 - std::sqrt(0.06 * 0.06 - 0.03 * 0.03));
   CHECK(profile.clear_hi_px == Approx(lit_from_px));
   // Reaching 20 px either side of the origin is enough: it is cut there.
   REQUIRE(CutToClearStretch(profile, 20.0));
-  CHECK_FALSE(profile.beside_short_line);
+  CHECK_FALSE(profile.BesideShortLine());
   const double end_px = profile.OffsetAt(static_cast<int>(profile.values.size()) - 1);
   CHECK(profile.OffsetAt(0) == -30.0);
   CHECK(end_px <= lit_from_px);
@@ -182,7 +182,7 @@ TEST_CASE("grid crossings: a profile reaching a tick's light is cut short of it,
 
 TEST_CASE("grid crossings: a profile whose origin lies in a tick's light cannot be cut clear") {
   Profile profile = NearATick({4.43, 0.13}, {0.0, -1.0});
-  REQUIRE(profile.beside_short_line);
+  REQUIRE(profile.BesideShortLine());
   CHECK(profile.clear_lo_px == 0.0);
   CHECK(profile.clear_hi_px == 0.0);
   CHECK_FALSE(CutToClearStretch(profile, 1.0));
@@ -192,9 +192,9 @@ TEST_CASE("grid crossings: a profile passing a tick's end further than its light
   // From (4.50, 0.75) to (4.45, 0.15): its end lies within 0.06 of the tick
   // across (0.05) and beyond its end (0.05), but 0.07 from the end itself.
   const Profile profile = NearATick({4.475, 0.45}, {-0.05, -0.6});
-  CHECK_FALSE(profile.beside_short_line);
+  CHECK_FALSE(profile.BesideShortLine());
   // Moved 0.02 closer, its end is 0.043 from the tick's: lit.
-  CHECK(NearATick({4.455, 0.43}, {-0.05, -0.6}).beside_short_line);
+  CHECK(NearATick({4.455, 0.43}, {-0.05, -0.6}).BesideShortLine());
 }
 
 }  // namespace impactlab::digitize
