@@ -172,12 +172,12 @@ struct LawModel {
     }
     const T eps = exp(theta[0]) * speed;
     const double eps0 = ValueOf(eps);
-    // n fixed at the tables' 3/2: s_c(eps) from its table (where eps <= 256).
-    if (!FitsExponent()) {
-      if (const auto s_c = power_law_tables::HuntCrossleyContactTime(exponent, eps0)) {
-        *tau = x_star / speed * Along(*s_c, eps0, eps);
-        return true;
-      }
+    // s_c(eps, n) from its table where it covers them (eps <= 256, n in
+    // [0.5, 5]: every n a fit of n searches), else the quadrature.
+    const double n0 = ValueOf(n);
+    if (const auto s_c = power_law_tables::HuntCrossleyContactTime(n0, eps0)) {
+      *tau = x_star / speed * Along(*s_c, eps0, eps, n0, n);
+      return true;
     }
     const hunt_crossley::Exit exit = hunt_crossley::ExitOf(eps0);
     if (!(exit.gap > 0.0)) return false;

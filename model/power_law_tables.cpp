@@ -5,14 +5,13 @@
 namespace impactlab::power_law_tables {
 namespace {
 
-// kXBreaks, kXTerms, kXCoefficients for each table X.
+// kXBreaks, kXTerms, kXCoefficients for each table X; for the surface,
+// kXEpsBreaks, kXExponentBreaks, kXEpsTerms, kXExponentTerms, kXCoefficients.
 #include "model/power_law_tables.inc"
 
 constexpr ChebyshevTable kTables[] = {
     {kHuntCrossleyRestitutionBreaks, kHuntCrossleyRestitutionTerms,
      kHuntCrossleyRestitutionCoefficients},
-    {kHuntCrossleyContactTimeBreaks, kHuntCrossleyContactTimeTerms,
-     kHuntCrossleyContactTimeCoefficients},
     {kDamperKinematicContactTimeBreaks, kDamperKinematicContactTimeTerms,
      kDamperKinematicContactTimeCoefficients},
     {kDamperKinematicRestitutionBreaks, kDamperKinematicRestitutionTerms,
@@ -23,17 +22,22 @@ constexpr ChebyshevTable kTables[] = {
      kDamperForceRestitutionCoefficients},
 };
 
+constexpr ChebyshevSurface kHuntCrossleyContactTime{
+    kHuntCrossleyContactTimeEpsBreaks, kHuntCrossleyContactTimeExponentBreaks,
+    kHuntCrossleyContactTimeEpsTerms, kHuntCrossleyContactTimeExponentTerms,
+    kHuntCrossleyContactTimeCoefficients};
+
 }  // namespace
 
 const ChebyshevTable& Stored(Table table) { return kTables[static_cast<int>(table)]; }
+const ChebyshevSurface& StoredHuntCrossleyContactTime() { return kHuntCrossleyContactTime; }
 
 std::optional<ValueSlope> HuntCrossleyRestitution(double eps) {
   return Evaluate(Stored(Table::kHuntCrossleyRestitution), eps);
 }
 
-std::optional<ValueSlope> HuntCrossleyContactTime(double exponent, double eps) {
-  if (exponent != kExponent) return std::nullopt;
-  return Evaluate(Stored(Table::kHuntCrossleyContactTime), eps);
+std::optional<ValueSlopes> HuntCrossleyContactTime(double exponent, double eps) {
+  return Evaluate(kHuntCrossleyContactTime, eps, exponent);
 }
 
 std::optional<DamperImpact> HertzDamperImpact(double exponent, double beta, Separation separation) {
