@@ -226,8 +226,19 @@ void FitRingDown(std::span<const double> values, std::size_t begin, std::size_t 
   }
 }
 
-// Dominant frequency and damping: the fitted mode nearest the ring-down's FFT
-// peak (the post-impact segment's when the ring-down shows none).
+// Whether a fitted mode is an oscillation: it completes `min_cycles_per_decay`
+// periods while its amplitude changes by e (f / |sigma|, sigma its decay rate;
+// a growing mode, zeta < 0, likewise) and `min_window_cycles` periods within
+// the window of `window_s`.
+bool Oscillates(const DampedMode& mode, double window_s, const LogAnalysisOptions& options) {
+  const double f = mode.frequency_hz.value;
+  return f * window_s >= options.min_window_cycles &&
+         f >= options.min_cycles_per_decay * std::abs(mode.decay_rate_per_s);
+}
+
+// Dominant frequency and damping: the oscillating fitted mode nearest the
+// ring-down's FFT peak (the strongest when the ring-down shows no peak);
+// none when no fitted mode oscillates.
 void CrossCheck(const LogAnalysisOptions& options, ChannelAnalysis& channel) {
   const DampedModeFit& fit = channel.ring_down;
   if (!fit.ok || fit.modes.empty()) {
@@ -235,15 +246,39 @@ void CrossCheck(const LogAnalysisOptions& options, ChannelAnalysis& channel) {
     if (!why.empty()) channel.notes.push_back("ring-down fit: " + why);
     return;
   }
-  if (channel.fft_frequency_hz <= 0.0) {
-    channel.dominant_frequency_hz = fit.modes[0].frequency_hz;
-    channel.damping_ratio = fit.modes[0].damping_ratio;
-    channel.frequency_source = "fit";
-    channel.notes.push_back("no spectral peak above the noise; the fit's strongest mode is used");
+  const double window_s = fit.samples / channel.ring_down_rate_hz;
+  std::vector<std::size_t> oscillating;
+  for (std::size_t k = 0; k < fit.modes.size(); ++k) {
+    if (Oscillates(fit.modes[k], window_s, options)) oscillating.push_back(k);
+  }
+  if (oscillating.empty()) {
+    const DampedMode& strongest = fit.modes[0];
+    channel.dominant_frequency_hz.reset();
+    channel.damping_ratio.reset();
+    channel.frequency_source.clear();
+    channel.notes.push_back(fmt::format(
+        "no oscillation: the ring-down's strongest mode ({:.4g} Hz, zeta {:.3g}) completes "
+        "{:.2g} periods while its amplitude changes by e and {:.2g} in the {:.3g} s window "
+        "(an oscillation needs {:.3g} and {:.3g}); no dominant frequency",
+        strongest.frequency_hz.value, strongest.damping_ratio.value,
+        strongest.decay_rate_per_s != 0.0
+            ? strongest.frequency_hz.value / std::abs(strongest.decay_rate_per_s)
+            : std::numeric_limits<double>::infinity(),
+        strongest.frequency_hz.value * window_s, window_s, options.min_cycles_per_decay,
+        options.min_window_cycles));
     return;
   }
-  std::size_t nearest = 0;
-  for (std::size_t k = 1; k < fit.modes.size(); ++k) {
+  if (channel.fft_frequency_hz <= 0.0) {
+    const DampedMode& mode = fit.modes[oscillating.front()];
+    channel.dominant_frequency_hz = mode.frequency_hz;
+    channel.damping_ratio = mode.damping_ratio;
+    channel.frequency_source = "fit";
+    channel.notes.push_back(
+        "no spectral peak above the noise; the fit's strongest oscillating mode is used");
+    return;
+  }
+  std::size_t nearest = oscillating.front();
+  for (std::size_t k : oscillating) {
     if (std::abs(fit.modes[k].frequency_hz.value - channel.fft_frequency_hz) <
         std::abs(fit.modes[nearest].frequency_hz.value - channel.fft_frequency_hz)) {
       nearest = k;
@@ -389,15 +424,65 @@ std::pair<double, double> RmsDifference(const std::vector<double>& experiment,
   return {std::sqrt(sum / static_cast<double>(count)), last - first};
 }
 
-LogComparison Compare(const Log& log, const SourceResult& experiment,
-                      const SourceResult& simulation) {
-  LogComparison comparison;
-  const ImpactEstimate& ie = experiment.analysis.impact;
-  const ImpactEstimate& is = simulation.analysis.impact;
-  if (ie.found && is.found) {
-    comparison.impact_offset_s =
-        Estimate{is.time_s.value - ie.time_s.value, std::hypot(is.time_s.sigma, ie.time_s.sigma)};
+const ChannelImpact* FoundOn(const ImpactEstimate& impact, const std::string& channel,
+                             double reach_s) {
+  for (const ChannelImpact& c : impact.channels) {
+    if (c.channel == channel && c.found &&
+        std::abs(c.time_s.value - impact.time_s.value) <= reach_s) {
+      return &c;
+    }
   }
+  return nullptr;
+}
+
+// The impact instants compared (LogComparison): one channel's in both sources.
+void CompareImpacts(const Log& log, const ImpactEstimate& ie, const ImpactEstimate& is,
+                    const LogAnalysisOptions& options, LogComparison& comparison) {
+  if (!ie.found || !is.found) return;
+  comparison.experiment_impact_s = ie.time_s;
+  comparison.simulation_impact_s = is.time_s;
+  // A channel whose strongest jump lies elsewhere saw another event (a
+  // drive starting): it must agree with its source's instant.
+  const double reach_s = options.impact.onset_search_s;
+  const ChannelImpact *best_e = nullptr, *best_s = nullptr;
+  LogChannelKind best_kind = LogChannelKind::kOther;
+  for (const LogChannel& channel : log.channels) {
+    const LogChannelKind kind = KindOf(channel);
+    if (kind != LogChannelKind::kAcceleration && kind != LogChannelKind::kAngle) continue;
+    const ChannelImpact* e = FoundOn(ie, channel.name, reach_s);
+    const ChannelImpact* s = FoundOn(is, channel.name, reach_s);
+    if (e == nullptr || s == nullptr) continue;
+    bool better = best_e == nullptr;
+    if (!better && kind != best_kind) better = kind == LogChannelKind::kAcceleration;
+    if (!better && kind == best_kind && kind == LogChannelKind::kAcceleration) {
+      better = std::min(e->jump_snr, s->jump_snr) > std::min(best_e->jump_snr, best_s->jump_snr);
+    }
+    if (!better && kind == best_kind && kind == LogChannelKind::kAngle) {
+      better = std::hypot(e->time_s.sigma, s->time_s.sigma) <
+               std::hypot(best_e->time_s.sigma, best_s->time_s.sigma);
+    }
+    if (better) {
+      best_e = e;
+      best_s = s;
+      best_kind = kind;
+    }
+  }
+  if (best_e != nullptr) {
+    comparison.impact_channel =
+        (best_kind == LogChannelKind::kAcceleration ? "accelerometer " : "encoder ") +
+        best_e->channel;
+    comparison.experiment_impact_s = best_e->time_s;
+    comparison.simulation_impact_s = best_s->time_s;
+  }
+  comparison.impact_offset_s = Estimate{
+      comparison.simulation_impact_s->value - comparison.experiment_impact_s->value,
+      std::hypot(comparison.simulation_impact_s->sigma, comparison.experiment_impact_s->sigma)};
+}
+
+LogComparison Compare(const Log& log, const SourceResult& experiment,
+                      const SourceResult& simulation, const LogAnalysisOptions& options) {
+  LogComparison comparison;
+  CompareImpacts(log, experiment.analysis.impact, simulation.analysis.impact, options, comparison);
   const double shift = comparison.impact_offset_s ? comparison.impact_offset_s->value : 0.0;
   for (std::size_t c = 0; c < log.channels.size(); ++c) {
     const ChannelAnalysis& a = experiment.analysis.channels[c];
@@ -450,6 +535,8 @@ bool LogAnalysisOptions::Check(std::string* error) const {
   if (!(mismatch_sigmas > 0.0)) return fail("mismatch_sigmas must be positive");
   if (!(mismatch_min_bins >= 0.0)) return fail("mismatch_min_bins must be >= 0");
   if (!(fft_sigma_factor >= 0.0)) return fail("fft_sigma_factor must be >= 0");
+  if (!(min_cycles_per_decay >= 0.0)) return fail("min_cycles_per_decay must be >= 0");
+  if (!(min_window_cycles >= 0.0)) return fail("min_window_cycles must be >= 0");
   if (plot_points < 16) return fail("plot_points must be at least 16");
   if (!(plot_max_frequency_hz >= 0.0)) return fail("plot_max_frequency_hz must be >= 0");
   return true;
@@ -474,7 +561,7 @@ LogAnalysis AnalyseLog(const Log& log, const LogRecords& records,
     SourceResult experiment = Analyse(log, LogSource::kExperiment, records.experiment, options);
     if (records.simulation) {
       SourceResult simulation = Analyse(log, LogSource::kSimulation, *records.simulation, options);
-      result.comparison = Compare(log, experiment, simulation);
+      result.comparison = Compare(log, experiment, simulation, options);
       result.simulation = std::move(simulation.analysis);
     }
     result.experiment = std::move(experiment.analysis);
@@ -521,8 +608,11 @@ std::string LogAnalysis::Brief() const {
   if (simulation) source_lines(*simulation);
   if (comparison) {
     if (comparison->impact_offset_s) {
-      text += fmt::format("  impact offset (simulation - experiment) {:.6f} +- {:.2g} s\n",
-                          comparison->impact_offset_s->value, comparison->impact_offset_s->sigma);
+      text += fmt::format("  impact offset (simulation - experiment) {:.6f} +- {:.2g} s ({})\n",
+                          comparison->impact_offset_s->value, comparison->impact_offset_s->sigma,
+                          comparison->impact_channel.empty()
+                              ? "each source's own instant: no channel found it in both"
+                              : comparison->impact_channel + " in both");
     }
     for (const ChannelComparison& c : comparison->channels) {
       text += fmt::format(

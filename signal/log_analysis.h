@@ -18,10 +18,14 @@
 // Then, with a simulation, per channel: frequencies side by side, the impact
 // offset, and RMS differences with and without aligning the impacts.
 //
-// A channel's `dominant_frequency_hz` is the fitted damped frequency of the mode
-// nearest the FFT peak of the ring-down (the post-impact FFT peak itself when
-// the fit failed; the whole record's when no impact was found);
-// `damping_ratio` is that mode's. These are the results file's
+// A channel's `dominant_frequency_hz` is the fitted damped frequency of the
+// oscillating mode nearest the FFT peak of the ring-down (the post-impact FFT
+// peak itself when the fit failed; the whole record's when no impact was
+// found); `damping_ratio` is that mode's. A mode oscillates when it completes
+// `min_cycles_per_decay` periods per e-fold of its amplitude and
+// `min_window_cycles` within the window; a channel whose fit has no such mode
+// (a joint turning on, a stop's overdamped settling) has none, and a note
+// beginning "no oscillation" says why. These are the results file's
 // /logs/<id>/<source>/<channel> datasets.
 #pragma once
 
@@ -55,9 +59,14 @@ struct LogAnalysisOptions {
   double mismatch_sigmas = 4.0;        // FFT and fitted frequency disagree beyond this many
                                        // combined sigmas ...
   double mismatch_min_bins = 0.05;     // ... and this fraction of the FFT bin width
-  double fft_sigma_factor = 2.0;   // sigma of the FFT peak, as a multiple of the fit's (the Hann
-                                   // peak of a ring-down is 1.5-2x the bound; docs/logs.md)
-  std::size_t plot_points = 2000;  // points of the decimated series and spectra kept for plots
+  double fft_sigma_factor = 2.0;      // sigma of the FFT peak, as a multiple of the fit's (the Hann
+                                      // peak of a ring-down is 1.5-2x the bound; docs/logs.md)
+  double min_cycles_per_decay = 1.0;  // a fitted mode is an oscillation when it completes at
+                                      // least this many periods while its amplitude falls by e
+                                      // (1: zeta <= 0.157) ...
+  double min_window_cycles = 2.0;     // ... and this many periods within the ring-down window;
+                                      // a channel with no such mode has no dominant frequency
+  std::size_t plot_points = 2000;     // points of the decimated series and spectra kept for plots
   double plot_max_frequency_hz = 0.0;  // spectra kept up to here, Hz; 0: 5 x the highest peak
 
   template <typename Self, typename Visit>
@@ -74,6 +83,8 @@ struct LogAnalysisOptions {
     visit("mismatch_sigmas", self.mismatch_sigmas, "FFT and fit disagree beyond these sigmas");
     visit("mismatch_min_bins", self.mismatch_min_bins, "... and this fraction of a bin");
     visit("fft_sigma_factor", self.fft_sigma_factor, "the FFT peak's sigma over the fit's");
+    visit("min_cycles_per_decay", self.min_cycles_per_decay, "an oscillation: periods per e-fold");
+    visit("min_window_cycles", self.min_window_cycles, "... and periods in the ring-down window");
     visit("plot_points", self.plot_points, "points kept for plots");
     visit("plot_max_frequency_hz", self.plot_max_frequency_hz, "spectra kept up to, Hz (0: auto)");
   }
@@ -135,7 +146,16 @@ struct ChannelComparison {
 };
 
 struct LogComparison {
-  std::optional<Estimate> impact_offset_s;  // simulation - experiment, when both found one
+  // The impact instants compared, like with like: the same channel's in both
+  // sources, the accelerometer whose jump is strongest in the weaker of the
+  // two (else the encoder with the smallest combined sigma), among the
+  // channels that found the impact in both within `impact.onset_search_s` of
+  // each source's own instant. Where no channel did, each source's own
+  // instant, and `impact_channel` is empty. A source's own instant (its
+  // strongest jump) places its segments; it may be another channel's.
+  std::string impact_channel;  // e.g. "accelerometer a3"; empty: the sources' own instants
+  std::optional<Estimate> experiment_impact_s, simulation_impact_s;  // log time, each source's
+  std::optional<Estimate> impact_offset_s;  // simulation - experiment of the two, when both found
   std::vector<ChannelComparison> channels;
 };
 
