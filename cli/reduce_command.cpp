@@ -7,7 +7,7 @@
 #include <string>
 #include <thread>
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 
 #include "cli/commands.h"
 #include "cli/stage_flags.h"
@@ -48,6 +48,63 @@ std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, 
     return true;
   });
   return previous;
+}
+
+// What a reduce could not do, entry by entry: every kind the manifest has.
+struct FailureCount {
+  std::size_t runs = 0, reused = 0, logs = 0;
+  std::size_t predictions_asked = 0, predictions_failed = 0;  // with products = fit only
+  // Entries the manifest rejected that no count above holds (a calibration,
+  // whose runs fail too; a run, log or prediction a shorter --only skips), as
+  // "calibration R".
+  std::vector<std::string> rejected;
+  Products products = Products::kFit;
+
+  std::size_t Total() const { return runs + logs + predictions_failed + rejected.size(); }
+  // "8 run(s): 8 ok (0 reused), 0 failed; 1 prediction(s): 0 made, 1 failed; 0 log(s): 0
+  // failed" (and "; rejected by the manifest: calibration R" when one was).
+  std::string Summary(const SessionResult& result) const {
+    std::string text;
+    if (products == Products::kCalibration) {
+      text = fmt::format("{} calibration(s)", result.calibrations.size());
+    } else {
+      text = fmt::format("{} run(s): {} ok ({} reused), {} failed", result.runs.size(),
+                         result.runs.size() - runs, reused, runs);
+      if (predictions_asked > 0) {
+        text += fmt::format("; {} prediction(s): {} made, {} failed", predictions_asked,
+                            predictions_asked - predictions_failed, predictions_failed);
+      }
+      text += fmt::format("; {} log(s): {} failed", result.logs.size(), logs);
+    }
+    if (!rejected.empty())
+      text += fmt::format("; rejected by the manifest: {}", fmt::join(rejected, ", "));
+    return text;
+  }
+};
+
+// A prediction is asked for by each [[prediction]] of the manifest, read or
+// rejected, and made only with --only fit; one asked for and not in the
+// results failed (the warnings say why).
+FailureCount CountFailures(const Session& session, Products products, const SessionResult& result) {
+  FailureCount count;
+  count.products = products;
+  for (const RunResult& run : result.runs) {
+    count.runs += run.ok ? 0 : 1;
+    count.reused += run.reused ? 1 : 0;
+  }
+  for (const LogResult& log : result.logs) count.logs += log.ok ? 0 : 1;
+  if (products == Products::kFit) {
+    count.predictions_asked = session.predictions.size() + session.Rejected("prediction").size();
+    count.predictions_failed =
+        count.predictions_asked - std::min(count.predictions_asked, result.predictions.size());
+  }
+  for (const RejectedEntry& entry : session.rejected) {
+    const bool counted =
+        (entry.table == "run" && products != Products::kCalibration) ||
+        ((entry.table == "log" || entry.table == "prediction") && products == Products::kFit);
+    if (!counted) count.rejected.push_back(entry.table + " " + entry.id);
+  }
+  return count;
 }
 
 }  // namespace
@@ -129,30 +186,15 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       for (const LogResult& log : result.logs) {
         if (!log.ok) fmt::print(stderr, "log {} {}\n", log.id, log.Status());
       }
-      const int failed = result.FailedRuns();
-      const auto reused = std::count_if(result.runs.begin(), result.runs.end(),
-                                        [](const RunResult& r) { return r.reused; });
+      const FailureCount count = CountFailures(manifest.session, options.products, result);
       if (!args->quiet) {
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (options.products == Products::kCalibration) {
-          fmt::print(stderr, "{} calibration(s); results in {} ({:.2f} s)\n",
-                     result.calibrations.size(), args->output.string(), seconds);
-        } else {
-          const auto failed_logs = std::count_if(result.logs.begin(), result.logs.end(),
-                                                 [](const LogResult& l) { return !l.ok; });
-          const auto failed_runs = failed - failed_logs;
-          fmt::print(stderr,
-                     "{} run(s): {} ok ({} reused), {} failed; {} log(s): {} failed; results in "
-                     "{} ({:.2f} s)\n",
-                     result.runs.size(), result.runs.size() - failed_runs, reused, failed_runs,
-                     result.logs.size(), failed_logs, args->output.string(), seconds);
-        }
+        fmt::print(stderr, "{}; results in {} ({:.2f} s)\n", count.Summary(result),
+                   args->output.string(), seconds);
       }
-      // A calibration or prediction the manifest rejected fails nothing else,
-      // but the user must still hear of it through the exit status.
-      const bool rejected = !manifest.session.rejected.empty();
-      return failed > 0 || rejected ? kExitRunsFailed : kExitOk;
+      // The exit status says what the summary counts: anything failed.
+      return count.Total() > 0 ? kExitRunsFailed : kExitOk;
     };
   });
 }

@@ -368,6 +368,9 @@ std::string Summary(const SessionResult& r, const UnitLabels& u) {
     }
     std::string rows;
     for (const LogComparisonRow& c : log.comparison) {
+      // A channel without a frequency in both sources is not compared (the
+      // check list says why).
+      if (!std::isfinite(c.difference_hz)) continue;
       rows += fmt::format("{}{}: {:.5g} Hz measured, {:.5g} Hz simulated ({:+.2f} %)",
                           rows.empty() ? "" : "; ", EscapeHtml(c.channel),
                           c.experiment_frequency_hz.value, c.simulation_frequency_hz.value,
@@ -381,7 +384,7 @@ std::string Summary(const SessionResult& r, const UnitLabels& u) {
         fmt::format("Log {}: {}.", EscapeHtml(log.id), rows.empty() ? "analysed" : rows));
   }
   if (!r.warnings.empty()) {
-    lines.push_back(fmt::format("{} warning(s), listed below.", r.warnings.size()));
+    lines.push_back(fmt::format("{} warning(s), in the list above.", r.warnings.size()));
   }
   std::string out = "<h2 id=\"summary\">Summary</h2>\n<ul class=\"summary\">\n";
   for (const std::string& line : lines) out += "<li>" + line + "</li>\n";
@@ -390,7 +393,9 @@ std::string Summary(const SessionResult& r, const UnitLabels& u) {
 
 // Links to every section, in the page's order.
 std::string Contents(const SessionResult& r, const std::vector<Table>& tables) {
-  std::string out = "<nav><h2>Contents</h2>\n<ul>\n<li><a href=\"#summary\">Summary</a></li>\n";
+  std::string out =
+      "<nav><h2>Contents</h2>\n<ul>\n<li><a href=\"#table-check_these\">Check these</a></li>\n"
+      "<li><a href=\"#summary\">Summary</a></li>\n";
   if (!tables.empty()) {
     out += "<li><a href=\"#tables\">Tables</a><ul>\n";
     for (const Table& t : tables) {
@@ -428,7 +433,11 @@ std::string BuildPage(const SessionResult& r, Figures& figures) {
       pendulum ? fmt::format("; pendulum convention {}; Kelvin-Voigt separation {}",
                              ConventionName(r.convention), SeparationName(r.separation))
                : std::string());
-  const std::vector<Table> tables = BuildTables(r);
+  // The check list (BuildTables' first) opens the page, each item linked to
+  // its run's or log's section and to its table.
+  std::vector<Table> tables = BuildTables(r);
+  html += "<h2 id=\"check\">Check these</h2>\n" + RenderTable(tables.front(), ReportFormat::kHtml);
+  tables.erase(tables.begin());
   html += Contents(r, tables) + Summary(r, u);
   if (!r.runs.empty()) {
     html += "<h3>Runs</h3>\n<ul>\n";
@@ -440,8 +449,6 @@ std::string BuildPage(const SessionResult& r, Figures& figures) {
     }
     html += "</ul>\n";
   }
-  for (const std::string& w : r.warnings)
-    html += fmt::format("<p class=\"note\">warning: {}</p>\n", EscapeHtml(w));
 
   if (!tables.empty()) {
     html += "<h2 id=\"tables\">Tables</h2>\n";

@@ -1,5 +1,7 @@
 // `impactlab report --format html`: one self-contained page (inline CSS and
-// dygraphs, no network) with contents, a summary, the tables and the figures
+// dygraphs, no network) opening with what to check (tables.h CheckList, each
+// item linked to its run, log or table), then contents, a summary, the
+// tables and the figures
 // a person checks a reduction by: per run the measured displacement against
 // the fitted response with the residual beneath (thesis Figures 16-18), the
 // photocell calibrations (13-14), contact time against initial displacement

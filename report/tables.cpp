@@ -363,6 +363,93 @@ Cell OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
   return e ? WithSigma(*e, digits) : Cell("-");
 }
 
+// A log channel's flags in a few words each (its notes say more):
+// signal/log_analysis.h writes the notes these begin with.
+std::vector<std::string> ChannelFlags(const LogChannelResult& c) {
+  const auto noted = [&](std::string_view prefix) {
+    return std::any_of(c.notes.begin(), c.notes.end(),
+                       [&](const std::string& n) { return n.rfind(prefix, 0) == 0; });
+  };
+  std::vector<std::string> flags;
+  if (!c.dominant_frequency_hz) {
+    flags.push_back(noted("no oscillation") ? "no oscillation" : "no dominant frequency");
+  }
+  if (c.frequency_mismatch) flags.push_back("FFT/fit mismatch");
+  if (noted("no spectral peak")) flags.push_back("no spectral peak");
+  if (noted("ring-down fit:")) flags.push_back("ring-down fit caveat");
+  return flags;
+}
+
+// One flag of one channel, and the sources that raise it.
+struct ChannelFlag {
+  std::string channel, flag;
+  std::vector<std::string> sources;
+};
+
+// Every channel's flags, in the experiment's channel order.
+std::vector<ChannelFlag> LogFlags(const LogResult& log) {
+  std::vector<ChannelFlag> out;
+  if (log.sources.empty()) return out;
+  for (const LogChannelResult& first : log.sources.front().channels) {
+    const std::size_t begin = out.size();
+    for (const LogSourceResult& s : log.sources) {
+      for (const LogChannelResult& c : s.channels) {
+        if (c.channel != first.channel) continue;
+        for (const std::string& flag : ChannelFlags(c)) {
+          const auto at = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(begin), out.end(),
+                                       [&](const ChannelFlag& f) { return f.flag == flag; });
+          if (at == out.end()) {
+            out.push_back({c.channel, flag, {s.source}});
+          } else {
+            at->sources.push_back(s.source);
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// "both", or the sources named ("simulation"); nothing for a log of one source.
+std::string SourcesText(const std::vector<std::string>& sources, const LogResult& log) {
+  if (log.sources.size() < 2) return "";
+  if (sources.size() == log.sources.size()) return "both";
+  std::string text;
+  for (const std::string& s : sources) text += (text.empty() ? "" : ", ") + s;
+  return text;
+}
+
+// The part of an impact method that names the channel ("accelerometer a3"),
+// before any explanation (pipeline/log_results.cpp writes them so).
+std::string ImpactChannelOf(const std::string& method) {
+  return method.substr(0, method.find(','));
+}
+
+const LogSourceResult* SourceOf(const LogResult& log, const std::string& name) {
+  for (const LogSourceResult& s : log.sources) {
+    if (s.source == name) return &s;
+  }
+  return nullptr;
+}
+
+// What the impact offset compares: one channel in both sources, or which.
+std::string OffsetBasis(const LogResult& log) {
+  const LogSourceResult* e = SourceOf(log, "experiment");
+  const LogSourceResult* s = SourceOf(log, "simulation");
+  if (e == nullptr || s == nullptr) return "";
+  const std::string ce = ImpactChannelOf(e->impact_method), cs = ImpactChannelOf(s->impact_method);
+  if (ce == cs) return ce + " in both";
+  return fmt::format(
+      "different channels: {} in the experiment, {} in the simulation (no channel found the "
+      "impact in both)",
+      ce, cs);
+}
+
+Cell FrequencyCell(const LogChannelResult* c) {
+  if (c == nullptr) return "-";
+  return c->dominant_frequency_hz ? WithSigma(*c->dominant_frequency_hz, 4) : Cell("none");
+}
+
 Table LogTable(const LogResult& log) {
   Table t;
   t.name = FileSafeName("log_" + log.id);
@@ -370,9 +457,16 @@ Table LogTable(const LogResult& log) {
       "Log {}: dominant frequencies and damping, experiment against "
       "simulation",
       log.id);
-  t.columns = {"Channel",         "Experiment f (Hz)",        "Simulation f (Hz)",
-               "Difference (Hz)", "Difference (%)",           "Experiment zeta",
-               "Simulation zeta", "RMS difference (aligned)", "Units"};
+  t.columns = {"Channel",
+               "Experiment f (Hz)",
+               "Simulation f (Hz)",
+               "Difference (Hz)",
+               "Difference (%)",
+               "Experiment zeta",
+               "Simulation zeta",
+               "RMS difference (aligned)",
+               "Units",
+               "Flags"};
   const auto channel_of = [&](const std::string& source,
                               const std::string& name) -> const LogChannelResult* {
     for (const LogSourceResult& s : log.sources) {
@@ -383,6 +477,7 @@ Table LogTable(const LogResult& log) {
     }
     return nullptr;
   };
+  const std::vector<ChannelFlag> flags = LogFlags(log);
   for (const LogSourceResult& s : log.sources) {
     if (s.source != "experiment") continue;
     for (const LogChannelResult& c : s.channels) {
@@ -394,24 +489,68 @@ Table LogTable(const LogResult& log) {
       // A channel with a dominant frequency in one source only has no
       // difference (NaN in the results file): a dash, not "+nan".
       const bool differed = compared && std::isfinite(row->difference_hz);
-      t.rows.push_back({c.channel, OptionalWithSigma(c.dominant_frequency_hz, 4),
-                        sim ? OptionalWithSigma(sim->dominant_frequency_hz, 4) : Cell("-"),
+      std::string flagged;
+      for (const ChannelFlag& f : flags) {
+        if (f.channel != c.channel) continue;
+        const std::string sources = SourcesText(f.sources, log);
+        flagged +=
+            (flagged.empty() ? "" : "; ") + f.flag + (sources.empty() ? "" : " (" + sources + ")");
+      }
+      t.rows.push_back({c.channel, FrequencyCell(&c), sim ? FrequencyCell(sim) : Cell("-"),
                         differed ? Signed(row->difference_hz, 3) : Cell("-"),
                         differed ? Signed(row->difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
                         sim ? OptionalWithSigma(sim->damping_ratio, 4) : Cell("-"),
-                        compared ? Sig(row->rms_difference, 4) : Cell("-"), c.units});
+                        compared ? Sig(row->rms_difference, 4) : Cell("-"), c.units, flagged});
     }
   }
+  t.notes = {
+      "f: the damped frequency of the ring-down's oscillating mode nearest its FFT peak; "
+      "\"none\": no fitted mode oscillates (fewer than one period while its amplitude falls "
+      "by e), so the channel has no dominant frequency and is not compared.",
+      fmt::format("Flags: FFT/fit mismatch (the ring-down's FFT peak and the fitted frequency "
+                  "disagree beyond their errors), no spectral peak above the noise, a caveat of "
+                  "the ring-down fit; each in words in table {}. The impact instants and their "
+                  "offset are in table {}.",
+                  FileSafeName("log_" + log.id + "_notes"),
+                  FileSafeName("log_" + log.id + "_impact"))};
+  return t;
+}
+
+Table LogImpactTable(const LogResult& log) {
+  Table t;
+  t.name = FileSafeName("log_" + log.id + "_impact");
+  t.caption = fmt::format("Log {}: the impact instants and their offset", log.id);
+  t.columns = {"Source", "Impact time (s)", "Found by"};
   for (const LogSourceResult& s : log.sources) {
-    t.notes.push_back(
-        fmt::format("{} impact: {} ({})", s.source,
-                    s.impact_time_s ? WithSigma(*s.impact_time_s, 5).text + " s" : "not found",
-                    s.impact_method));
+    t.rows.push_back({s.source, s.impact_time_s ? WithSigma(*s.impact_time_s, 5) : "not found",
+                      s.impact_method});
   }
   if (log.impact_offset_s) {
-    t.notes.push_back(fmt::format("impact offset, simulation - experiment: {} s",
-                                  WithSigma(*log.impact_offset_s, 5).text));
+    t.rows.push_back(
+        {"simulation - experiment", WithSigma(*log.impact_offset_s, 5), OffsetBasis(log)});
+  }
+  t.notes = {
+      "The instants compared are one channel's in both sources, where a channel found the "
+      "impact in both: the accelerometer whose jump is strongest in the weaker source (else an "
+      "encoder). A source whose own strongest jump, which places its post-impact segment, is "
+      "another channel's says so. The offset aligns the histories for the RMS differences."};
+  return t;
+}
+
+Table LogNotesTable(const LogResult& log) {
+  Table t;
+  t.name = FileSafeName("log_" + log.id + "_notes");
+  t.caption = fmt::format("Log {}: what the analysis noted, channel by channel", log.id);
+  t.columns = {"Channel", "Source", "Note"};
+  if (log.sources.empty()) return t;
+  for (const LogChannelResult& first : log.sources.front().channels) {
+    for (const LogSourceResult& s : log.sources) {
+      for (const LogChannelResult& c : s.channels) {
+        if (c.channel != first.channel) continue;
+        for (const std::string& note : c.notes) t.rows.push_back({c.channel, s.source, note});
+      }
+    }
   }
   return t;
 }
@@ -474,6 +613,142 @@ Table PredictionTable(const RunPrediction& p, const UnitLabels& u) {
   return t;
 }
 
+// Whether `text` names run `id`: as run "ID", or run ID followed by a space,
+// a colon, a comma or its end.
+bool NamesRun(const std::string& text, const std::string& id) {
+  if (text.find("run \"" + id + "\"") != std::string::npos) return true;
+  const std::string plain = "run " + id;
+  for (std::size_t at = text.find(plain); at != std::string::npos; at = text.find(plain, at + 1)) {
+    const std::size_t next = at + plain.size();
+    if (next == text.size() || std::string(" :,;").find(text[next]) != std::string::npos) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// "a, b and c".
+std::string JoinedList(const std::vector<std::string>& items) {
+  std::string text;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  }
+  return text;
+}
+
+// The least-squares fits of one model (per run, and the joint fit): failures
+// one by one, excess scatter and undetermined parameters each in one item.
+void CheckLeastSquares(const SessionResult& r, const std::string& model, const std::string& label,
+                       const std::string& table, std::vector<CheckItem>& items) {
+  std::vector<std::pair<std::string, const LeastSquaresSummary*>> fits;
+  for (const RunResult& run : r.runs) {
+    if (const LeastSquaresSummary* f = FindFit(run.fits.least_squares, model)) {
+      fits.emplace_back("run " + run.id, f);
+    }
+  }
+  if (const LeastSquaresSummary* f = FindFit(r.joint_fits, model)) {
+    fits.emplace_back("the joint fit", f);
+  }
+  std::vector<std::string> scattered, undetermined;
+  double widest = 0.0;
+  for (const auto& [name, fit] : fits) {
+    if (!fit->ok && fit->identifiability.empty()) {
+      items.push_back({fmt::format("{}: {} failed: {}", name, label, fit->reason), table, ""});
+      continue;
+    }
+    if (fit->scatter.excess) {
+      scattered.push_back(name);
+      widest = std::max(widest, fit->scatter.birge_ratio);
+    }
+    if (!fit->identifiable && !fit->identifiability.empty()) undetermined.push_back(name);
+  }
+  // Every fit, or the ones named.
+  const auto which = [&](const std::vector<std::string>& names) {
+    return names.size() == fits.size() && names.size() > 1
+               ? fmt::format("all {} fits", names.size())
+               : JoinedList(names);
+  };
+  if (!scattered.empty()) {
+    items.push_back({fmt::format("{}: the maxima scatter more than their stated errors allow in "
+                                 "{} (Birge ratio up to {:.3g}): scale the ± by it",
+                                 label, which(scattered), widest),
+                     table, ""});
+  }
+  if (!undetermined.empty()) {
+    items.push_back({fmt::format("{}: the data do not determine every parameter in {}: quote "
+                                 "only the combinations the table gives",
+                                 label, which(undetermined)),
+                     table, ""});
+  }
+}
+
+// A log's flags in words, one item per kind of flag.
+void CheckLog(const LogResult& log, std::vector<CheckItem>& items) {
+  const std::string section = "log-" + log.id;
+  if (!log.ok) {
+    items.push_back({fmt::format("log {} failed: {}", log.id, log.reason), "", section});
+    return;
+  }
+  const std::string table = FileSafeName("log_" + log.id);
+  const std::string impact_table = FileSafeName("log_" + log.id + "_impact");
+  static const std::pair<const char*, const char*> kSentences[] = {
+      {"no oscillation", "no oscillation, so no dominant frequency, on"},
+      {"no dominant frequency", "no dominant frequency on"},
+      {"FFT/fit mismatch", "the FFT peak and the fitted frequency disagree on"},
+      {"no spectral peak", "no spectral peak above the noise (the fitted mode is used) on"},
+      {"ring-down fit caveat", "the ring-down fit has a caveat (see the notes) on"}};
+  const std::vector<ChannelFlag> flags = LogFlags(log);
+  for (const auto& [flag, sentence] : kSentences) {
+    std::vector<std::string> where;
+    for (const ChannelFlag& f : flags) {
+      if (f.flag != flag) continue;
+      const std::string sources = SourcesText(f.sources, log);
+      where.push_back(f.channel + (sources.empty() ? "" : " (" + sources + ")"));
+    }
+    if (!where.empty()) {
+      items.push_back(
+          {fmt::format("log {}: {} {}", log.id, sentence, JoinedList(where)), table, ""});
+    }
+  }
+  for (const LogSourceResult& s : log.sources) {
+    if (!s.impact_time_s) {
+      items.push_back(
+          {fmt::format("log {}: no impact found in the {}: {}", log.id, s.source, s.impact_method),
+           impact_table, ""});
+    }
+  }
+  if (log.impact_offset_s) {
+    const std::string basis = OffsetBasis(log);
+    if (basis.rfind("different channels", 0) == 0) {
+      items.push_back(
+          {fmt::format("log {}: the impact offset compares {}", log.id, basis), impact_table, ""});
+    }
+  }
+}
+
+Table CheckTable(const std::vector<CheckItem>& items) {
+  Table t;
+  t.name = "check_these";
+  t.caption = "Check these: every failure, warning and flag, and where it applies";
+  t.columns = {"Check", "Where"};
+  for (const CheckItem& item : items) {
+    // The item itself leads to its run's or log's section (HTML), the
+    // "Where" to its table (every format but CSV).
+    Cell check(item.text);
+    check.link = item.section;
+    Cell where = item.table.empty() ? Cell("-") : Cell(item.table);
+    if (!item.table.empty()) where.link = "table-" + item.table;
+    t.rows.push_back({check, where});
+  }
+  if (t.rows.empty()) {
+    t.rows.push_back(
+        {"Nothing: no run, log or prediction failed, and nothing was flagged or "
+         "warned of.",
+         "-"});
+  }
+  return t;
+}
+
 std::string Join(const std::vector<std::string>& cells, const std::string& separator,
                  std::string (*escape)(const std::string&)) {
   std::string out;
@@ -482,12 +757,6 @@ std::string Join(const std::vector<std::string>& cells, const std::string& separ
     out += escape ? escape(cells[i]) : cells[i];
   }
   return out;
-}
-
-std::vector<std::string> Texts(const std::vector<Cell>& row) {
-  std::vector<std::string> texts;
-  for (const Cell& cell : row) texts.push_back(cell.text);
-  return texts;
 }
 
 // Which columns carry standard errors (CSV gives them a column of their own).
@@ -501,10 +770,24 @@ std::vector<bool> ColumnsWithSigma(const Table& t) {
   return with;
 }
 
+// Which columns hold a number in some row (CSV writes no text there).
+std::vector<bool> NumericColumns(const Table& t) {
+  std::vector<bool> numeric(t.columns.size(), false);
+  for (const auto& row : t.rows) {
+    for (std::size_t c = 0; c < row.size() && c < numeric.size(); ++c) {
+      if (row[c].value) numeric[c] = true;
+    }
+  }
+  return numeric;
+}
+
 std::string FullPrecision(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   return fmt::format("{}", v);  // the shortest text that reads back to v exactly
 }
+
+// A text longer than this wraps in LaTeX (a p column), characters.
+constexpr std::size_t kLatexWrapChars = 60;
 
 // A number for siunitx: \num{0.08448(12)}, its error in the last digits shown.
 std::string LatexNumber(const Cell& cell) {
@@ -520,7 +803,100 @@ std::string LatexNumber(const Cell& cell) {
   return fmt::format("\\num{{{}}}", cell.text);
 }
 
+// The text cells of a row, each as its format writes it: escaped, and a
+// cell that points to a table linked (Markdown, HTML) or referenced (LaTeX).
+std::vector<std::string> RenderedCells(const std::vector<Cell>& row, ReportFormat format) {
+  std::vector<std::string> cells;
+  for (const Cell& cell : row) {
+    const bool to_table = cell.link.rfind("table-", 0) == 0;
+    switch (format) {
+      case ReportFormat::kMarkdown:
+        cells.push_back(to_table ? fmt::format("[{}](#{})", EscapeMarkdown(cell.text), cell.link)
+                                 : EscapeMarkdown(cell.text));
+        break;
+      case ReportFormat::kHtml:
+        cells.push_back(!cell.link.empty()
+                            ? fmt::format("<a href=\"#{}\">{}</a>", EscapeHtml(cell.link),
+                                          EscapeHtml(cell.text))
+                            : EscapeHtml(cell.text));
+        break;
+      case ReportFormat::kLatex:
+        cells.push_back(to_table ? fmt::format("Table~\\ref{{tab:{}}}", cell.link.substr(6))
+                                 : LatexNumber(cell));
+        break;
+      case ReportFormat::kCsv:
+        cells.push_back(EscapeCsv(cell.text));
+        break;
+    }
+  }
+  return cells;
+}
+
 }  // namespace
+
+std::vector<CheckItem> CheckList(const SessionResult& r) {
+  std::vector<CheckItem> items;
+  for (const RunResult& run : r.runs) {
+    if (!run.ok) {
+      items.push_back({fmt::format("run {} failed: {}", run.id, run.reason),
+                       "kelvin_voigt_parameters", "run-" + run.id});
+    }
+  }
+  for (const LogResult& log : r.logs) {
+    if (!log.ok) CheckLog(log, items);
+  }
+  // Warnings: the manifest's, skipped calibrations and predictions (a
+  // prediction skipped has no Table 4), and the reduction's findings.
+  for (const std::string& w : r.warnings) {
+    CheckItem item{"warning: " + w, "", ""};
+    for (const RunResult& run : r.runs) {
+      if (NamesRun(w, run.id)) {
+        item.section = "run-" + run.id;
+        break;
+      }
+    }
+    items.push_back(item);
+  }
+  for (const RunResult& run : r.runs) {
+    if (!run.anomalies.empty()) {
+      items.push_back({fmt::format("run {}: {} rebound(s) the free pendulum cannot explain", run.id,
+                                   run.anomalies.size()),
+                       "rebound_anomalies", ""});
+    }
+  }
+  CheckLeastSquares(r, "kelvin_voigt_least_squares", "Kelvin-Voigt least squares",
+                    "kelvin_voigt_least_squares", items);
+  CheckLeastSquares(r, "poynting_thomson", "Poynting-Thomson", "poynting_thomson", items);
+  if (r.model_comparison) {
+    for (const ModelComparisonRow& m : r.model_comparison->models) {
+      if (!m.ok) {
+        items.push_back({fmt::format("model comparison: {} failed: {}", m.model, m.reason),
+                         "model_comparison", ""});
+      }
+    }
+  }
+  std::vector<std::string> scattered;
+  double widest = 0.0;
+  for (const ContactLawFit& fit : r.contact_laws) {
+    if (!fit.ok) {
+      items.push_back(
+          {fmt::format("contact law {} failed: {}", fit.law, fit.reason), "contact_laws", ""});
+    } else if (fit.scatter.excess) {
+      scattered.push_back(fit.law);
+      widest = std::max(widest, fit.scatter.birge_ratio);
+    }
+  }
+  if (!scattered.empty()) {
+    items.push_back({fmt::format("contact laws: the data scatter more than their stated errors "
+                                 "allow for {} (Birge ratio up to {:.3g}): scale the ± by it",
+                                 JoinedList(scattered), widest),
+                     "contact_laws", ""});
+  }
+  for (const LogResult& log : r.logs) {
+    if (log.ok) CheckLog(log, items);
+  }
+  return items;
+}
 
 std::vector<Table> BuildTables(const SessionResult& r) {
   const UnitLabels u = LabelsFor(r.units);
@@ -546,10 +922,22 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   tables.push_back(ReboundAnomalyTable(r));
   for (const RunPrediction& p : r.predictions) tables.push_back(PredictionTable(p, u));
   for (const LogResult& log : r.logs) {
-    if (log.ok) tables.push_back(LogTable(log));
+    if (!log.ok) continue;
+    tables.push_back(LogTable(log));
+    tables.push_back(LogImpactTable(log));
+    tables.push_back(LogNotesTable(log));
   }
   // A logs-only or calibration-only result has no rows for the runs' tables.
   std::erase_if(tables, [](const Table& t) { return t.rows.empty(); });
+  // The list first; its links only to tables the report has.
+  std::vector<CheckItem> items = CheckList(r);
+  for (CheckItem& item : items) {
+    if (std::none_of(tables.begin(), tables.end(),
+                     [&](const Table& t) { return t.name == item.table; })) {
+      item.table.clear();
+    }
+  }
+  tables.insert(tables.begin(), CheckTable(items));
   return tables;
 }
 
@@ -565,12 +953,15 @@ std::vector<std::string> TidyColumns(const Table& t) {
 
 std::vector<std::vector<std::string>> TidyRows(const Table& t) {
   const std::vector<bool> with_sigma = ColumnsWithSigma(t);
+  const std::vector<bool> numeric = NumericColumns(t);
   std::vector<std::vector<std::string>> rows;
   for (const auto& row : t.rows) {
     std::vector<std::string> cells;
     for (std::size_t c = 0; c < row.size(); ++c) {
       const Cell& cell = row[c];
-      cells.push_back(cell.value ? FullPrecision(*cell.value) : cell.text == "-" ? "" : cell.text);
+      // Text in a number's column ("none", "not found") is no value there.
+      const bool no_value = cell.text == "-" || (c < numeric.size() && numeric[c]);
+      cells.push_back(cell.value ? FullPrecision(*cell.value) : no_value ? "" : cell.text);
       if (c < with_sigma.size() && with_sigma[c]) {
         cells.push_back(cell.sigma ? FullPrecision(*cell.sigma) : cell.value ? "0" : "");
       }
@@ -596,12 +987,17 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       for (const auto& row : TidyRows(t)) out += Join(row, ",", EscapeCsv) + "\n";
       return out;
     case ReportFormat::kMarkdown:
-      out += fmt::format("### {}\n\n| {} |\n|", EscapeMarkdown(t.caption),
-                         Join(t.columns, " | ", EscapeMarkdown));
-      for (std::size_t i = 0; i < t.columns.size(); ++i) out += i == 0 ? " :--- |" : " ---: |";
+      // The anchor is the report's own (a table name is file-safe): what the
+      // check list links to.
+      out += fmt::format("### <a id=\"table-{}\"></a>{}\n\n| {} |\n|", t.name,
+                         EscapeMarkdown(t.caption), Join(t.columns, " | ", EscapeMarkdown));
+      // Numbers right-aligned, texts (the first column, notes, flags) left.
+      for (std::size_t i = 0; i < t.columns.size(); ++i) {
+        out += i > 0 && NumericColumns(t)[i] ? " ---: |" : " :--- |";
+      }
       out += "\n";
       for (const auto& row : t.rows) {
-        out += fmt::format("| {} |\n", Join(Texts(row), " | ", EscapeMarkdown));
+        out += fmt::format("| {} |\n", Join(RenderedCells(row, format), " | ", nullptr));
       }
       for (const auto& note : t.notes) out += fmt::format("\n{}\n", EscapeMarkdown(note));
       return out + "\n";
@@ -611,7 +1007,8 @@ std::string RenderTable(const Table& t, ReportFormat format) {
           "<tbody>\n",
           t.name, EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
       for (const auto& row : t.rows) {
-        out += fmt::format("<tr><td>{}</td></tr>\n", Join(Texts(row), "</td><td>", EscapeHtml));
+        out += fmt::format("<tr><td>{}</td></tr>\n",
+                           Join(RenderedCells(row, format), "</td><td>", nullptr));
       }
       out += "</tbody>\n</table>\n";
       for (const auto& note : t.notes) {
@@ -627,15 +1024,23 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       return out;
     case ReportFormat::kLatex: {
       // booktabs rules and siunitx numbers (the preamble needs both packages).
+      // A column of long texts (notes, failure messages) wraps in a
+      // paragraph column; the others are one line each.
+      std::string spec;
+      for (std::size_t c = 0; c < t.columns.size(); ++c) {
+        std::size_t longest = 0;
+        for (const auto& row : t.rows) {
+          if (c < row.size() && !row[c].value) longest = std::max(longest, row[c].text.size());
+        }
+        spec += longest > kLatexWrapChars ? "p{7cm}" : c == 0 ? "l" : "r";
+      }
       out += fmt::format(
           "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\label{{tab:{}}}\n"
-          "\\begin{{tabular}}{{l{}}}\n\\toprule\n",
-          EscapeLatex(t.caption), t.name, std::string(t.columns.size() - 1, 'r'));
+          "\\begin{{tabular}}{{{}}}\n\\toprule\n",
+          EscapeLatex(t.caption), t.name, spec);
       out += Join(t.columns, " & ", EscapeLatex) + " \\\\\n\\midrule\n";
       for (const auto& row : t.rows) {
-        std::vector<std::string> cells;
-        for (const Cell& cell : row) cells.push_back(LatexNumber(cell));
-        out += Join(cells, " & ", nullptr) + " \\\\\n";
+        out += Join(RenderedCells(row, format), " & ", nullptr) + " \\\\\n";
       }
       out += "\\bottomrule\n\\end{tabular}\n";
       for (const auto& note : t.notes)
@@ -656,7 +1061,17 @@ std::string RenderTables(const std::string& title, const std::vector<Table>& tab
     out += fmt::format("% {}\n% Needs \\usepackage{{booktabs}} and \\usepackage{{siunitx}}.\n",
                        EscapeLatex(title));
   }
-  for (const Table& t : tables) {
+  for (Table t : tables) {
+    // A link to a table left out (report --table) would lead nowhere.
+    for (auto& row : t.rows) {
+      for (Cell& cell : row) {
+        if (cell.link.rfind("table-", 0) == 0 &&
+            std::none_of(tables.begin(), tables.end(),
+                         [&](const Table& u) { return "table-" + u.name == cell.link; })) {
+          cell.link.clear();
+        }
+      }
+    }
     if (format == ReportFormat::kCsv) {
       out += fmt::format("{}\n{}\n", CsvComment(fmt::format("# {}: {}", t.name, t.caption)),
                          RenderTable(t, format));

@@ -19,6 +19,10 @@ struct Cell {
   std::optional<double> value;  // a number
   std::optional<double> sigma;  // its standard error (infinite: not determined)
   int decimals = -1;            // the text's digits after the point (-1: not fixed)
+  // Where the cell points (check_these): an anchor of the report, "table-NAME"
+  // (a link in Markdown and HTML, \ref{tab:NAME} in LaTeX) or, in HTML only,
+  // "run-ID" or "log-ID"; empty: none. CSV writes the text alone.
+  std::string link;
 
   Cell() = default;
   Cell(std::string t) : text(std::move(t)) {}  // NOLINT: text cells read as strings
@@ -50,6 +54,19 @@ struct Table {
 std::vector<std::string> TidyColumns(const Table& table);
 std::vector<std::vector<std::string>> TidyRows(const Table& table);
 
+// One entry of the report's opening "check these" list: a failed run, log or
+// prediction, a warning, or a flag on a result (an anomaly, excess scatter, a
+// log channel's FFT/fit mismatch or missing oscillation, impacts found on
+// different channels), in one sentence, and where it applies.
+struct CheckItem {
+  std::string text;
+  std::string table;    // the table it applies to (its name), or empty
+  std::string section;  // the HTML page's section ("run-ID", "log-ID"), or empty
+};
+std::vector<CheckItem> CheckList(const SessionResult& result);
+
+// Every table, the "check_these" list first (CheckList; one row saying so
+// when there is nothing to check).
 std::vector<Table> BuildTables(const SessionResult& result);
 
 enum class ReportFormat { kMarkdown, kCsv, kLatex, kHtml };

@@ -88,6 +88,7 @@ void CheckLatexHasOnlyOwnCommands(const std::string& tex) {
                                                  "num",
                                                  "par",
                                                  "footnotesize",
+                                                 "ref",
                                                  "textbackslash",
                                                  "textasciitilde",
                                                  "textasciicircum",
