@@ -33,6 +33,10 @@ using digitize::Median;
 using digitize::Profile;
 using digitize::ReadProfile;
 
+// How many times a lattice refused for a line unseen or a line beyond is
+// moved a division the way that line points (FindGraticule).
+constexpr int kMaxLatticeMoves = 3;
+
 // One measurement across a grid line.
 struct LineSample {
   int family = 0;           // 0: a vertical line x = line_div; 1: a horizontal line y = line_div
@@ -577,19 +581,33 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
     homography = photo_from_working * lattice->working_from_screen;
   }
   Refined refined = Refine(photo, divisions, options, homography, hinted, start);
-  if (refined.problem && !hinted && refined.problem->shift_div != cv::Point2d(0.0, 0.0)) {
+  if (refined.problem && !hinted) {
     // The Hough lines place a lattice along each family only up to whole
     // divisions: a bezel's lip or a print's edge a division beyond the grid
     // can stand in for its outermost line. The lines measured decide: the
     // lattice moved a division the way they point is kept when every one of
-    // its lines is seen and none beyond.
-    const cv::Point2d d = refined.problem->shift_div;
-    const cv::Matx33d moved(1.0, 0.0, d.x, 0.0, 1.0, d.y, 0.0, 0.0, 1.0);
-    try {
-      Refined other = Refine(photo, divisions, options, homography * moved, hinted, start);
-      if (!other.problem) refined = std::move(other);
-    } catch (const InputError&) {
-      // The moved lattice fits worse: the first one's problem stands.
+    // its lines is seen and none beyond. Each family is placed on its own,
+    // so both may be a division off (or one by two): while the moved
+    // lattice's lines point further, it is moved again, never back to where
+    // it has been. Otherwise the first refusal stands.
+    std::optional<DivisionProblem> problem = refined.problem;
+    cv::Point2d total(0.0, 0.0);
+    std::vector<cv::Point2d> visited = {total};
+    for (int move = 0; move < kMaxLatticeMoves && problem; ++move) {
+      total += problem->shift_div;
+      if (std::find(visited.begin(), visited.end(), total) != visited.end()) break;
+      visited.push_back(total);
+      const cv::Matx33d moved(1.0, 0.0, total.x, 0.0, 1.0, total.y, 0.0, 0.0, 1.0);
+      try {
+        Refined other = Refine(photo, divisions, options, homography * moved, hinted, start);
+        if (!other.problem) {
+          refined = std::move(other);
+          break;
+        }
+        problem = std::move(other.problem);
+      } catch (const InputError&) {
+        break;  // the moved lattice fits worse
+      }
     }
   }
   if (refined.problem) NotFound(photo, divisions, refined.problem->what, hinted);
