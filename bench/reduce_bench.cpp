@@ -68,6 +68,11 @@ struct StyleFigures {
   // Signed error as a share of the maximum itself: a gain error (a curve's
   // scale, a blurred trace's flattened peaks) shows here, not in the medians.
   std::vector<double> xmax_gain_error_pct;
+  std::vector<double> duration_error_ms, duration_pull, peak_time_pull;
+  // Anomaly flags: rebounds flagged; rebounds whose true duration is off the
+  // free pendulum's half period by more than 3.5 of the stated sigmas (the
+  // flag's threshold at 24 tests), and how many of those were flagged.
+  int rebounds = 0, flagged = 0, disturbed = 0, disturbed_flagged = 0;
   double decode_s = 0, reduce_s = 0;
   StageSeconds stages;
 };
@@ -89,6 +94,8 @@ int main(int argc, char** argv) {
   app.add_option("--nonlinearity", synth.photocell_nonlinearity);
   app.add_option("--jobs", jobs);
   app.add_flag("--csv-run", synth.csv_run);
+  app.add_flag("--wire-anomalies", synth.wire_anomalies,
+               "Support-wire forcing (thesis App. F): the anomaly flag's detection rate");
   app.add_option("--worst", worst, "List the N worst Xmax errors per style on stderr");
   std::string session;
   int repeats = 7;
@@ -104,9 +111,13 @@ int main(int argc, char** argv) {
       std::filesystem::temp_directory_path() / fmt::format("impactlab-bench-reduce-{}", ::getpid());
   fmt::print(
       "| style | runs ok | Xmax err median (% X0) | p95 | max | Xmax gain err median (% Xmax) | "
-      "Xmax pull RMS (within 1, 2) | contact err median (%) | worst | contact pull RMS | decode s "
-      "| reduce s | reduce/decode | load s | calibrate s | extract s | fit s |\n");
-  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "Xmax pull RMS (within 1, 2) | contact err median (%) | worst | contact pull RMS | "
+      "duration err median (ms) | duration pull RMS | peak time pull RMS | flagged / rebounds | "
+      "flagged / disturbed | decode s | reduce s | reduce/decode | load s | calibrate s | "
+      "extract s | fit s |\n");
+  fmt::print(
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+      "\n");
   for (const std::string& style : styles) {
     StyleFigures f;
     for (int seed = 1; seed <= seeds; ++seed) {
@@ -118,8 +129,11 @@ int main(int argc, char** argv) {
       ReduceOptions options;
       options.jobs = jobs;
       const auto start = std::chrono::steady_clock::now();
-      const SessionResult result = ReduceSession(ReadManifest(scratch / "s").session, options);
+      const Session session = ReadManifest(scratch / "s").session;
+      const SessionResult result = ReduceSession(session, options);
       f.reduce_s += Seconds(start);
+      const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,
+                              PendulumConvention::kExact};
       for (const auto& truth : summary.truth["runs"]) {
         const RunResult* run = result.FindRun(truth["id"]);
         if (run == nullptr || truth["form"] == "typed-in") continue;
@@ -135,6 +149,32 @@ int main(int argc, char** argv) {
         ++f.ok;
         const double x0 = truth["initial_displacement"];
         const auto& xmax = truth["rebounds"]["xmax"];
+        const RunMeasurement& m = run->measured;
+        const auto& duration = truth["rebounds"]["duration"];
+        const auto& t_peak = truth["rebounds"]["t_peak"];
+        std::vector<bool> flagged(m.xmax.size(), false);
+        for (const std::string& a : run->anomalies) {
+          const auto n = static_cast<std::size_t>(std::atoi(a.c_str() + a.find(' ') + 1));
+          if (n < flagged.size()) flagged[n] = true;
+        }
+        for (std::size_t n = 0; n < m.xmax.size() && n < duration.size(); ++n) {
+          ++f.rebounds;
+          f.flagged += flagged[n];
+          if (n < m.rebound_duration_sigma.size() && m.rebound_duration_sigma[n] > 0.0) {
+            const double error = m.rebound_duration[n] - duration[n].get<double>();
+            f.duration_error_ms.push_back(1e3 * std::abs(error));
+            f.duration_pull.push_back(error / m.rebound_duration_sigma[n]);
+            const double off =
+                duration[n].get<double>() - HalfPeriod(pendulum, xmax[n].get<double>());
+            if (std::abs(off) > 3.5 * m.rebound_duration_sigma[n]) {
+              ++f.disturbed;
+              f.disturbed_flagged += flagged[n];
+            }
+          }
+          if (n < m.t_peak_sigma.size() && m.t_peak_sigma[n] > 0.0) {
+            f.peak_time_pull.push_back((m.t_peak[n] - t_peak[n].get<double>()) / m.t_peak_sigma[n]);
+          }
+        }
         for (std::size_t n = 0; n < run->measured.xmax.size() && n < xmax.size(); ++n) {
           const double pct = 100.0 * std::abs(run->measured.xmax[n] - xmax[n].get<double>()) / x0;
           f.xmax_error_pct.push_back(pct);
@@ -163,15 +203,17 @@ int main(int argc, char** argv) {
     }
     fmt::print(
         "| {} | {}/{} | {:.4f} | {:.4f} | {:.4f} | {:+.4f} | {:.2f} ({:.0f} %, {:.0f} %) | {:.3f} "
-        "| "
-        "{:.3f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} |\n",
+        "| {:.3f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {}/{} | {}/{} | {:.2f} | {:.2f} | {:.2f} "
+        "| {:.2f} | {:.2f} | {:.2f} | {:.3f} |\n",
         style, f.ok, f.runs, Percentile(f.xmax_error_pct, 0.5), Percentile(f.xmax_error_pct, 0.95),
         Percentile(f.xmax_error_pct, 1.0), Percentile(f.xmax_gain_error_pct, 0.5), Rms(f.xmax_pull),
         100.0 * ShareWithin(f.xmax_pull, 1.0), 100.0 * ShareWithin(f.xmax_pull, 2.0),
         Percentile(f.contact_error_pct, 0.5), Percentile(f.contact_error_pct, 1.0),
-        Rms(f.contact_pull), f.decode_s / seeds, f.reduce_s / seeds,
-        f.reduce_s / std::max(f.decode_s, 1e-9), f.stages.load / seeds, f.stages.calibrate / seeds,
-        f.stages.extract / seeds, f.stages.fit / seeds);
+        Rms(f.contact_pull), Percentile(f.duration_error_ms, 0.5), Rms(f.duration_pull),
+        Rms(f.peak_time_pull), f.flagged, f.rebounds, f.disturbed_flagged, f.disturbed,
+        f.decode_s / seeds, f.reduce_s / seeds, f.reduce_s / std::max(f.decode_s, 1e-9),
+        f.stages.load / seeds, f.stages.calibrate / seeds, f.stages.extract / seeds,
+        f.stages.fit / seeds);
     std::fflush(stdout);
     std::sort(f.worst.begin(), f.worst.end(),
               [](const XmaxError& a, const XmaxError& b) { return a.pct > b.pct; });

@@ -182,9 +182,13 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
 }
 
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
-  return {f.ReadVector(g + "/xmax"),     f.ReadVector(g + "/xmax_std_error"),
-          f.ReadVector(g + "/t_peak"),   f.ReadVector(g + "/t_peak_std_error"),
-          f.ReadVector(g + "/duration"), ReadVectorIfPresent(f, g + "/duration_std_error")};
+  return {f.ReadVector(g + "/xmax"),
+          f.ReadVector(g + "/xmax_std_error"),
+          f.ReadVector(g + "/t_peak"),
+          f.ReadVector(g + "/t_peak_std_error"),
+          f.ReadVector(g + "/duration"),
+          ReadVectorIfPresent(f, g + "/duration_std_error"),
+          Estimate{}};  // a bar's release is not kept: the run's is
 }
 
 // The overlay's pixels, red-green-blue, as its JPEG decodes at a quarter of its width
@@ -768,6 +772,7 @@ void WriteRebounds(Out& out, const RunResult& run) {
   if (!m.rebound_duration_sigma.empty()) {
     f.WriteVector(g + "/duration_std_error", m.rebound_duration_sigma, "s");
   }
+  if (m.release.sigma > 0.0) WriteEstimate(f, g + "/release_x", m.release, out.u.length);
   if (run.ok) f.WriteStrings(g + "/anomalies", run.anomalies);
   WriteReboundScale(out, g, 0, m.xmax.size(),
                     SameLength(g, m.xmax.size(),
@@ -1002,6 +1007,7 @@ void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   m.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
   m.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
   m.rebound_duration_sigma = ReadVectorIfPresent(f, g + "/rebounds/duration_std_error");
+  if (f.Exists(g + "/rebounds/release_x")) m.release = ReadEstimate(f, g + "/rebounds/release_x");
   if (f.Exists(g + "/rebounds/anomalies")) run.anomalies = f.ReadStrings(g + "/rebounds/anomalies");
   if (f.Exists(g + "/rebounds/right")) m.right = ReadBar(f, g + "/rebounds/right");
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");

@@ -125,6 +125,9 @@ struct RunMeasurement {
   std::optional<BarRebounds> right, left;
   std::vector<double> rebound_duration;        // s, of the average, session numbering
   std::vector<double> rebound_duration_sigma;  // s, one-sigma (empty: not known)
+  // X0 as the traces show it (the release swing's fitted amplitude, the mean
+  // of the bars'), to check the typed X0 against; sigma 0: not measured.
+  Estimate release;
   std::vector<CellCalibration> calibrations;
   // Figures 16-18: the measured displacement (the average of the bars), length units.
   Curve measured_displacement;

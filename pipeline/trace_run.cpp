@@ -319,6 +319,7 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   out.t_peak_sigma = both.t_peak_sigma;
   out.rebound_duration = both.duration;
   out.rebound_duration_sigma = both.duration_sigma;
+  out.release = both.release;
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
     const std::string key = RunKey(run) + ".traces.contact";

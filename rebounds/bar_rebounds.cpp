@@ -14,6 +14,18 @@ double SigmaAt(const std::vector<double>& sigma, std::size_t n) {
   return n < sigma.size() ? sigma[n] : 0.0;
 }
 
+// The standard error of the mean of two readings of one quantity (the bars
+// meet at every impact: their rebounds last equally long): their errors
+// combined, and where the two disagree beyond those, scaled by how far
+// (sqrt of chi^2 with one degree of freedom, the Birge ratio of two), so
+// that a reading one bar's trace got wrong does not pass at the other's
+// precision. Unknown (0) if either is.
+double MeanOfTwoSigma(double a, double sigma_a, double b, double sigma_b) {
+  if (!(sigma_a > 0.0) || !(sigma_b > 0.0)) return 0.0;
+  const double combined = std::hypot(sigma_a, sigma_b);
+  return 0.5 * std::max(combined, std::abs(a - b));
+}
+
 }  // namespace
 
 BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound) {
@@ -29,12 +41,16 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
     out.duration.push_back(r.duration.value);
     out.duration_sigma.push_back(r.duration.sigma);
   }
+  out.release = extraction.release;
   return out;
 }
 
 void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at) {
   for (std::size_t n = 0; n < bar.xmax.size(); ++n) {
     bar.xmax_sigma[n] = std::hypot(bar.xmax_sigma[n], curve_sigma_at(bar.xmax[n]));
+  }
+  if (bar.release.value > 0.0 && bar.release.sigma > 0.0) {
+    bar.release.sigma = std::hypot(bar.release.sigma, curve_sigma_at(bar.release.value));
   }
 }
 
@@ -68,9 +84,15 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
     out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
     out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
     out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
-    out.duration_sigma.push_back(
-        0.5 * std::hypot(SigmaAt(right.duration_sigma, n), SigmaAt(left.duration_sigma, n)));
+    out.duration_sigma.push_back(MeanOfTwoSigma(right.duration[n], SigmaAt(right.duration_sigma, n),
+                                                left.duration[n], SigmaAt(left.duration_sigma, n)));
   }
+  // Each bar's own release; the averaged history's where a bar's is not
+  // known.
+  out.release = right.release.sigma > 0.0 && left.release.sigma > 0.0
+                    ? Estimate{0.5 * (right.release.value + left.release.value),
+                               0.5 * std::hypot(right.release.sigma, left.release.sigma)}
+                    : averaged.release;
   if (disagreement) return out;
   for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
     out.xmax.push_back(averaged.xmax[n]);

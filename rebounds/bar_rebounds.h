@@ -18,6 +18,7 @@ struct BarRebounds {
   std::vector<double> t_peak, t_peak_sigma;  // s since release
   std::vector<double> duration;              // s, between the flank's zero crossings
   std::vector<double> duration_sigma;        // s, one-sigma, same length
+  Estimate release;                          // X0 as the history shows it (sigma 0: not known)
 };
 
 // Session numbering: PENDUL rebound N is session rebound N - first_rebound.
@@ -28,7 +29,10 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
 // Each maximum's standard error with its cell curve's: the peak fit averages
 // the samples' independent noise, but every sample near the peak reads
 // through the same stretch of the curve, so the curve's error there passes to
-// the maximum whole. `curve_sigma_at(x)`: the curves' one-sigma error at x.
+// the maximum whole. The same for the release X0. (A duration's crossings
+// are read about the peak fit's own centre line, whose offset takes up the
+// curve's error there: none is added.)
+// `curve_sigma_at(x)`: the curves' one-sigma error at x.
 void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at);
 
 // The first rebound (session numbering) the two bars disagree about, and

@@ -1,9 +1,11 @@
 #include "rebounds/rebound_anomalies.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <boost/math/special_functions/erf.hpp>
 
 namespace impactlab {
 namespace {
@@ -11,6 +13,24 @@ namespace {
 double At(const std::vector<double>& v, std::size_t n) { return n < v.size() ? v[n] : 0.0; }
 
 }  // namespace
+
+int CountReboundTests(const std::vector<double>& xmax, const std::vector<double>& duration,
+                      const std::vector<double>& duration_sigma) {
+  int tests = 0;
+  for (std::size_t n = 1; n < xmax.size(); ++n) {
+    tests += std::isfinite(xmax[n]) && std::isfinite(xmax[n - 1]);
+  }
+  for (std::size_t n = 0; n < duration.size() && n < xmax.size(); ++n) {
+    tests += At(duration_sigma, n) > 0.0 && std::isfinite(duration[n]) && xmax[n] > 0.0;
+  }
+  return tests;
+}
+
+double AnomalyThreshold(double false_alarm_rate, int tests) {
+  const double each = std::clamp(false_alarm_rate, 1e-12, 1.0) / std::max(1, tests);
+  // P(|z| > t) = erfc(t / sqrt 2) = each.
+  return std::sqrt(2.0) * boost::math::erfc_inv(each);
+}
 
 std::vector<ReboundAnomaly> FindReboundAnomalies(const Pendulum& pendulum,
                                                  const std::vector<double>& xmax,

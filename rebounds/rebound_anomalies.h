@@ -22,6 +22,18 @@ struct ReboundAnomalyOptions {
   double sigmas = 3.0;  // how far beyond the combined uncertainty counts
 };
 
+// The tests FindReboundAnomalies makes of these rebounds: each maximum
+// against its predecessor, each duration whose sigma is known against the
+// half period.
+int CountReboundTests(const std::vector<double>& xmax, const std::vector<double>& duration,
+                      const std::vector<double>& duration_sigma);
+
+// The threshold, in sigmas, at which `tests` independent tests with honest
+// (normal) errors raise a false alarm with probability `false_alarm_rate`
+// in all (two-sided, Bonferroni: each at false_alarm_rate / tests). 1 %
+// over 24 tests: 3.53 sigma; over 60: 3.76.
+double AnomalyThreshold(double false_alarm_rate, int tests);
+
 // `xmax_sigma` and `duration_sigma` may be empty or hold zeros (unknown):
 // then a maximum above its predecessor is marked at any excess, and a
 // duration is checked only where its sigma is known. `duration` may be empty

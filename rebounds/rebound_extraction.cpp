@@ -16,47 +16,71 @@
 namespace impactlab {
 namespace {
 
-// Where a rebound's flank crosses 0, from its samples at `step` (+1: the
-// falling flank after the peak, -1: the rising flank before it) no further
-// than half a swing from the peak, so the neighbouring rebound's samples are
-// never taken for this one's. A contact lasts far less than a sample interval
-// at slow sweeps, so samples near 0 cannot be told apart between the two
-// rebounds meeting there; the flank's own samples between 5 % and 30 % of the
-// amplitude are used instead, where asin((X - c)/A) runs linearly in time, and
-// that line is extended to X = 0. A flank with fewer than two samples there
-// (a gap in a digitized photo) still gives a crossing from each sample it has
-// higher up, through the swing's sine shape; their median is used.
-double FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_peak, int step,
-                     double amplitude, double offset, double half_period) {
+// Where a rebound's flank crosses X = 0, with its standard error. A contact
+// lasts far less than a sample interval at slow sweeps, and a digitized
+// trace often loses the last tens of milliseconds before and after an
+// impact (the two bars' traces meet there), so the crossing is read from
+// the flank above: its samples between 5 % and 30 % of the amplitude
+// (fewer than that: all up to 95 %), each giving the crossing through the
+// swing's sine shape at the pendulum's own frequency, X = A sin(w (t - t0)),
+// weighted by its timing precision (the flank's slope there, cos^2 of its
+// phase). The frequency is the pendulum's, not fitted: a straight line in
+// phase through a few samples, extended over the gap to X = 0, multiplied
+// every sample's error by the lever and read durations 2.3 ms (0.3 % of a
+// half swing) off where this reads 0.65 ms (median, the external sessions'
+// 175 rebounds).
+// Its standard error: each sample's X error over the flank's speed A w,
+// at the larger of the peak fit's scatter and the flank's own, widened for
+// the residuals' correlation along the trace. Only samples from the peak
+// outwards, no further than half a swing, are read, so the neighbouring
+// rebound's are never taken for this one's.
+struct Crossing {
+  double time = std::numeric_limits<double>::quiet_NaN();
+  double sigma = 0.0;
+};
+Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_peak, int step,
+                       double amplitude, double offset, double half_period, double sample_sigma) {
   const auto& x = h.displacement;
   const double omega = std::numbers::pi / half_period;
-  const double zero = std::asin(std::clamp(-offset / amplitude, -1.0, 1.0));
-  double st = 0, sy = 0, stt = 0, sty = 0;
-  int n = 0;
-  std::vector<double> from_shape;
+  std::vector<double> all_time, all_weight, low_time, low_weight;
   for (long long k = static_cast<long long>(peak); k >= 0 && k < static_cast<long long>(x.size());
        k += step) {
     const auto i = static_cast<std::size_t>(k);
     if (std::abs(h.time_s[i] - t_peak) > 0.5 * half_period) break;
-    const double t = h.time_s[i] - h.time_s[peak];
     const double level = (x[i] - offset) / amplitude;
     if (level < 0.05) break;
     if (level > 0.95) continue;
-    const double y = std::asin(level);
-    from_shape.push_back(h.time_s[i] + step * (y - zero) / omega);
-    if (level > 0.30) continue;
-    st += t, sy += y, stt += t * t, sty += t * y;
-    ++n;
+    // The sample's phase in the swing about its own centre line, the peak
+    // fit's offset.
+    const double phase = std::asin(level);
+    const double weight = std::cos(phase) * std::cos(phase);
+    all_time.push_back(h.time_s[i] + step * phase / omega);
+    all_weight.push_back(weight);
+    if (level > 0.50) continue;
+    low_time.push_back(all_time.back());
+    low_weight.push_back(weight);
   }
-  if (n >= 2) {
-    const double slope = (n * sty - st * sy) / (n * stt - st * st);
-    const double intercept = (sy - slope * st) / n;
-    if (slope * step < 0.0) return h.time_s[peak] + (zero - intercept) / slope;
+  const std::vector<double>& time = low_time.empty() ? all_time : low_time;
+  const std::vector<double>& weight = low_time.empty() ? all_weight : low_weight;
+  if (time.empty()) return {};
+  double sum_w = 0.0, sum_wt = 0.0;
+  for (std::size_t k = 0; k < time.size(); ++k) sum_w += weight[k], sum_wt += weight[k] * time[k];
+  const double crossing = sum_wt / sum_w;
+  const double speed = amplitude * omega;  // the flank's speed at X = 0
+  // Each sample's miss in X (its crossing's miss times its own speed).
+  std::vector<double> miss;
+  double miss2 = 0.0;
+  for (std::size_t k = 0; k < time.size(); ++k) {
+    miss.push_back((time[k] - crossing) * speed * std::sqrt(weight[k]));
+    miss2 += miss.back() * miss.back();
   }
-  if (from_shape.empty()) return std::numeric_limits<double>::quiet_NaN();  // caller falls back
-  std::nth_element(from_shape.begin(), from_shape.begin() + from_shape.size() / 2,
-                   from_shape.end());
-  return from_shape[from_shape.size() / 2];
+  double scatter2 = sample_sigma * sample_sigma;
+  double inflation = 1.0;
+  if (miss.size() >= 3) {
+    scatter2 = std::max(scatter2, miss2 / static_cast<double>(miss.size() - 1));
+    inflation = CorrelationInflation(miss);
+  }
+  return {crossing, std::sqrt(inflation * scatter2 / sum_w) / speed};
 }
 
 // The exact pendulum's rebound shape, symmetric about its peak: X at `tau`
@@ -230,6 +254,7 @@ double MedianSpacing(const std::vector<double>& t, std::size_t lo, std::size_t e
 // as X0 cos(w (t - t_release)) to the first impact a half period later.
 struct ReleaseSwing {
   double amplitude = 0.0;         // X0 as the history shows it
+  double amplitude_sigma = 0.0;   // its standard error from the fall's fit (0: not fitted)
   double t_release = 0.0;         // s
   std::size_t first_falling = 0;  // the first sample after t_release
 };
@@ -296,7 +321,22 @@ ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pend
     for (std::size_t k = 0; k < fall.size(); ++k) {
       if (misses[k] <= limit) kept.push_back(fall[k]);
     }
-    if (kept.size() == fall.size()) break;
+    if (kept.size() == fall.size()) {
+      // The amplitude's standard error: the fit's covariance at the
+      // residuals' scatter (inflated for their correlation along the trace),
+      // carried through amplitude = |(a, b)|.
+      if (fall.size() > 2) {
+        std::vector<double> residual;
+        for (const std::size_t i : fall) residual.push_back(x[i] - basis(i).dot(ab));
+        double rr = 0.0;
+        for (double r : residual) rr += r * r;
+        const double scatter = rr / static_cast<double>(fall.size() - 2);
+        const Eigen::Matrix2d cov = CorrelationInflation(residual) * scatter * normal.inverse();
+        const Eigen::Vector2d gradient = ab / amplitude;
+        swing.amplitude_sigma = std::sqrt(std::max(0.0, gradient.dot(cov * gradient)));
+      }
+      break;
+    }
     fall = std::move(kept);
   }
   swing.first_falling =
@@ -350,14 +390,16 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   // two rebounds nor split one.
   ReboundExtraction out;
   const auto crossing = [&](std::size_t top, double t_peak, int step, double amplitude,
-                            double offset, double half) {
-    const double t = FlankCrossing(h, top, t_peak, step, amplitude, offset, half);
-    return std::isfinite(t) ? t : t_peak + step * 0.5 * half;
+                            double offset, double half, double sample_sigma = 0.0) {
+    const Crossing c = FlankCrossing(h, top, t_peak, step, amplitude, offset, half, sample_sigma);
+    return std::isfinite(c.time) ? c : Crossing{t_peak + step * 0.5 * half, 0.25 * half};
   };
   const ReleaseSwing release = FindReleaseSwing(h, pendulum, threshold);
+  out.release = {release.amplitude, release.amplitude_sigma};
   double half_period = HalfPeriod(pendulum, release.amplitude);
   double impact =
-      crossing(release.first_falling, release.t_release, +1, release.amplitude, 0.0, half_period);
+      crossing(release.first_falling, release.t_release, +1, release.amplitude, 0.0, half_period)
+          .time;
   out.impact_times.push_back(impact);
 
   for (int number = 1;; ++number) {
@@ -426,10 +468,13 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
     rebound.t_peak = fit.t_peak;
     rebound.fit_rms = fit.rms;
     const std::size_t top = NearestSample(h.time_s, fit.t_peak.value);
-    rebound.start_s = crossing(top, fit.t_peak.value, -1, fit.amplitude, fit.offset, half_period);
-    rebound.end_s = crossing(top, fit.t_peak.value, +1, fit.amplitude, fit.offset, half_period);
-    const double dt = MedianSpacing(h.time_s, lo, hi_end);
-    rebound.duration = {rebound.end_s - rebound.start_s, dt / std::sqrt(6.0)};
+    const Crossing rising =
+        crossing(top, fit.t_peak.value, -1, fit.amplitude, fit.offset, half_period, fit.rms);
+    const Crossing falling =
+        crossing(top, fit.t_peak.value, +1, fit.amplitude, fit.offset, half_period, fit.rms);
+    rebound.start_s = rising.time;
+    rebound.end_s = falling.time;
+    rebound.duration = {rebound.end_s - rebound.start_s, std::hypot(rising.sigma, falling.sigma)};
     out.rebounds.push_back(rebound);
     impact = rebound.end_s;
     out.impact_times.push_back(impact);

@@ -90,7 +90,7 @@ struct ExtractedRebound {
   int number = 0;        // PENDUL numbering: 0 = release swing, N after impact N
   Estimate xmax;         // length units
   Estimate t_peak;       // s since release
-  double start_s = 0.0;  // X crosses 0 going out (linear interpolation)
+  double start_s = 0.0;  // X crosses 0 going out (the flank through the swing's shape)
   double end_s = 0.0;    // X crosses 0 coming back
   Estimate duration;     // end - start, s
   int samples_in_fit = 0;
@@ -104,6 +104,10 @@ struct ReboundExtraction {
   std::vector<ExtractedRebound> rebounds;
   // Starts of the gaps between rebounds (contacts), s.
   std::vector<double> impact_times;
+  // X0 as the history shows it: the release swing's fitted amplitude, with
+  // its standard error from the fall's fit (0 where too few samples fell to
+  // fit it and the top sample stands for it).
+  Estimate release;
 };
 
 // Throws std::invalid_argument for bad options, a history with fewer than two

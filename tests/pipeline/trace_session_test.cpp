@@ -7,6 +7,10 @@
 #include <limits>
 #include <random>
 
+#include <iterator>
+
+#include <string>
+
 #include <catch2/catch.hpp>
 
 #include "io/manifest.h"
@@ -114,6 +118,34 @@ TEST_CASE("trace_session: with noisy traces the maxima stay within their reporte
     CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5.0 * run.measured.xmax_sigma[n]);
     CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5e-4 * 0.405);  // 0.05 % of X0
   }
+}
+
+TEST_CASE("trace_session: a typed X0 the traces' own release contradicts is warned about") {
+  // The traces read X0 = 0.405 (through calibrations typed right); the run's
+  // X0 typed 10 % high is named with both values, the right one passes.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.405, 0.005);
+  const auto x0_warnings = [&] {
+    std::vector<std::string> found;
+    for (const std::string& w : ReduceSession(ReadManifest(dir.path()).session, {}).warnings) {
+      if (w.find("initial_displacement") != std::string::npos) found.push_back(w);
+    }
+    return found;
+  };
+  CHECK(x0_warnings().empty());
+  std::string manifest;
+  {
+    std::ifstream in(dir.path() / "session.toml");
+    manifest.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string typed = "initial_displacement = 0.405";
+  manifest.replace(manifest.rfind(typed), typed.size(), "initial_displacement = 0.4455");
+  std::ofstream(dir.path() / "session.toml") << manifest;
+  const std::vector<std::string> found = x0_warnings();
+  REQUIRE(found.size() == 1);
+  INFO(found[0]);
+  CHECK(found[0].find("run \"run\": initial_displacement = 0.4455") != std::string::npos);
+  CHECK(found[0].find("release at 0.40") != std::string::npos);
 }
 
 TEST_CASE("trace_session: a missing trace file is refused when the manifest is read, naming it") {

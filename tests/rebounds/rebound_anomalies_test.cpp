@@ -1,6 +1,8 @@
 // Rebound anomalies against a history whose durations and maxima are exact
 // (the rebound history of a Kelvin-Voigt contact): none there; a raised
 // maximum and a stretched swing are marked with their distance in sigmas.
+#include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -74,6 +76,27 @@ TEST_CASE("A rebound lasting longer than the pendulum's half period allows is ma
   e.duration_sigma.assign(e.duration.size(), 0.0);
   CHECK(
       FindReboundAnomalies(kPendulum, e.xmax, e.xmax_sigma, e.duration, e.duration_sigma).empty());
+}
+
+TEST_CASE("The anomaly threshold keeps a session's false alarms at the stated rate",
+          "[anomalies]") {
+  CHECK(AnomalyThreshold(0.01, 24) == Approx(3.529).margin(1e-3));
+  CHECK(AnomalyThreshold(0.01, 60) == Approx(3.765).margin(1e-3));
+  // Sessions of 24 tests with honest (standard normal) errors: about 1 % of
+  // them raise any alarm.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> z(0.0, 1.0);
+  const double threshold = AnomalyThreshold(0.01, 24);
+  int alarms = 0;
+  const int sessions = 40000;
+  for (int s = 0; s < sessions; ++s) {
+    bool any = false;
+    for (int k = 0; k < 24; ++k) any = std::abs(z(rng)) > threshold || any;
+    alarms += any;
+  }
+  CHECK(alarms / static_cast<double>(sessions) == Approx(0.01).margin(0.0015));
+  // The tests counted: each maximum after the first, each duration with a sigma.
+  CHECK(CountReboundTests({0.3, 0.2, 0.1}, {0.7, 0.7, 0.7}, {1e-3, 0.0, 1e-3}) == 4);
 }
 
 }  // namespace impactlab
