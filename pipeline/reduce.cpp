@@ -367,8 +367,6 @@ void RecordNotAsked(const ProductOptions& asked, SessionResult& result) {
 // whole session's false alarms at kAnomalyFalseAlarmRate when the errors are
 // honest (docs/reduction.md, "Anomalies").
 constexpr double kAnomalyFalseAlarmRate = 0.01;
-constexpr double kTypedReleaseSigmas = 5.0;
-constexpr double kTypedReleaseShare = 0.02;
 
 void MarkAnomalies(const Pendulum& pendulum, std::vector<RunResult>& runs) {
   int tests = 0;
@@ -395,6 +393,9 @@ void MarkAnomalies(const Pendulum& pendulum, std::vector<RunResult>& runs) {
 // kTypedReleaseSigmas of the traces' release (on the external sessions the
 // two agree to 0.14 % median, 0.63 % at most, at 0.18 % median standard
 // error; a 10 % slip is flagged wherever the release is read to 1.6 %).
+constexpr double kTypedReleaseSigmas = 5.0;
+constexpr double kTypedReleaseShare = 0.02;
+
 void CheckTypedReleases(const Session& session, SessionResult& result) {
   for (const RunResult& run : result.runs) {
     const Estimate& seen = run.measured.release;
