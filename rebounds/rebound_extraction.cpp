@@ -16,19 +16,20 @@
 namespace impactlab {
 namespace {
 
-// Where a rebound's flank crosses X = 0, with its standard error. A contact
-// lasts far less than a sample interval at slow sweeps, and a digitized
-// trace often loses the last tens of milliseconds before and after an
-// impact (the two bars' traces meet there), so the crossing is read from
-// the flank above: its samples between 5 % and 30 % of the amplitude
-// (fewer than that: all up to 95 %), each giving the crossing through the
-// swing's sine shape at the pendulum's own frequency, X = A sin(w (t - t0)),
-// weighted by its timing precision (the flank's slope there, cos^2 of its
-// phase). The frequency is the pendulum's, not fitted: a straight line in
-// phase through a few samples, extended over the gap to X = 0, multiplied
-// every sample's error by the lever and read durations 2.3 ms (0.3 % of a
-// half swing) off where this reads 0.65 ms (median, the external sessions'
-// 175 rebounds).
+// Where a rebound's flank crosses the swing's centre line (X = c, the peak
+// fit's offset, which takes up the cell curve's error there), with its
+// standard error. A contact lasts far less than a sample interval at slow
+// sweeps, and a digitized trace often loses the last tens of milliseconds
+// before and after an impact (the two bars' traces meet there), so the
+// crossing is read from the flank above: its samples between 5 % and 50 % of
+// the amplitude (none there: all up to 95 %), each giving the crossing
+// through the swing's sine at the pendulum's own frequency,
+// X - c = A sin(w (t - t0)), weighted by its timing precision (the flank's
+// slope there, cos^2 of its phase). The frequency is the pendulum's, not
+// fitted: a straight line in phase through a few samples, extended over the
+// gap, multiplied every sample's error by the lever and read durations
+// 2.25 ms (0.3 % of a half swing) off where this reads 0.39 ms (medians, the
+// external sessions' 175 rebounds).
 // Its standard error: each sample's X error over the flank's speed A w,
 // at the larger of the peak fit's scatter and the flank's own, widened for
 // the residuals' correlation along the trace. Only samples from the peak
