@@ -813,12 +813,34 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
       edge->sigma_s = std::hypot(edge->sigma_s, (x1 - x0) / std::sqrt(12.0));
     }
     // The stroke's and the levels' ends' measures, each weighed by the
-    // inverse of its variance.
+    // inverse of its variance, when they agree. Two measures of one edge
+    // further apart than kDisagree of their joint sigmas are not measuring
+    // the same thing. A stroke on a grid line is then the line's own light
+    // taken for it (a printed figure's line, its brightness beating with the
+    // halftone screen along it, stands out of its reference rows where the
+    // faint stroke is lost in the dots): the levels' ends, where the line
+    // cancels, time the edge alone. Clear of lines, neither is known to be
+    // the wrong one, and the mean's sigma is scaled by how far apart they
+    // are (the Particle Data Group's scale factor), so that the error stated
+    // covers both.
+    constexpr double kDisagree = 4.0;
+    double scale = 1.0;
+    if (edge && jump) {
+      const double apart = std::abs(edge->time_s - jump->time_s);
+      const double joint = std::hypot(edge->sigma_s, jump->sigma_s);
+      if (apart > kDisagree * joint) {
+        if (stroke->separation < kClear) {
+          edge.reset();
+        } else {
+          scale = apart / joint;
+        }
+      }
+    }
     if (edge && jump) {
       const double w_stroke = 1.0 / (edge->sigma_s * edge->sigma_s);
       const double w_jump = 1.0 / (jump->sigma_s * jump->sigma_s);
       edge->time_s = (w_stroke * edge->time_s + w_jump * jump->time_s) / (w_stroke + w_jump);
-      edge->sigma_s = 1.0 / std::sqrt(w_stroke + w_jump);
+      edge->sigma_s = scale / std::sqrt(w_stroke + w_jump);
       edge->centre_px =
           graticule.mapping.ImageFromScreen({edge->time_s, 0.5 * (low_div + high_div)});
     } else if (jump) {
