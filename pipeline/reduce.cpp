@@ -413,6 +413,47 @@ void CheckTypedReleases(const Session& session, SessionResult& result) {
   }
 }
 
+// A run whose rebounds all last longer (or shorter) than the pendulum's half
+// period at their amplitudes by a common factor: its time axis (a photo's
+// time_per_div, a CSV's time unit) or the apparatus's pendulum_length or
+// gravity is off, not its swings. The durations' weighted mean ratio to the
+// half period, beyond 5 of its errors plus 0.5 % (a 1 % error in L moves the
+// period by 0.5 %), is named with the figures.
+constexpr double kSweepSigmas = 5.0;
+constexpr double kSweepShare = 0.005;
+
+void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum,
+                                SessionResult& result) {
+  for (const RunResult& run : result.runs) {
+    const RunMeasurement& m = run.measured;
+    if (!run.ok) continue;
+    double sum_w = 0.0, sum_wr = 0.0;
+    int used = 0;
+    for (std::size_t n = 0; n < m.rebound_duration.size() && n < m.xmax.size(); ++n) {
+      if (n >= m.rebound_duration_sigma.size() || !(m.rebound_duration_sigma[n] > 0.0)) continue;
+      double half = 0.0;
+      try {
+        half = HalfPeriod(pendulum, m.xmax[n]);
+      } catch (const std::domain_error&) {
+        continue;
+      }
+      const double sigma = m.rebound_duration_sigma[n] / half;
+      sum_w += 1.0 / (sigma * sigma);
+      sum_wr += m.rebound_duration[n] / half / (sigma * sigma);
+      ++used;
+    }
+    if (used < 3) continue;
+    const double ratio = sum_wr / sum_w, sigma = 1.0 / std::sqrt(sum_w);
+    if (std::abs(ratio - 1.0) > kSweepSigmas * sigma + kSweepShare) {
+      result.warnings.push_back(fmt::format(
+          "{}: run \"{}\": its {} rebounds last {:.4f} ± {:.4f} times the pendulum's half "
+          "period at their amplitudes: the time axis of its traces (time_per_div, a CSV's time "
+          "unit) or [apparatus] pendulum_length or gravity mistyped?",
+          session.manifest.string(), run.id, used, ratio, sigma));
+    }
+  }
+}
+
 // Counts the work done for ReduceOptions::on_progress, from any thread.
 class ProgressCounter {
  public:
@@ -531,6 +572,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.runs = std::move(runs);
   MarkAnomalies(pendulum, result.runs);
   CheckTypedReleases(session, result);
+  CheckSweepsAgainstPendulum(session, pendulum, result);
   for (const RunResult& run : result.runs) {
     if (!run.ok || !run.measured.right || !run.measured.left) continue;
     if (const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left)) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -48,6 +49,15 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
 void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at) {
   for (std::size_t n = 0; n < bar.xmax.size(); ++n) {
     bar.xmax_sigma[n] = std::hypot(bar.xmax_sigma[n], curve_sigma_at(bar.xmax[n]));
+  }
+  // A duration's crossings of X = 0 read through the curve at 0: its error
+  // there moves both outwards (or both inwards), by that error over the
+  // flank's speed, pi Xmax / duration for the swing's sine.
+  const double at_zero = curve_sigma_at(0.0);
+  for (std::size_t n = 0; n < bar.duration.size() && n < bar.xmax.size(); ++n) {
+    if (!(bar.xmax[n] > 0.0) || n >= bar.duration_sigma.size()) continue;
+    const double speed = std::numbers::pi * bar.xmax[n] / bar.duration[n];
+    bar.duration_sigma[n] = std::hypot(bar.duration_sigma[n], 2.0 * at_zero / speed);
   }
   if (bar.release.value > 0.0 && bar.release.sigma > 0.0) {
     bar.release.sigma = std::hypot(bar.release.sigma, curve_sigma_at(bar.release.value));

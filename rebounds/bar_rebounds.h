@@ -29,9 +29,9 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
 // Each maximum's standard error with its cell curve's: the peak fit averages
 // the samples' independent noise, but every sample near the peak reads
 // through the same stretch of the curve, so the curve's error there passes to
-// the maximum whole. The same for the release X0. (A duration's crossings
-// are read about the peak fit's own centre line, whose offset takes up the
-// curve's error there: none is added.)
+// the maximum whole. The same for the release X0; and a duration's, from the
+// curve's error at X = 0, which moves both of its crossings outwards (or
+// both inwards) by that error over the flank's speed there.
 // `curve_sigma_at(x)`: the curves' one-sigma error at x.
 void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at);
 

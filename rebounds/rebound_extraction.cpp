@@ -16,34 +16,37 @@
 namespace impactlab {
 namespace {
 
-// Where a rebound's flank crosses the swing's centre line (X = c, the peak
-// fit's offset, which takes up the cell curve's error there), with its
-// standard error. A contact lasts far less than a sample interval at slow
-// sweeps, and a digitized trace often loses the last tens of milliseconds
-// before and after an impact (the two bars' traces meet there), so the
-// crossing is read from the flank above: its samples between 5 % and 50 % of
-// the amplitude (none there: all up to 95 %), each giving the crossing
-// through the swing's sine at the pendulum's own frequency,
-// X - c = A sin(w (t - t0)), weighted by its timing precision (the flank's
-// slope there, cos^2 of its phase). The frequency is the pendulum's, not
-// fitted: a straight line in phase through a few samples, extended over the
-// gap, multiplied every sample's error by the lever and read durations
-// 2.25 ms (0.3 % of a half swing) off where this reads 0.39 ms (medians, the
-// external sessions' 175 rebounds).
+// Where a rebound's flank crosses X = 0, with its standard error. A contact
+// lasts far less than a sample interval at slow sweeps, and a digitized
+// trace often loses the last tens of milliseconds before and after an
+// impact (the two bars' traces meet there), so the crossing is read from
+// the flank above: its samples between 5 % and 50 % of the amplitude (none
+// there: all up to 95 %), each giving the crossing through the swing's sine
+// at the pendulum's own frequency, X = A sin(w (t - t0)), weighted by its
+// timing precision (the flank's slope there, cos^2 of its phase). The
+// frequency is the pendulum's, not fitted: a straight line in phase through
+// a few samples, extended over the gap, multiplied every sample's error by
+// the lever and read durations 2.25 ms (0.3 % of a half swing) off where
+// this reads 0.95 ms (medians, the external sessions' 175 rebounds); the
+// samples nearest X = 0 carry most of the weight, so a swing whose period
+// differs from the pendulum's is still read as it is.
 // Its standard error: each sample's X error over the flank's speed A w,
 // at the larger of the peak fit's scatter and the flank's own, widened for
-// the residuals' correlation along the trace. Only samples from the peak
-// outwards, no further than half a swing, are read, so the neighbouring
-// rebound's are never taken for this one's.
+// the residuals' correlation along the trace, and the fitted amplitude's
+// error carried through each sample's phase (the cell curve's error at
+// X = 0, shared by both crossings, is added by AddCurveSigma). Only samples
+// from the peak outwards, no further than half a swing, are read, so the
+// neighbouring rebound's are never taken for this one's.
 struct Crossing {
   double time = std::numeric_limits<double>::quiet_NaN();
   double sigma = 0.0;
 };
 Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_peak, int step,
-                       double amplitude, double offset, double half_period, double sample_sigma) {
+                       double amplitude, double offset, double half_period, double sample_sigma,
+                       double amplitude_sigma) {
   const auto& x = h.displacement;
   const double omega = std::numbers::pi / half_period;
-  std::vector<double> all_time, all_weight, low_time, low_weight;
+  std::vector<double> all_time, all_weight, all_tan, low_time, low_weight, low_tan;
   for (long long k = static_cast<long long>(peak); k >= 0 && k < static_cast<long long>(x.size());
        k += step) {
     const auto i = static_cast<std::size_t>(k);
@@ -51,21 +54,29 @@ Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_
     const double level = (x[i] - offset) / amplitude;
     if (level < 0.05) break;
     if (level > 0.95) continue;
-    // The sample's phase in the swing about its own centre line, the peak
-    // fit's offset.
-    const double phase = std::asin(level);
+    // The sample's phase above X = 0, not above the peak fit's centre line:
+    // the offset c is fitted with the swing's shape at the pendulum's
+    // frequency, and crossing c returns that shape's crossing, not the
+    // data's (a trace on a time axis 2 % long read the model's durations to
+    // 0.05 %; crossing X = 0 reads 2.2 % longer).
+    const double phase = std::asin(std::clamp(x[i] / amplitude, -1.0, 1.0));
     const double weight = std::cos(phase) * std::cos(phase);
     all_time.push_back(h.time_s[i] + step * phase / omega);
     all_weight.push_back(weight);
+    all_tan.push_back(std::tan(phase));
     if (level > 0.50) continue;
     low_time.push_back(all_time.back());
     low_weight.push_back(weight);
+    low_tan.push_back(all_tan.back());
   }
   const std::vector<double>& time = low_time.empty() ? all_time : low_time;
   const std::vector<double>& weight = low_time.empty() ? all_weight : low_weight;
+  const std::vector<double>& tan = low_time.empty() ? all_tan : low_tan;
   if (time.empty()) return {};
-  double sum_w = 0.0, sum_wt = 0.0;
-  for (std::size_t k = 0; k < time.size(); ++k) sum_w += weight[k], sum_wt += weight[k] * time[k];
+  double sum_w = 0.0, sum_wt = 0.0, sum_w_tan = 0.0;
+  for (std::size_t k = 0; k < time.size(); ++k) {
+    sum_w += weight[k], sum_wt += weight[k] * time[k], sum_w_tan += weight[k] * tan[k];
+  }
   const double crossing = sum_wt / sum_w;
   const double speed = amplitude * omega;  // the flank's speed at X = 0
   // Each sample's miss in X (its crossing's miss times its own speed).
@@ -81,7 +92,10 @@ Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_
     scatter2 = std::max(scatter2, miss2 / static_cast<double>(miss.size() - 1));
     inflation = CorrelationInflation(miss);
   }
-  return {crossing, std::sqrt(inflation * scatter2 / sum_w) / speed};
+  // The amplitude's own error moves every sample's phase together, by
+  // tan(phase) dA / A: it is no scatter and averages out of nothing.
+  const double from_amplitude = amplitude_sigma * sum_w_tan / sum_w / speed;
+  return {crossing, std::hypot(std::sqrt(inflation * scatter2 / sum_w) / speed, from_amplitude)};
 }
 
 // The exact pendulum's rebound shape, symmetric about its peak: X at `tau`
@@ -391,8 +405,10 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   // two rebounds nor split one.
   ReboundExtraction out;
   const auto crossing = [&](std::size_t top, double t_peak, int step, double amplitude,
-                            double offset, double half, double sample_sigma = 0.0) {
-    const Crossing c = FlankCrossing(h, top, t_peak, step, amplitude, offset, half, sample_sigma);
+                            double offset, double half, double sample_sigma = 0.0,
+                            double amplitude_sigma = 0.0) {
+    const Crossing c =
+        FlankCrossing(h, top, t_peak, step, amplitude, offset, half, sample_sigma, amplitude_sigma);
     return std::isfinite(c.time) ? c : Crossing{t_peak + step * 0.5 * half, 0.25 * half};
   };
   const ReleaseSwing release = FindReleaseSwing(h, pendulum, threshold);
@@ -469,10 +485,10 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
     rebound.t_peak = fit.t_peak;
     rebound.fit_rms = fit.rms;
     const std::size_t top = NearestSample(h.time_s, fit.t_peak.value);
-    const Crossing rising =
-        crossing(top, fit.t_peak.value, -1, fit.amplitude, fit.offset, half_period, fit.rms);
-    const Crossing falling =
-        crossing(top, fit.t_peak.value, +1, fit.amplitude, fit.offset, half_period, fit.rms);
+    const Crossing rising = crossing(top, fit.t_peak.value, -1, fit.amplitude, fit.offset,
+                                     half_period, fit.rms, fit.xmax.sigma);
+    const Crossing falling = crossing(top, fit.t_peak.value, +1, fit.amplitude, fit.offset,
+                                      half_period, fit.rms, fit.xmax.sigma);
     rebound.start_s = rising.time;
     rebound.end_s = falling.time;
     rebound.duration = {rebound.end_s - rebound.start_s, std::hypot(rising.sigma, falling.sigma)};

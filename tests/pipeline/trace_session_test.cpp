@@ -148,6 +148,32 @@ TEST_CASE("trace_session: a typed X0 the traces' own release contradicts is warn
   CHECK(found[0].find("release at 0.40") != std::string::npos);
 }
 
+TEST_CASE("trace_session: a run time axis the pendulum's period contradicts is warned about") {
+  // Durations read to ~0.05 %: the run's traces on a time axis 2 % slow (a
+  // mistyped time_per_div or time unit) are named with the ratio; as
+  // written, nothing.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.405, 0.005);
+  const auto sweep_warnings = [&] {
+    std::vector<std::string> found;
+    for (const std::string& w : ReduceSession(ReadManifest(dir.path()).session, {}).warnings) {
+      if (w.find("half period") != std::string::npos) found.push_back(w);
+    }
+    return found;
+  };
+  CHECK(sweep_warnings().empty());
+  for (const char* bar : {"run-right.csv", "run-left.csv"}) {
+    Trace trace = ReadTraceCsv(dir.path() / "traces" / bar);
+    for (double& t : trace.time_s) t *= 1.02;
+    WriteTraceCsv(dir.path() / "traces" / bar, trace);
+  }
+  const std::vector<std::string> found = sweep_warnings();
+  REQUIRE(found.size() == 1);
+  INFO(found[0]);
+  CHECK(found[0].find("run \"run\"") != std::string::npos);
+  CHECK(found[0].find("last 1.02") != std::string::npos);
+}
+
 TEST_CASE("trace_session: a missing trace file is refused when the manifest is read, naming it") {
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
