@@ -58,7 +58,7 @@ Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_
     // the offset c is fitted with the swing's shape at the pendulum's
     // frequency, and crossing c returns that shape's crossing, not the
     // data's (a trace on a time axis 2 % long read the model's durations to
-    // 0.05 %; crossing X = 0 reads 2.2 % longer).
+    // 0.05 %; crossing X = 0 reads 2.3 % longer).
     const double phase = std::asin(std::clamp(x[i] / amplitude, -1.0, 1.0));
     const double weight = std::cos(phase) * std::cos(phase);
     all_time.push_back(h.time_s[i] + step * phase / omega);

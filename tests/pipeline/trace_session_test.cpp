@@ -120,18 +120,21 @@ TEST_CASE("trace_session: with noisy traces the maxima stay within their reporte
   }
 }
 
+// The warnings of a reduce of the session in `dir` that mention `about`.
+std::vector<std::string> WarningsAbout(const std::filesystem::path& dir, const std::string& about) {
+  std::vector<std::string> found;
+  for (const std::string& w : ReduceSession(ReadManifest(dir).session, {}).warnings) {
+    if (w.find(about) != std::string::npos) found.push_back(w);
+  }
+  return found;
+}
+
 TEST_CASE("trace_session: a typed X0 the traces' own release contradicts is warned about") {
   // The traces read X0 = 0.405 (through calibrations typed right); the run's
   // X0 typed 10 % high is named with both values, the right one passes.
   testing::TempDir dir;
   WriteSession(dir.path(), 0.405, 0.005);
-  const auto x0_warnings = [&] {
-    std::vector<std::string> found;
-    for (const std::string& w : ReduceSession(ReadManifest(dir.path()).session, {}).warnings) {
-      if (w.find("initial_displacement") != std::string::npos) found.push_back(w);
-    }
-    return found;
-  };
+  const auto x0_warnings = [&] { return WarningsAbout(dir.path(), "initial_displacement"); };
   CHECK(x0_warnings().empty());
   std::string manifest;
   {
@@ -154,13 +157,7 @@ TEST_CASE("trace_session: a run time axis the pendulum's period contradicts is w
   // written, nothing.
   testing::TempDir dir;
   WriteSession(dir.path(), 0.405, 0.005);
-  const auto sweep_warnings = [&] {
-    std::vector<std::string> found;
-    for (const std::string& w : ReduceSession(ReadManifest(dir.path()).session, {}).warnings) {
-      if (w.find("half period") != std::string::npos) found.push_back(w);
-    }
-    return found;
-  };
+  const auto sweep_warnings = [&] { return WarningsAbout(dir.path(), "half period"); };
   CHECK(sweep_warnings().empty());
   for (const char* bar : {"run-right.csv", "run-left.csv"}) {
     Trace trace = ReadTraceCsv(dir.path() / "traces" / bar);
