@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/camera.h"
+#include "render/display_pixel.h"
 #include "render/rectangles.h"
 
 namespace impactlab::render {
@@ -109,18 +110,6 @@ class LightField {
   double col_scale_, row_scale_;
 };
 
-// Writes one pixel's display values (BGR in [0, 1]) in the file's format.
-template <typename Sample>
-void Store(const cv::Vec3f& bgr, bool grey, float full_scale, Sample* out) {
-  if (grey) {
-    // ITU-R BT.601 luma, as cv::cvtColor(COLOR_BGR2GRAY).
-    out[0] = cv::saturate_cast<Sample>((0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]) *
-                                       full_scale);
-    return;
-  }
-  for (int c = 0; c < 3; ++c) out[c] = cv::saturate_cast<Sample>(bgr[c] * full_scale);
-}
-
 // Everything the per-pixel pass needs, computed once; DevelopRows may run on
 // several threads at once, reading only this.
 class Darkroom {
@@ -175,9 +164,10 @@ class Darkroom {
       for (int col = 0; col < size_.width; ++col) {
         const cv::Vec3f value = Develop(col, row, row_noise.at<cv::Vec4f>(col));
         if (eight_bit_) {
-          Store(value, grey_, 255.0f, image.ptr<uchar>(row) + col * image.channels());
+          StoreDisplayPixel(value, grey_, 255.0f, image.ptr<uchar>(row) + col * image.channels());
         } else {
-          Store(value, grey_, 65535.0f, image.ptr<ushort>(row) + col * image.channels());
+          StoreDisplayPixel(value, grey_, 65535.0f,
+                            image.ptr<ushort>(row) + col * image.channels());
         }
       }
     }

@@ -14,6 +14,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "render/display_pixel.h"
 #include "render/styles.h"
 
 namespace impactlab::render {
@@ -70,17 +71,6 @@ std::uint64_t PrintRowSeed(std::uint64_t x) {
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   return x ^ (x >> 31);
-}
-
-// Writes one scanned pixel (BGR in [0, 1]) in the file's format.
-template <typename Sample>
-void StorePrinted(const cv::Vec3f& bgr, bool grey, float full_scale, Sample* out) {
-  if (grey) {
-    out[0] = cv::saturate_cast<Sample>((0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]) *
-                                       full_scale);
-    return;
-  }
-  for (int c = 0; c < 3; ++c) out[c] = cv::saturate_cast<Sample>(bgr[c] * full_scale);
 }
 
 }  // namespace
@@ -286,9 +276,11 @@ cv::Mat ReproduceInPrint(const StyleLook& look, const cv::Mat& photo,
         }
         value += cv::Vec3f::all(row_noise.at<float>(col));
         if (eight_bit) {
-          StorePrinted(value, look.grey, 255.0f, image.ptr<uchar>(row) + col * image.channels());
+          StoreDisplayPixel(value, look.grey, 255.0f,
+                            image.ptr<uchar>(row) + col * image.channels());
         } else {
-          StorePrinted(value, look.grey, 65535.0f, image.ptr<ushort>(row) + col * image.channels());
+          StoreDisplayPixel(value, look.grey, 65535.0f,
+                            image.ptr<ushort>(row) + col * image.channels());
         }
       }
     }
