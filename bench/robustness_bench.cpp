@@ -6,6 +6,7 @@
 // one sees which factor breaks what, then the failures grouped by message.
 //
 //   bench_robustness [--photos 204] [--seed 1] [--jobs 2] [--per-photo]
+//                    [--only SEED,...] [--keep DIR]
 //
 // A session is the quick preset (two runs; a run photo and two calibration
 // photos each). A calibration photo that fails is charged to itself, and its
@@ -15,6 +16,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -334,6 +336,8 @@ int main(int argc, char** argv) {
   int photos = 204, jobs = 2;
   std::uint64_t seed = 1;
   bool per_photo = false;
+  std::vector<std::uint64_t> only;
+  std::string keep;
   app.add_option("--photos", photos, "At least this many photos (6 per session)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
@@ -343,13 +347,26 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_flag("--per-photo", per_photo, "A line per photo on stderr: its outcome and errors");
+  app.add_option("--only", only, "Only these sessions' seeds (e.g. 1027,1028), not --photos'")
+      ->delimiter(',');
+  app.add_option("--keep", keep,
+                 "Keep each session's folder and truth here (DIR/sSEED), to reduce or digitize "
+                 "it again");
   CLI11_PARSE(app, argc, argv);
 
   constexpr int kPhotosPerSession = 6;
-  const int sessions = (photos + kPhotosPerSession - 1) / kPhotosPerSession;
+  std::vector<std::uint64_t> seeds = only;
+  if (seeds.empty()) {
+    for (int i = 0; i < (photos + kPhotosPerSession - 1) / kPhotosPerSession; ++i) {
+      seeds.push_back(1000 * seed + static_cast<std::uint64_t>(i) + 1);
+    }
+  }
+  const int sessions = static_cast<int>(seeds.size());
   // One folder per process: two benchmarks at once must not share sessions.
   const fs::path scratch =
-      fs::temp_directory_path() / fmt::format("impactlab-bench-robustness-{}", ::getpid());
+      keep.empty()
+          ? fs::temp_directory_path() / fmt::format("impactlab-bench-robustness-{}", ::getpid())
+          : fs::path(keep);
   std::vector<PhotoRecord> records;
   std::mutex mutex;
   std::atomic<int> next{0};
@@ -359,11 +376,15 @@ int main(int argc, char** argv) {
       SynthOptions synth;
       synth.preset = "quick";
       synth.style = PhotoStyle::kRandomised;
-      synth.seed = 1000 * seed + static_cast<std::uint64_t>(i) + 1;
+      synth.seed = seeds[static_cast<std::size_t>(i)];
       const fs::path folder = scratch / fmt::format("s{}", synth.seed);
       std::vector<PhotoRecord> scored;
       try {
         const SynthSummary summary = GenerateSession(folder, synth);
+        if (!keep.empty()) {
+          std::ofstream(scratch / fmt::format("s{}.truth.json", synth.seed))
+              << summary.truth.dump(1);
+        }
         ReduceOptions options;
         options.products = Products::kRebounds;  // the maxima and contact times; no fits
         const SessionResult result = ReduceSession(ReadManifest(folder).session, options);
@@ -372,7 +393,7 @@ int main(int argc, char** argv) {
         fmt::print(stderr, "seed {}: the session failed as a whole: {}\n", synth.seed,
                    error.what());
       }
-      fs::remove_all(folder);
+      if (keep.empty()) fs::remove_all(folder);
       std::lock_guard lock(mutex);
       for (PhotoRecord& r : scored) {
         if (per_photo) {
@@ -399,11 +420,11 @@ int main(int argc, char** argv) {
   std::vector<std::thread> threads;
   for (int j = 0; j < jobs; ++j) threads.emplace_back(work);
   for (std::thread& t : threads) t.join();
-  fs::remove_all(scratch);
+  if (keep.empty()) fs::remove_all(scratch);
   const double seconds = Seconds(start);
 
   fmt::print("# bench_robustness: {} sessions (seeds {}..{}), {} photos, {:.0f} s with {} jobs\n\n",
-             sessions, 1000 * seed + 1, 1000 * seed + sessions, records.size(), seconds, jobs);
+             sessions, seeds.front(), seeds.back(), records.size(), seconds, jobs);
   PrintOverall(records, seconds * jobs);
   PrintFactors(records);
   PrintFailures(records);
