@@ -388,27 +388,79 @@ void MarkAnomalies(const Pendulum& pendulum, std::vector<RunResult>& runs) {
 }
 
 // A typed X0 that the traces' own release contradicts: a warning naming the
-// run, the key and both values. The typed X0 is the bars' mean release, read
-// off a scale: held to kTypedReleaseShare of itself beyond
-// kTypedReleaseSigmas of the traces' release (on the external sessions the
-// two agree to 0.14 % median, 0.63 % at most, at 0.18 % median standard
-// error; a 10 % slip is flagged wherever the release is read to 1.6 %).
+// run, the key and both values. The typed X0 is half the gap between the
+// bars at release, read off a scale: the bars' mean release is held to
+// kTypedReleaseShare of X0 beyond kTypedReleaseSigmas of its error (on the
+// external sessions the two agree to 0.14 % median, 0.63 % at most, at
+// 0.18 % median standard error; a 10 % slip is flagged wherever the release
+// is read to 1.6 %).
+//
+// Each bar's release is read through its own trace's voltage scale
+// (volts_per_div, zero_div) and its own calibration, so a slip in one of
+// those moves one bar's release alone, where a slip in X0 moves both. A bar
+// is held to kBarReleaseShare of X0 (the bars may be let go a little
+// asymmetrically: on the external sessions each bar's release lies within
+// 1.3 % of X0, the two within 2.2 % of each other); one bar off while the
+// other agrees names that bar's trace and calibration, not X0.
 constexpr double kTypedReleaseSigmas = 5.0;
 constexpr double kTypedReleaseShare = 0.02;
+constexpr double kBarReleaseShare = 0.03;
+
+bool ReleaseDisagrees(const Estimate& seen, double typed, double share) {
+  return seen.sigma > 0.0 &&
+         std::abs(typed - seen.value) > kTypedReleaseSigmas * seen.sigma + share * typed;
+}
+
+// The warning for a bar whose release alone disagrees with X0.
+std::string OneBarOff(const Session& session, const Run& run, const char* cell, const Estimate& bar,
+                      const Estimate& other) {
+  const std::string& other_cell = std::string(cell) == "right" ? "left" : "right";
+  std::string scale;
+  if (const auto trace = run.traces.find(cell); trace != run.traces.end()) {
+    scale = trace->second.csv
+                ? fmt::format(" (the volts of {})", trace->second.csv->filename().string())
+                : fmt::format(" (volts_per_div = {:g}, zero_div = {:g})",
+                              trace->second.volts_per_div, trace->second.zero_div);
+  }
+  const auto calibration = run.calibration.find(cell);
+  return fmt::format(
+      "{}: run \"{}\": the {} bar's trace releases at {:.4g} ± {:.2g} ({:+.1f} % of "
+      "initial_displacement = {:.4g}) where the {} bar's releases at {:.4g} ± {:.2g} ({:+.1f} %): "
+      "traces.{}'s voltage scale{} mistyped, here or in calibration \"{}\"'s trace, or that "
+      "trace misread? Its maxima read through the same scale",
+      session.manifest.string(), run.id, cell, bar.value, bar.sigma,
+      100.0 * (bar.value - run.initial_displacement) / run.initial_displacement,
+      run.initial_displacement, other_cell, other.value, other.sigma,
+      100.0 * (other.value - run.initial_displacement) / run.initial_displacement, cell, scale,
+      calibration != run.calibration.end() ? calibration->second : std::string("?"));
+}
 
 void CheckTypedReleases(const Session& session, SessionResult& result) {
-  for (const RunResult& run : result.runs) {
-    const Estimate& seen = run.measured.release;
-    if (!run.ok || !(seen.sigma > 0.0)) continue;
-    const double typed = run.initial_displacement;
-    const double apart = typed - seen.value;
-    if (std::abs(apart) > kTypedReleaseSigmas * seen.sigma + kTypedReleaseShare * typed) {
+  for (const RunResult& result_run : result.runs) {
+    const RunMeasurement& m = result_run.measured;
+    if (!result_run.ok || !(m.release.sigma > 0.0)) continue;
+    const auto run = std::find_if(session.runs.begin(), session.runs.end(),
+                                  [&](const Run& r) { return r.id == result_run.id; });
+    if (run == session.runs.end()) continue;
+    const double typed = result_run.initial_displacement;
+    // One bar off, the other with X0: that bar's voltage scale, not X0.
+    if (m.right && m.left) {
+      const bool right_off = ReleaseDisagrees(m.right->release, typed, kBarReleaseShare);
+      const bool left_off = ReleaseDisagrees(m.left->release, typed, kBarReleaseShare);
+      if (right_off != left_off && m.right->release.sigma > 0.0 && m.left->release.sigma > 0.0) {
+        result.warnings.push_back(
+            right_off ? OneBarOff(session, *run, "right", m.right->release, m.left->release)
+                      : OneBarOff(session, *run, "left", m.left->release, m.right->release));
+        continue;
+      }
+    }
+    if (ReleaseDisagrees(m.release, typed, kTypedReleaseShare)) {
       result.warnings.push_back(fmt::format(
           "{}: run \"{}\": initial_displacement = {:.4g}, but its traces release at {:.4g} ± "
           "{:.2g} ({:+.1f} %): X0 mistyped here or in a calibration it reads through? The fits "
           "and the % of X0 columns use the typed value",
-          session.manifest.string(), run.id, typed, seen.value, seen.sigma,
-          100.0 * apart / seen.value));
+          session.manifest.string(), result_run.id, typed, m.release.value, m.release.sigma,
+          100.0 * (typed - m.release.value) / m.release.value));
     }
   }
 }
@@ -416,7 +468,10 @@ void CheckTypedReleases(const Session& session, SessionResult& result) {
 // A run whose rebounds all last longer (or shorter) than the pendulum's half
 // period at their amplitudes by a common factor: its time axis (a photo's
 // time_per_div, a CSV's time unit) or the apparatus's pendulum_length or
-// gravity is off, not its swings. The durations' weighted mean ratio to the
+// gravity is off, not its swings. A voltage scale off moves the traces'
+// X = 0, and with it every crossing the durations are read between (on the
+// external sessions a volts_per_div 10 % low fired this warning on 8 of 72
+// run traces), so the message names it too. The durations' weighted mean ratio to the
 // half period, beyond 5 of its errors plus 0.5 % (a 1 % error in L moves the
 // period by 0.5 %), is named with the figures.
 constexpr double kSweepSigmas = 5.0;
@@ -448,7 +503,9 @@ void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum
       result.warnings.push_back(fmt::format(
           "{}: run \"{}\": its {} rebounds last {:.4f} ± {:.4f} times the pendulum's half "
           "period at their amplitudes: the time axis of its traces (time_per_div, a CSV's time "
-          "unit) or [apparatus] pendulum_length or gravity mistyped?",
+          "unit), [apparatus] pendulum_length or gravity mistyped? Or a trace's voltage scale "
+          "(volts_per_div, zero_div, here or in its calibration's trace): it moves X = 0, which "
+          "lengthens or shortens the smaller rebounds most",
           session.manifest.string(), run.id, used, ratio, sigma));
     }
   }

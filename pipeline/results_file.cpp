@@ -170,6 +170,7 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
   if (!bar.duration_sigma.empty()) {
     out.f.WriteVector(g + "/duration_std_error", bar.duration_sigma, "s");
   }
+  if (bar.release.sigma > 0.0) WriteEstimate(out.f, g + "/release_x", bar.release, out.u.length);
   const std::size_t n = bar.xmax.size();
   WriteReboundScale(out, g, 0, n,
                     SameLength(g, n,
@@ -188,7 +189,7 @@ BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
           f.ReadVector(g + "/t_peak_std_error"),
           f.ReadVector(g + "/duration"),
           ReadVectorIfPresent(f, g + "/duration_std_error"),
-          Estimate{}};  // a bar's release is not kept: the run's is
+          f.Exists(g + "/release_x") ? ReadEstimate(f, g + "/release_x") : Estimate{}};
 }
 
 // The overlay's pixels, red-green-blue, as its JPEG decodes at a quarter of its width

@@ -65,6 +65,49 @@ void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
   }
 }
 
+// Why a run trace's volts may miss its calibration's range, where the two
+// ranges say so: the run and its calibration swing between the same two
+// places (X = 0 at the impacts, about X0 at release), so their voltage
+// ranges' ends should agree. Both ends k times the calibration's is one
+// voltage scale off (volts_per_div, here or in the calibration's trace);
+// both shifted by one voltage is the zero's place (zero_div). Empty when
+// the ends tell neither apart from a misread trace (within 6 %: a photo
+// loses the trace's lowest stretches at the impacts).
+std::string VoltageScaleHint(const Trace& trace, const PhotocellCurve& curve,
+                             const TraceSettings& settings, const std::string& calibration_id) {
+  if (trace.volts.empty()) return {};
+  const auto [lo, hi] = std::minmax_element(trace.volts.begin(), trace.volts.end());
+  const double c = curve.volts_min(), d = curve.volts_max(), range = d - c;
+  if (!(range > 0.0)) return {};
+  constexpr double kAgree = 0.06;
+  const double k_lo = *lo / c, k_hi = *hi / d;
+  if (c * d > 0.0 && std::abs(k_lo - k_hi) < kAgree * std::abs(k_hi) &&
+      std::abs(k_hi - 1.0) > kAgree) {
+    const double k = 0.5 * (k_lo + k_hi);
+    if (settings.csv) {
+      return fmt::format(
+          " (its volts span {:.4g} .. {:.4g} V, {:.3g} times the calibration's: the CSV's "
+          "volts in another unit?)",
+          *lo, *hi, k);
+    }
+    return fmt::format(
+        " (its volts span {:.4g} .. {:.4g} V, {:.3g} times the calibration's at both ends: "
+        "volts_per_div = {:g} mistyped, where {:.3g} would fit, or calibration \"{}\"'s?)",
+        *lo, *hi, k, settings.volts_per_div, settings.volts_per_div / k, calibration_id);
+  }
+  const double o_lo = *lo - c, o_hi = *hi - d;
+  if (std::abs(o_lo - o_hi) < kAgree * range && std::abs(o_hi) > kAgree * range && !settings.csv &&
+      settings.volts_per_div > 0.0) {
+    const double o = 0.5 * (o_lo + o_hi);
+    return fmt::format(
+        " (its volts span {:.4g} .. {:.4g} V, {:+.3g} V from the calibration's at both ends: "
+        "zero_div = {:g} mistyped, where {:.3g} would fit, or calibration \"{}\"'s?)",
+        *lo, *hi, o, settings.zero_div, settings.zero_div + o / settings.volts_per_div,
+        calibration_id);
+  }
+  return {};
+}
+
 }  // namespace
 
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
@@ -251,7 +294,8 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
       try {
         return DisplacementFromVolts(trace, calibration);
       } catch (const std::invalid_argument& e) {
-        throw InputError(where, e.what());
+        throw InputError(where, e.what() + VoltageScaleHint(trace, calibration.curve,
+                                                            trace_it->second, cal_it->second));
       }
     });
     curves[cell] = &calibration.curve;

@@ -151,6 +151,54 @@ TEST_CASE("trace_session: a typed X0 the traces' own release contradicts is warn
   CHECK(found[0].find("release at 0.40") != std::string::npos);
 }
 
+TEST_CASE("trace_session: one bar's release off while the other's agrees names that bar's trace") {
+  // The left cell calibrated over a larger swing (0.5), so that the run's
+  // left volts shifted by +0.05 V (a zero_div slip) stay in range: the left
+  // bar then releases 6 % high while the right bar agrees with X0. The
+  // warning names the left trace's voltage scale and its calibration, not X0.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.405, 0.005);
+  WriteSession(dir.path() / "large", 0.5, 0.005);
+  std::filesystem::copy_file(dir.path() / "large" / "traces" / "L.csv",
+                             dir.path() / "traces" / "L.csv",
+                             std::filesystem::copy_options::overwrite_existing);
+  Session session = ReadManifest(dir.path()).session;
+  session.calibrations[1].initial_displacement = 0.5;
+  const auto release_warnings = [&] {
+    std::vector<std::string> found;
+    for (const std::string& w : ReduceSession(session, {}).warnings) {
+      if (w.find("release") != std::string::npos) found.push_back(w);
+    }
+    return found;
+  };
+  CHECK(release_warnings().empty());
+  Trace left = ReadTraceCsv(dir.path() / "traces" / "run-left.csv");
+  for (double& v : left.volts) v += 0.05;
+  WriteTraceCsv(dir.path() / "traces" / "run-left.csv", left);
+  const std::vector<std::string> found = release_warnings();
+  REQUIRE(found.size() == 1);
+  INFO(found[0]);
+  CHECK_THAT(found[0], Catch::Contains("run \"run\": the left bar's trace releases at 0.427") &&
+                           Catch::Contains("traces.left's voltage scale") &&
+                           Catch::Contains("calibration \"L\"") && !Catch::Contains("X0 mistyped"));
+}
+
+TEST_CASE("trace_session: run volts on another scale than the calibration's say so") {
+  // The right bar's volts 0.8 times what its calibration reads (a CSV in
+  // another unit, a volts_per_div typed low): both ends of its range miss the
+  // calibration's by that factor, and the refusal says it.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.405, 0.005);
+  Trace right = ReadTraceCsv(dir.path() / "traces" / "run-right.csv");
+  for (double& v : right.volts) v *= 0.8;
+  WriteTraceCsv(dir.path() / "traces" / "run-right.csv", right);
+  const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
+  REQUIRE_FALSE(result.runs[0].ok);
+  CHECK_THAT(result.runs[0].reason, Catch::Contains("traces.right") &&
+                                        Catch::Contains("does not cover") &&
+                                        Catch::Contains("0.799 times the calibration's"));
+}
+
 TEST_CASE("trace_session: a run time axis the pendulum's period contradicts is warned about") {
   // Durations read to ~0.05 %: the run's traces on a time axis 2 % slow (a
   // mistyped time_per_div or time unit) are named with the ratio; as
