@@ -11,6 +11,7 @@
 #include "io/hdf5_extras.h"
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
+#include "io/result_fields_hdf5.h"
 #include "pipeline/setting_key_internal.h"
 
 namespace impactlab {
@@ -162,15 +163,7 @@ void WriteCurve(Out& out, const std::string& axis, const std::vector<double>& ax
 }
 
 void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
-  out.f.WriteVector(g + "/xmax", bar.xmax, out.u.length);
-  out.f.WriteVector(g + "/xmax_std_error", bar.xmax_sigma, out.u.length);
-  out.f.WriteVector(g + "/t_peak", bar.t_peak, "s");
-  out.f.WriteVector(g + "/t_peak_std_error", bar.t_peak_sigma, "s");
-  out.f.WriteVector(g + "/duration", bar.duration, "s");
-  if (!bar.duration_sigma.empty()) {
-    out.f.WriteVector(g + "/duration_std_error", bar.duration_sigma, "s");
-  }
-  if (bar.release.sigma > 0.0) WriteEstimate(out.f, g + "/release_x", bar.release, out.u.length);
+  WriteFields(out.f, out.x, g, bar, out.u);
   const std::size_t n = bar.xmax.size();
   WriteReboundScale(out, g, 0, n,
                     SameLength(g, n,
@@ -183,13 +176,9 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
 }
 
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
-  return {f.ReadVector(g + "/xmax"),
-          f.ReadVector(g + "/xmax_std_error"),
-          f.ReadVector(g + "/t_peak"),
-          f.ReadVector(g + "/t_peak_std_error"),
-          f.ReadVector(g + "/duration"),
-          ReadVectorIfPresent(f, g + "/duration_std_error"),
-          f.Exists(g + "/release_x") ? ReadEstimate(f, g + "/release_x") : Estimate{}};
+  BarRebounds bar;
+  ReadFields(f, g, bar);
+  return bar;
 }
 
 // The overlay's pixels, red-green-blue, as its JPEG decodes at a quarter of its width
@@ -269,42 +258,19 @@ PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
 void WriteCalibration(Out& out, const std::string& g, const CellCalibration& c) {
   Hdf5File& f = out.f;
   f.CreateGroup(g);
-  f.SetAttribute(g, "calibration_id", c.calibration_id);
-  f.SetAttribute(g, "cell", c.cell);
+  WriteFields(f, out.x, g, c, out.u);
   f.SetAttribute(g, "model", "V(X) = sum c_k T_k(2X/X0 - 1), Chebyshev, order by BIC");
   WriteSettings(out, g + "/settings", c.settings);
-  f.WriteScalar(g + "/release_x", c.release_x, out.u.length);
-  f.WriteVector(g + "/chebyshev", c.chebyshev, "V");
-  if (const std::size_t n = c.chebyshev.size(); c.chebyshev_covariance.size() == n * n && n > 0) {
-    out.x.WriteMatrix(g + "/chebyshev_covariance", n, n, c.chebyshev_covariance, "V^2");
-  }
-  f.WriteScalar(g + "/residual_rms_volts", c.residual_rms_volts, "V");
-  f.WriteScalar(g + "/residual_rms_length", c.residual_rms_length, out.u.length);
-  f.WriteScalar(g + "/volts_min", c.volts_min, "V");
-  f.WriteScalar(g + "/volts_max", c.volts_max, "V");
-  f.SetAttribute(g, "samples_used", static_cast<long long>(c.samples_used));
-  f.WriteVector(g + "/points_x", c.points_x, out.u.length);
-  f.WriteVector(g + "/points_volts", c.points_volts, "V");
   if (c.overlay) WriteOverlay(out, g + "/digitized", *c.overlay);
 }
 
 CellCalibration ReadCalibration(const In& in, const std::string& g, const std::string& cell) {
   const Hdf5File& f = in.f;
   CellCalibration c;
-  c.cell = cell.empty() ? f.ReadStringAttribute(g, "cell") : cell;
-  c.calibration_id = f.ReadStringAttribute(g, "calibration_id");
+  ReadFields(f, g, c);
+  if (!cell.empty()) c.cell = cell;
   c.settings = ReadSettings(in, g + "/settings");
-  c.release_x = f.ReadScalar(g + "/release_x");
-  c.chebyshev = f.ReadVector(g + "/chebyshev");
-  c.chebyshev_covariance = ReadVectorIfPresent(f, g + "/chebyshev_covariance");  // n x n
   c.order = static_cast<int>(c.chebyshev.size()) - 1;
-  c.residual_rms_volts = f.ReadScalar(g + "/residual_rms_volts");
-  c.residual_rms_length = f.ReadScalar(g + "/residual_rms_length");
-  c.volts_min = f.ReadScalar(g + "/volts_min");
-  c.volts_max = f.ReadScalar(g + "/volts_max");
-  c.samples_used = static_cast<int>(f.ReadIntegerAttribute(g, "samples_used"));
-  c.points_x = f.ReadVector(g + "/points_x");
-  c.points_volts = f.ReadVector(g + "/points_volts");
   if (f.Exists(g + "/digitized")) c.overlay = ReadOverlay(f, g + "/digitized");
   return c;
 }

@@ -83,17 +83,41 @@ struct Curve {
 // A photocell calibration as used by a run (Figures 13-14).
 struct CellCalibration {
   std::string calibration_id;
-  std::string cell;                          // "right" or "left"
-  double release_x = 0.0;                    // X0 of the calibration swing
-  int order = 0;                             // of the Chebyshev series V(X)
-  std::vector<double> chebyshev;             // in u = 2X/X0 - 1, V
-  std::vector<double> chebyshev_covariance;  // (order+1)^2, row-major, V^2 (empty: not known)
+  std::string cell;                   // "right" or "left"
+  double release_x = 0.0;             // X0 of the calibration swing
+  int order = 0;                      // of the Chebyshev series V(X)
+  std::vector<double> chebyshev;      // in u = 2X/X0 - 1, V
+  SquareMatrix chebyshev_covariance;  // (order+1)^2, V^2 (empty: not known)
   double residual_rms_volts = 0.0, residual_rms_length = 0.0;
   int samples_used = 0;
   double volts_min = 0.0, volts_max = 0.0;
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
   std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
   SettingValues settings;  // the stage settings it was made with (photocell, digitize for a photo)
+
+  // What the results file keeps as fields (io/result_fields.h); the overlay
+  // and the settings are stored by their own layout, the order follows from
+  // the series.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("calibration_id", self.calibration_id, Quantity::kDimensionless,
+          "the [[calibration]] entry's id");
+    visit("cell", self.cell, Quantity::kDimensionless, "right or left");
+    visit("release_x", self.release_x, Quantity::kLength, "X0 of the calibration swing");
+    visit("chebyshev", self.chebyshev, Quantity::kVolts,
+          "V(X) = sum c_k T_k(2X/X0 - 1), its coefficients c_k");
+    visit("chebyshev_covariance", self.chebyshev_covariance, Quantity::kVoltsSquared,
+          "their covariance");
+    visit("residual_rms_volts", self.residual_rms_volts, Quantity::kVolts,
+          "the fit's residual RMS in volts");
+    visit("residual_rms_length", self.residual_rms_length, Quantity::kLength,
+          "the same in displacement");
+    visit("volts_min", self.volts_min, Quantity::kVolts, "the calibrated range's lower end");
+    visit("volts_max", self.volts_max, Quantity::kVolts, "its upper end");
+    visit("samples_used", self.samples_used, Quantity::kDimensionless, "samples the fit used");
+    visit("points_x", self.points_x, Quantity::kLength, "the fit's pairs (decimated): X");
+    visit("points_volts", self.points_volts, Quantity::kVolts, "and V");
+  }
 };
 
 // Wall time spent per stage of one run, s (for benchmarks; not in the results file).

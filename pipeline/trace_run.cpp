@@ -121,7 +121,7 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
   out.release_x = release_x;
   out.order = c.curve.order();
   out.chebyshev = c.curve.chebyshev();
-  out.chebyshev_covariance = c.curve.covariance();
+  out.chebyshev_covariance.values = c.curve.covariance();
   out.residual_rms_volts = c.residual_rms_volts;
   out.residual_rms_length = c.residual_rms_length;
   out.samples_used = c.samples_used;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "io/result_fields.h"
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
@@ -19,6 +20,19 @@ struct BarRebounds {
   std::vector<double> duration;              // s, between the flank's zero crossings
   std::vector<double> duration_sigma;        // s, one-sigma, same length
   Estimate release;                          // X0 as the history shows it (sigma 0: not known)
+
+  // What the results file keeps of a bar (io/result_fields.h).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("xmax", self.xmax, Quantity::kLength,
+          "each rebound's maximum, as this bar's cell saw it");
+    visit("xmax_std_error", self.xmax_sigma, Quantity::kLength, "its standard error");
+    visit("t_peak", self.t_peak, Quantity::kSeconds, "when each maximum falls, s since release");
+    visit("t_peak_std_error", self.t_peak_sigma, Quantity::kSeconds, "its standard error");
+    visit("duration", self.duration, Quantity::kSeconds, "each rebound's impact-to-impact time");
+    visit("duration_std_error", self.duration_sigma, Quantity::kSeconds, "its standard error");
+    visit("release_x", self.release, Quantity::kLength, "X0 as this bar's trace shows it");
+  }
 };
 
 // Session numbering: PENDUL rebound N is session rebound N - first_rebound.

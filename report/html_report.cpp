@@ -192,9 +192,9 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures
     // The curve as fitted (its stored coefficients), evaluated for display,
     // with its one-sigma band in volts where the covariance is known.
     const std::size_t n = c.chebyshev.size();
-    const bool band = c.chebyshev_covariance.size() == n * n && n > 0;
+    const bool band = c.chebyshev_covariance.values.size() == n * n && n > 0;
     const PhotocellCurve stored(c.release_x, c.chebyshev,
-                                band ? c.chebyshev_covariance : std::vector<double>{}, 0.0);
+                                band ? c.chebyshev_covariance.values : std::vector<double>{}, 0.0);
     PlotSeries curve{fmt::format("{} cell: fitted curve (order {}) ± 1σ", c.cell, c.order),
                      {},
                      {},

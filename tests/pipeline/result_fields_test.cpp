@@ -1,0 +1,108 @@
+// Every listed field of a result (io/result_fields.h) survives the results
+// file: each is filled with its own value, written, read back and compared,
+// so a field added to a list is checked with nothing added here.
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <catch2/catch.hpp>
+
+#include "io/hdf5_extras.h"
+#include "io/hdf5_file.h"
+#include "io/result_fields_hdf5.h"
+#include "pipeline/session_result.h"
+#include "rebounds/bar_rebounds.h"
+#include "tests/support/temp_dir.h"
+
+namespace impactlab {
+namespace {
+
+// Gives every listed field of `result` a value of its own, unlike its
+// default and every other field's.
+template <typename Result>
+void FillEveryField(Result& result) {
+  int k = 1;
+  Result::VisitFields(result, [&](const char*, auto& field, Quantity, const char*) {
+    using Field = std::remove_cvref_t<decltype(field)>;
+    const double v = 0.5 + k++;
+    if constexpr (std::is_same_v<Field, double>) {
+      field = v;
+    } else if constexpr (std::is_same_v<Field, std::vector<double>>) {
+      field = {v, -v, 2 * v};
+    } else if constexpr (std::is_same_v<Field, Estimate>) {
+      field = {v, v / 8};
+    } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
+      field.values = {v, 0.25, 0.25, 2 * v};
+    } else if constexpr (std::is_same_v<Field, std::string>) {
+      field = fmt::format("text {}", v);
+    } else {
+      field = k + 3;
+    }
+  });
+}
+
+// Every listed field as text, in list order.
+template <typename Result>
+std::vector<std::string> EveryField(Result& result) {
+  std::vector<std::string> out;
+  Result::VisitFields(result, [&](const char* name, auto& field, Quantity, const char*) {
+    using Field = std::remove_cvref_t<decltype(field)>;
+    std::string text;
+    if constexpr (std::is_same_v<Field, std::vector<double>>) {
+      text = fmt::format("{}", fmt::join(field, " "));
+    } else if constexpr (std::is_same_v<Field, Estimate>) {
+      text = fmt::format("{} ± {}", field.value, field.sigma);
+    } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
+      text = fmt::format("{}", fmt::join(field.values, " "));
+    } else {
+      text = fmt::format("{}", field);
+    }
+    out.push_back(std::string(name) + " = " + text);
+  });
+  return out;
+}
+
+template <typename Result>
+void CheckRoundTrip() {
+  testing::TempDir dir;
+  Result written;
+  FillEveryField(written);
+  const auto file = dir.path() / "fields.h5";
+  WriteHdf5Atomically(file, [&](Hdf5File& f) {
+    WriteFields(f, Hdf5Extras(f), "/result", written, LabelsFor(UnitSystem::kInLbfS));
+  });
+  Result read;
+  ReadFields(Hdf5File::OpenReadOnly(file), "/result", read);
+  CHECK(EveryField(read) == EveryField(written));
+}
+
+TEST_CASE("result_fields: every listed field of a bar's rebounds is written and read back") {
+  CheckRoundTrip<BarRebounds>();
+}
+
+TEST_CASE("result_fields: every listed field of a cell's calibration is written and read back") {
+  CheckRoundTrip<CellCalibration>();
+}
+
+TEST_CASE("result_fields: a field that holds nothing is left out and reads back as nothing") {
+  testing::TempDir dir;
+  BarRebounds bar;
+  bar.xmax = {0.3};
+  const auto file = dir.path() / "fields.h5";
+  WriteHdf5Atomically(file, [&](Hdf5File& f) {
+    WriteFields(f, Hdf5Extras(f), "/bar", bar, LabelsFor(UnitSystem::kSI));
+  });
+  const Hdf5File f = Hdf5File::OpenReadOnly(file);
+  CHECK(f.Exists("/bar/xmax"));
+  CHECK(f.ReadStringAttribute("/bar/xmax", "units") == "m");
+  CHECK_FALSE(f.Exists("/bar/duration"));
+  CHECK_FALSE(f.Exists("/bar/release_x"));
+  BarRebounds read;
+  ReadFields(f, "/bar", read);
+  CHECK(read.xmax == bar.xmax);
+  CHECK(read.duration.empty());
+  CHECK(read.release.sigma == 0.0);
+}
+
+}  // namespace
+}  // namespace impactlab
