@@ -36,6 +36,7 @@
 #include "fit/least_squares.h"
 #include "model/contact.h"
 #include "model/pendulum.h"
+#include "options/result_fields.h"
 
 namespace impactlab {
 
@@ -131,6 +132,36 @@ struct ContactLawFit {
   double loo_rms_normalized = 0.0;
   double loo_rms_length = 0.0;
   int loo_maxima = 0;
+
+  // What the results file keeps as fields (options/result_fields.h). The
+  // parameters, their intervals and covariance, and the leave-one-out RMS
+  // (only where it ran) are stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("identifiability", self.identifiability, Quantity::kDimensionless,
+          "which data fix which parameter");
+    visit("maxima", self.maxima, Quantity::kDimensionless, "maxima fitted");
+    visit("contact_times", self.contact_times, Quantity::kDimensionless, "contact times fitted");
+    visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
+          "law parameters and one rebound-0 speed per run");
+    visit("dof", self.dof, Quantity::kDimensionless, "degrees of freedom");
+    visit("excess_scatter", self.scatter.excess, Quantity::kDimensionless,
+          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
+    visit("rebound0_speed", self.run_rebound0_speed, Quantity::kSpeed,
+          "each run's fitted rebound-0 speed, in the runs' order");
+    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
+    visit("chi2_maxima", self.chi2_maxima, Quantity::kDimensionless, "its maxima's share");
+    visit("chi2_contact", self.chi2_contact, Quantity::kDimensionless, "its contact times' share");
+    visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
+    visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
+    visit("birge_ratio", self.scatter.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
+    visit("chi2_p_value", self.scatter.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
+    visit("leave_one_out_ok", self.loo_ok, Quantity::kDimensionless,
+          "1 when every run was left out and predicted");
+    visit("leave_one_out_maxima", self.loo_maxima, Quantity::kDimensionless,
+          "maxima the left-out runs' predictions were compared with");
+    visit("seconds", self.status.seconds, Quantity::kSeconds, "the fit's wall time");
+  }
 };
 
 // Why the runs' data cannot fix the law's parameters, so that it is not

@@ -483,18 +483,14 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
   f.CreateGroup(g);
   f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
   if (fit.parameters.empty() && fit.maxima == 0) return;  // it did not run
-  f.SetAttribute(g, "identifiability", fit.identifiability);
-  f.SetAttribute(g, "maxima", static_cast<long long>(fit.maxima));
-  f.SetAttribute(g, "contact_times", static_cast<long long>(fit.contact_times));
-  f.SetAttribute(g, "parameter_count", static_cast<long long>(fit.parameter_count));
-  f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
-  f.SetAttribute(g, "excess_scatter", static_cast<long long>(fit.scatter.excess));
+  WriteFields(f, out.x, g, fit, out.u);
   WriteNamedEstimates(out, g, fit.parameters);
   for (const NamedEstimate& p : fit.parameters) {
     f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
                   UnitsOf(p.units, out.u));
   }
   std::vector<std::string> methods;
+  std::vector<double> rise_lower, rise_upper;
   for (std::size_t i = 0; i < fit.intervals.size() && i < fit.parameters.size(); ++i) {
     const ParameterInterval& in = fit.intervals[i];
     const std::string units = UnitsOf(fit.parameters[i].units, out.u);
@@ -502,20 +498,23 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
     f.WriteScalar(g + "/" + in.name + "_interval_upper", in.upper, units);
     methods.push_back(std::string(in.profile ? "profile" : "linear") +
                       (in.at_bound ? ", at a bound" : ""));
+    rise_lower.push_back(in.rise_at_lower);
+    rise_upper.push_back(in.rise_at_upper);
   }
   f.WriteStrings(g + "/interval_methods", methods);
-  f.WriteScalar(g + "/chi2", fit.chi2, "1");
-  f.WriteScalar(g + "/chi2_maxima", fit.chi2_maxima, "1");
-  f.WriteScalar(g + "/chi2_contact", fit.chi2_contact, "1");
-  f.WriteScalar(g + "/aic", fit.aic, "1");
-  f.WriteScalar(g + "/bic", fit.bic, "1");
-  f.WriteScalar(g + "/birge_ratio", fit.scatter.birge_ratio, "1");
-  f.WriteScalar(g + "/chi2_p_value", fit.scatter.p_value, "1");
+  if (!methods.empty()) {
+    f.WriteVector(g + "/interval_rise_at_lower", rise_lower, "1");
+    f.WriteVector(g + "/interval_rise_at_upper", rise_upper, "1");
+  }
+  if (const std::size_t n = fit.covariance.names.size();
+      n > 0 && fit.covariance.matrix.size() == n * n) {
+    out.x.WriteMatrix(g + "/covariance", n, n, fit.covariance.matrix, "1");
+    out.x.SetStringsAttribute(g + "/covariance", "parameter_names", fit.covariance.names);
+  }
   if (fit.loo_ok || fit.loo_maxima > 0) {  // left out: fewer than three runs, or not asked
     f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
     f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
   }
-  f.WriteScalar(g + "/seconds", fit.status.seconds, "s");
 }
 
 ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
@@ -526,14 +525,12 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   fit.ok = status == "ok";
   if (!fit.ok) fit.reason = ReasonOf(status);
   if (!f.Exists(g + "/chi2")) return fit;
-  fit.identifiability = f.ReadStringAttribute(g, "identifiability");
-  fit.maxima = static_cast<int>(f.ReadIntegerAttribute(g, "maxima"));
-  fit.contact_times = static_cast<int>(f.ReadIntegerAttribute(g, "contact_times"));
-  fit.parameter_count = static_cast<int>(f.ReadIntegerAttribute(g, "parameter_count"));
-  fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
+  ReadFields(f, g, fit);
   fit.parameters = ReadNamedEstimates(f, g);
   if (f.Exists(g + "/interval_methods")) {
     const std::vector<std::string> methods = f.ReadStrings(g + "/interval_methods");
+    const std::vector<double> rise_lower = ReadVectorIfPresent(f, g + "/interval_rise_at_lower");
+    const std::vector<double> rise_upper = ReadVectorIfPresent(f, g + "/interval_rise_at_upper");
     for (std::size_t i = 0; i < methods.size() && i < fit.parameters.size(); ++i) {
       ParameterInterval in;
       in.name = fit.parameters[i].name;
@@ -541,22 +538,20 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
       in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
       in.profile = methods[i].rfind("profile", 0) == 0;
       in.at_bound = methods[i].find("at a bound") != std::string::npos;
+      if (i < rise_lower.size()) in.rise_at_lower = rise_lower[i];
+      if (i < rise_upper.size()) in.rise_at_upper = rise_upper[i];
       fit.intervals.push_back(in);
     }
   }
-  fit.chi2 = f.ReadScalar(g + "/chi2");
-  fit.chi2_maxima = f.ReadScalar(g + "/chi2_maxima");
-  fit.chi2_contact = f.ReadScalar(g + "/chi2_contact");
-  fit.aic = f.ReadScalar(g + "/aic");
-  fit.bic = f.ReadScalar(g + "/bic");
-  fit.scatter.birge_ratio = f.ReadScalar(g + "/birge_ratio");
-  fit.scatter.p_value = f.ReadScalar(g + "/chi2_p_value");
-  fit.scatter.excess = f.ReadIntegerAttribute(g, "excess_scatter") != 0;
+  if (f.Exists(g + "/covariance")) {
+    fit.covariance.matrix = f.ReadVector(g + "/covariance");
+    fit.covariance.names = ReadStringsAttribute(f.path(), g + "/covariance", "parameter_names");
+  }
   const std::optional<double> loo = f.ReadScalarIfPresent(g + "/leave_one_out_rms_normalized");
   fit.loo_rms_normalized = loo.value_or(0.0);
   fit.loo_rms_length = f.ReadScalarIfPresent(g + "/leave_one_out_rms").value_or(0.0);
-  fit.loo_ok = fit.ok && loo.has_value();
-  fit.status.seconds = f.ReadScalar(g + "/seconds");
+  // Files written before leave_one_out_ok was kept: ok where the RMS is.
+  if (!f.HasAttribute(g, "leave_one_out_ok")) fit.loo_ok = fit.ok && loo.has_value();
   return fit;
 }
 

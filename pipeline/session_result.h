@@ -95,7 +95,7 @@ struct CellCalibration {
   std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
   SettingValues settings;  // the stage settings it was made with (photocell, digitize for a photo)
 
-  // What the results file keeps as fields (io/result_fields.h); the overlay
+  // What the results file keeps as fields (options/result_fields.h); the overlay
   // and the settings are stored by their own layout, the order follows from
   // the series.
   template <typename Self, typename Visit>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/result_fields.h"
+#include "options/result_fields.h"
 #include "rebounds/rebound_extraction.h"
 
 namespace impactlab {
@@ -21,7 +21,7 @@ struct BarRebounds {
   std::vector<double> duration_sigma;        // s, one-sigma, same length
   Estimate release;                          // X0 as the history shows it (sigma 0: not known)
 
-  // What the results file keeps of a bar (io/result_fields.h).
+  // What the results file keeps of a bar (options/result_fields.h).
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("xmax", self.xmax, Quantity::kLength,

@@ -1,4 +1,4 @@
-// Every listed field of a result (io/result_fields.h) survives the results
+// Every listed field of a result (options/result_fields.h) survives the results
 // file: each is filled with its own value, written, read back and compared,
 // so a field added to a list is checked with nothing added here.
 #include <string>
@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
 
+#include "fit/contact_law_fit.h"
 #include "io/hdf5_extras.h"
 #include "io/hdf5_file.h"
 #include "io/result_fields_hdf5.h"
@@ -31,10 +32,14 @@ void FillEveryField(Result& result) {
       field = {v, -v, 2 * v};
     } else if constexpr (std::is_same_v<Field, Estimate>) {
       field = {v, v / 8};
+    } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
+      field = {{v, v / 8}, {-v, v / 4}};
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
       field.values = {v, 0.25, 0.25, 2 * v};
     } else if constexpr (std::is_same_v<Field, std::string>) {
       field = fmt::format("text {}", v);
+    } else if constexpr (std::is_same_v<Field, bool>) {
+      field = !field;
     } else {
       field = k + 3;
     }
@@ -52,6 +57,8 @@ std::vector<std::string> EveryField(Result& result) {
       text = fmt::format("{}", fmt::join(field, " "));
     } else if constexpr (std::is_same_v<Field, Estimate>) {
       text = fmt::format("{} ± {}", field.value, field.sigma);
+    } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
+      for (const Estimate& e : field) text += fmt::format("{} ± {}; ", e.value, e.sigma);
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
       text = fmt::format("{}", fmt::join(field.values, " "));
     } else {
@@ -82,6 +89,10 @@ TEST_CASE("result_fields: every listed field of a bar's rebounds is written and 
 
 TEST_CASE("result_fields: every listed field of a cell's calibration is written and read back") {
   CheckRoundTrip<CellCalibration>();
+}
+
+TEST_CASE("result_fields: every listed field of a contact law's fit is written and read back") {
+  CheckRoundTrip<ContactLawFit>();
 }
 
 TEST_CASE("result_fields: a field that holds nothing is left out and reads back as nothing") {

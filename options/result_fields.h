@@ -13,22 +13,21 @@
 // back (WriteFields, ReadFields in io/result_fields_hdf5.h): a field added to
 // the list is stored and restored with nothing else to change. How a field is
 // stored follows from its type:
-//   double             a scalar dataset, with its units
-//   std::vector<double> a 1-D dataset (none when empty; read back empty)
-//   Estimate           a dataset and `<name>_std_error` (none when {0, 0}: not known)
-//   SquareMatrix       a 2-D dataset, n x n (none when empty)
-//   std::string        an attribute of the result's group
-//   int                an integer attribute of the result's group
+//   double                 a scalar dataset, with its units
+//   std::vector<double>    a 1-D dataset (none when empty; read back empty)
+//   Estimate               a dataset and `<name>_std_error` (none when {0, 0}: not known)
+//   std::vector<Estimate>  two 1-D datasets, `<name>` and `<name>_std_error` (none when empty)
+//   SquareMatrix           a 2-D dataset, n x n (none when empty)
+//   std::string            an attribute of the result's group
+//   int, bool              an integer attribute of the result's group (bool: 0 or 1)
 // The meaning is for the documentation (docs/results.md lists every name).
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <string>
-#include <string_view>
+#include <type_traits>
 #include <vector>
-
-#include "io/units.h"
 
 namespace impactlab {
 
@@ -41,24 +40,6 @@ enum class Quantity {
   kLength,
   kSpeed,
 };
-
-inline std::string UnitOf(Quantity quantity, const UnitLabels& units) {
-  switch (quantity) {
-    case Quantity::kDimensionless:
-      return "1";
-    case Quantity::kSeconds:
-      return "s";
-    case Quantity::kVolts:
-      return "V";
-    case Quantity::kVoltsSquared:
-      return "V^2";
-    case Quantity::kLength:
-      return units.length;
-    case Quantity::kSpeed:
-      return units.speed;
-  }
-  return "1";
-}
 
 // An n x n matrix, row-major (a covariance); empty when not known.
 struct SquareMatrix {
