@@ -120,6 +120,21 @@ TEST_CASE("trace_session: with noisy traces the maxima stay within their reporte
   }
 }
 
+// The session in `dir` with its calibration `id` ("R" or "L") swung from
+// `x0` instead (its trace and its X0 replaced).
+Session WithCellCalibratedAt(const std::filesystem::path& dir, const std::string& id, double x0,
+                             double noise_volts) {
+  WriteSession(dir / "other", x0, noise_volts);
+  const std::string file = id + ".csv";
+  std::filesystem::copy_file(dir / "other" / "traces" / file, dir / "traces" / file,
+                             std::filesystem::copy_options::overwrite_existing);
+  Session session = ReadManifest(dir).session;
+  for (Calibration& c : session.calibrations) {
+    if (c.id == id) c.initial_displacement = x0;
+  }
+  return session;
+}
+
 // The warnings of a reduce of the session in `dir` that mention `about`.
 std::vector<std::string> WarningsAbout(const std::filesystem::path& dir, const std::string& about) {
   std::vector<std::string> found;
@@ -158,12 +173,7 @@ TEST_CASE("trace_session: one bar's release off while the other's agrees names t
   // warning names the left trace's voltage scale and its calibration, not X0.
   testing::TempDir dir;
   WriteSession(dir.path(), 0.405, 0.005);
-  WriteSession(dir.path() / "large", 0.5, 0.005);
-  std::filesystem::copy_file(dir.path() / "large" / "traces" / "L.csv",
-                             dir.path() / "traces" / "L.csv",
-                             std::filesystem::copy_options::overwrite_existing);
-  Session session = ReadManifest(dir.path()).session;
-  session.calibrations[1].initial_displacement = 0.5;
+  const Session session = WithCellCalibratedAt(dir.path(), "L", 0.5, 0.005);
   const auto release_warnings = [&] {
     std::vector<std::string> found;
     for (const std::string& w : ReduceSession(session, {}).warnings) {
@@ -236,12 +246,7 @@ TEST_CASE("trace_session: a calibration that does not cover the run is refused")
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
   // Recalibrate from a smaller swing: the run's larger displacements fall outside.
-  WriteSession(dir.path() / "small", 0.2, 0.0);
-  std::filesystem::copy_file(dir.path() / "small" / "traces" / "R.csv",
-                             dir.path() / "traces" / "R.csv",
-                             std::filesystem::copy_options::overwrite_existing);
-  Session session = ReadManifest(dir.path()).session;
-  session.calibrations[0].initial_displacement = 0.2;
+  const Session session = WithCellCalibratedAt(dir.path(), "R", 0.2, 0.0);
   const SessionResult result = ReduceSession(session, {});
   CHECK_FALSE(result.runs[0].ok);
   CHECK_THAT(result.runs[0].reason, Catch::Contains("does not cover"));
