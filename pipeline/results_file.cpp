@@ -343,26 +343,15 @@ void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary
   f.SetAttribute(g, "status", fit.Status());
   if (fit.parameters.empty()) return;
   if (fit.ok) f.SetAttribute(g, "termination", fit.termination);
-  f.SetAttribute(g, "converged", static_cast<long long>(fit.converged));
-  f.SetAttribute(g, "identifiable", static_cast<long long>(fit.identifiable));
-  f.SetAttribute(g, "rank", static_cast<long long>(fit.rank));
-  f.SetAttribute(g, "identifiability", fit.identifiability);
-  f.SetAttribute(g, "dof", static_cast<long long>(fit.dof));
+  WriteFields(f, out.x, g, fit, out.u);
   WriteNamedEstimates(out, g, fit.parameters);
-  f.WriteScalar(g + "/chi2", fit.chi2, "1");
-  f.SetAttribute(g, "excess_scatter", static_cast<long long>(fit.scatter.excess));
-  f.WriteScalar(g + "/birge_ratio", fit.scatter.birge_ratio, "1");
-  f.WriteScalar(g + "/chi2_p_value", fit.scatter.p_value, "1");
   for (const NamedEstimate& p : fit.parameters) {
     f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
                   UnitsOf(p.units, out.u));
   }
-  f.WriteScalar(g + "/seconds", fit.seconds, "s");
-  if (!fit.predicted_xmax.empty()) {
-    f.WriteVector(g + "/predicted_xmax", fit.predicted_xmax, out.u.length);
-    if (!rebound_scale.empty()) out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
+  if (!fit.predicted_xmax.empty() && !rebound_scale.empty()) {
+    out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
   }
-  f.WriteVector(g + "/normalized_residuals", fit.normalized_residuals, "1");
   const std::size_t n = fit.covariance_names.size();
   if (n > 0) {
     out.x.WriteMatrix(g + "/correlation", n, n, fit.correlation, "1");
@@ -385,21 +374,8 @@ LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const s
     if (fit.ok) fit.termination = f.ReadStringAttribute(g, "termination");
     if (!f.Exists(g + "/parameter_names")) return fit;  // the fit did not run
   }
-  fit.converged = f.ReadIntegerAttribute(g, "converged") != 0;
-  fit.identifiable = f.ReadIntegerAttribute(g, "identifiable") != 0;
-  fit.rank = static_cast<int>(f.ReadIntegerAttribute(g, "rank"));
-  fit.identifiability = f.ReadStringAttribute(g, "identifiability");
-  fit.dof = static_cast<int>(f.ReadIntegerAttribute(g, "dof"));
+  ReadFields(f, g, fit);
   fit.parameters = ReadNamedEstimates(f, g);
-  fit.chi2 = f.ReadScalar(g + "/chi2");
-  if (f.Exists(g + "/birge_ratio")) {  // since layout 2's issue-18 additions
-    fit.scatter.birge_ratio = f.ReadScalar(g + "/birge_ratio");
-    fit.scatter.p_value = f.ReadScalar(g + "/chi2_p_value");
-    fit.scatter.excess = f.ReadIntegerAttribute(g, "excess_scatter") != 0;
-  }
-  fit.seconds = f.ReadScalar(g + "/seconds");
-  fit.predicted_xmax = ReadVectorIfPresent(f, g + "/predicted_xmax");
-  fit.normalized_residuals = f.ReadVector(g + "/normalized_residuals");
   if (in.layout == 1) {
     fit.covariance_names = EstimateNamesOf(f.ReadStrings(g + "/covariance_names"));
     fit.correlation = f.ReadVector(g + "/correlation");

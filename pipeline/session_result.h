@@ -47,6 +47,31 @@ struct LeastSquaresSummary {
   std::vector<double> correlation;  // n x n, row-major
 
   std::string Status() const { return ok ? "ok" : "failed: " + reason; }
+
+  // What the results file keeps as fields of a fit that ran
+  // (options/result_fields.h). The status, the solver's termination (only
+  // when ok), the parameters by name and the correlation with its names are
+  // stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("converged", self.converged, Quantity::kDimensionless, "1 when the solver converged");
+    visit("identifiable", self.identifiable, Quantity::kDimensionless,
+          "1 when the data determine every parameter");
+    visit("rank", self.rank, Quantity::kDimensionless, "the Jacobian's numerical rank");
+    visit("identifiability", self.identifiability, Quantity::kDimensionless,
+          "which combination is not determined, in words");
+    visit("dof", self.dof, Quantity::kDimensionless, "degrees of freedom");
+    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
+    visit("excess_scatter", self.scatter.excess, Quantity::kDimensionless,
+          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
+    visit("birge_ratio", self.scatter.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
+    visit("chi2_p_value", self.scatter.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
+    visit("seconds", self.seconds, Quantity::kSeconds, "the fit's wall time");
+    visit("predicted_xmax", self.predicted_xmax, Quantity::kLength,
+          "the fitted model's maxima, rebound 0, 1, ...");
+    visit("normalized_residuals", self.normalized_residuals, Quantity::kDimensionless,
+          "(measured - model) / sigma per maximum");
+  }
 };
 
 // A digitized photo as the report shows it: the photo with the grid and

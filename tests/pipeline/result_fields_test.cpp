@@ -95,6 +95,11 @@ TEST_CASE("result_fields: every listed field of a contact law's fit is written a
   CheckRoundTrip<ContactLawFit>();
 }
 
+TEST_CASE(
+    "result_fields: every listed field of a run's least-squares fit is written and read back") {
+  CheckRoundTrip<LeastSquaresSummary>();
+}
+
 TEST_CASE("result_fields: a field that holds nothing is left out and reads back as nothing") {
   testing::TempDir dir;
   BarRebounds bar;
