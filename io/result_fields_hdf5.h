@@ -2,6 +2,7 @@
 // of a results file, field by field as its list says.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -29,6 +30,8 @@ inline std::string UnitOf(Quantity quantity, const UnitLabels& units) {
       return units.length;
     case Quantity::kSpeed:
       return units.speed;
+    case Quantity::kHertz:
+      return "Hz";
   }
   return "1";
 }
@@ -54,6 +57,11 @@ void WriteFields(Hdf5File& f, const Hdf5Extras& extras, const std::string& group
           if (field.value != 0.0 || field.sigma != 0.0) {
             f.WriteScalar(path, field.value, unit);
             f.WriteScalar(path + "_std_error", field.sigma, unit);
+          }
+        } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
+          if (field) {
+            f.WriteScalar(path, field->value, unit);
+            f.WriteScalar(path + "_std_error", field->sigma, unit);
           }
         } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
           if (!field.empty()) {
@@ -99,6 +107,9 @@ void ReadFields(const Hdf5File& f, const std::string& group, Result& result) {
         field = f.ReadVector(path);
       } else if constexpr (std::is_same_v<Field, Estimate>) {
         field = {f.ReadScalar(path), f.ReadScalarIfPresent(path + "_std_error").value_or(0.0)};
+      } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
+        field =
+            Estimate{f.ReadScalar(path), f.ReadScalarIfPresent(path + "_std_error").value_or(0.0)};
       } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
         const std::vector<double> values = f.ReadVector(path);
         const std::vector<double> sigmas = f.Exists(path + "_std_error")

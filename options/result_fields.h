@@ -16,6 +16,7 @@
 //   double                 a scalar dataset, with its units
 //   std::vector<double>    a 1-D dataset (none when empty; read back empty)
 //   Estimate               a dataset and `<name>_std_error` (none when {0, 0}: not known)
+//   std::optional<Estimate> the same, none when empty
 //   std::vector<Estimate>  two 1-D datasets, `<name>` and `<name>_std_error` (none when empty)
 //   SquareMatrix           a 2-D dataset, n x n (none when empty)
 //   std::string            an attribute of the result's group
@@ -25,6 +26,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -39,6 +41,7 @@ enum class Quantity {
   kVoltsSquared,
   kLength,
   kSpeed,
+  kHertz,
 };
 
 // An n x n matrix, row-major (a covariance); empty when not known.

@@ -544,11 +544,7 @@ std::optional<Estimate> ReadOptionalEstimate(const Hdf5File& f, const std::strin
 void WriteLogChannel(Out& out, const std::string& k, const LogChannelResult& c) {
   Hdf5File& f = out.f;
   f.CreateGroup(k);
-  f.SetAttribute(k, "channel_units", c.units);
-  f.SetAttribute(k, "frequency_source", c.frequency_source);
-  f.SetAttribute(k, "frequency_mismatch", static_cast<long long>(c.frequency_mismatch));
-  WriteOptionalEstimate(f, k + "/dominant_frequency", c.dominant_frequency_hz, "Hz");
-  WriteOptionalEstimate(f, k + "/damping_ratio", c.damping_ratio, "1");
+  WriteFields(f, out.x, k, c, out.u);
   if (!c.spectrum_frequency_hz.empty()) {
     WriteCurve(out, k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz", k + "/spectrum/psd",
                c.spectrum_psd, "(" + c.units + ")^2/Hz");
@@ -564,11 +560,7 @@ LogChannelResult ReadLogChannel(const Hdf5File& f, const std::string& k,
                                 const std::string& channel) {
   LogChannelResult c;
   c.channel = channel;
-  c.units = f.ReadStringAttribute(k, "channel_units");
-  c.frequency_source = f.ReadStringAttribute(k, "frequency_source");
-  c.frequency_mismatch = f.ReadIntegerAttribute(k, "frequency_mismatch") != 0;
-  c.dominant_frequency_hz = ReadOptionalEstimate(f, k + "/dominant_frequency");
-  c.damping_ratio = ReadOptionalEstimate(f, k + "/damping_ratio");
+  ReadFields(f, k, c);
   c.spectrum_frequency_hz = ReadVectorIfPresent(f, k + "/spectrum/frequency");
   c.spectrum_psd = ReadVectorIfPresent(f, k + "/spectrum/psd");
   c.notes = f.ReadStrings(k + "/notes");

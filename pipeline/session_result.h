@@ -258,6 +258,22 @@ struct LogChannelResult {
   std::vector<double> spectrum_frequency_hz, spectrum_psd;  // post-impact (or whole), for plots
   std::vector<double> series_time_s, series_value;          // the channel over time, decimated
   std::vector<std::string> notes;
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // spectrum, the series and the notes are stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("channel_units", self.units, Quantity::kDimensionless,
+          "the channel's values' units: rad, m/s^2 or SI");
+    visit("frequency_source", self.frequency_source, Quantity::kDimensionless,
+          "fit, fft post_impact or fft whole");
+    visit("frequency_mismatch", self.frequency_mismatch, Quantity::kDimensionless,
+          "1 when the FFT peak and the fitted frequency disagree");
+    visit("dominant_frequency", self.dominant_frequency_hz, Quantity::kHertz,
+          "the channel's dominant frequency (none: no oscillation)");
+    visit("damping_ratio", self.damping_ratio, Quantity::kDimensionless,
+          "its mode's damping ratio");
+  }
 };
 
 struct LogSourceResult {

@@ -32,6 +32,8 @@ void FillEveryField(Result& result) {
       field = {v, -v, 2 * v};
     } else if constexpr (std::is_same_v<Field, Estimate>) {
       field = {v, v / 8};
+    } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
+      field = Estimate{v, v / 16};
     } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
       field = {{v, v / 8}, {-v, v / 4}};
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
@@ -57,6 +59,8 @@ std::vector<std::string> EveryField(Result& result) {
       text = fmt::format("{}", fmt::join(field, " "));
     } else if constexpr (std::is_same_v<Field, Estimate>) {
       text = fmt::format("{} ± {}", field.value, field.sigma);
+    } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
+      text = field ? fmt::format("{} ± {}", field->value, field->sigma) : "none";
     } else if constexpr (std::is_same_v<Field, std::vector<Estimate>>) {
       for (const Estimate& e : field) text += fmt::format("{} ± {}; ", e.value, e.sigma);
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
@@ -98,6 +102,11 @@ TEST_CASE("result_fields: every listed field of a contact law's fit is written a
 TEST_CASE(
     "result_fields: every listed field of a run's least-squares fit is written and read back") {
   CheckRoundTrip<LeastSquaresSummary>();
+}
+
+TEST_CASE(
+    "result_fields: every listed field of a log channel's analysis is written and read back") {
+  CheckRoundTrip<LogChannelResult>();
 }
 
 TEST_CASE("result_fields: a field that holds nothing is left out and reads back as nothing") {
