@@ -10,7 +10,7 @@
 #include <string>
 
 #include "io/session.h"
-#include "pipeline/reduce.h"
+#include "pipeline/reduce_options.h"
 #include "pipeline/session_result.h"
 
 namespace impactlab {
