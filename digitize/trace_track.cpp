@@ -31,6 +31,10 @@ constexpr double kAwayDiv = 0.1;
 // the trace (StrayExcursions); the course is sought again without the
 // candidates within kStrayClearDiv of it (a label's strokes stacked).
 constexpr double kStrayJumpDiv = 1.0, kStrayClearDiv = 0.5;
+// A course is sought again at most this many times without what one check
+// (lines beyond the face, strays) found on it: the course sought anew may
+// take another such line or stray (a second scratch, a ring's other arc).
+constexpr int kRounds = 3;
 // A peak beside a point the user gave (TraceSettings::points_px) earns this
 // much more: more than any detour to reach it costs (a restart costs
 // 3, course_search.cpp), so the best path passes through every hinted point.
@@ -237,6 +241,237 @@ class HintedPoints {
   std::vector<cv::Point2d> points_;  // (column, row), by column
 };
 
+// Thin lines that run on beyond the CRT's face: a scratch or a hair on the
+// print, the film or the glass. The beam draws nowhere beyond the face (the
+// phosphor reaches kOverscanDiv past the graticule), so a line that the
+// course follows and that goes on, unbroken and nearly straight, well past
+// the face into the bezel or the page round a printed figure, is not the
+// trace, however well it pays column by column (a continuous line crossing
+// a dotted trace out-earns the dots; a faint or bold trace loses to it).
+//
+// The line must be followed this far beyond the face, divisions: past the
+// face's own edge and the bezel's lip (which a follower crossing it sees
+// for a pixel or two), into the bezel or the page.
+constexpr double kBeyondFaceDiv = 0.5;
+// The course's stretches tried: this long, divisions, and straight to
+// kStraightPx working pixels RMS (a trace's bend is not a scratch).
+constexpr double kStraightWindowDiv = 0.25;
+constexpr double kStraightPx = 0.6;
+// A line is followed across gaps up to this long, divisions (where it
+// crosses something darker, or its own ink thins), and while it turns no
+// more than kMaxLineTurnDeg from where it started: a scratch curls
+// gently, a trace's course turns away.
+constexpr double kLineGapDiv = 0.08;
+constexpr double kMaxLineTurnDeg = 30.0;
+constexpr double kMaxLineBendDeg = 12.0, kBendChordDiv = 0.3;
+// It is followed while it stands this share of the course's own peaks
+// above the ground (and above the noise).
+constexpr double kLineShare = 0.35;
+// Candidates within this of a line found (divisions, at least 1.5 strip
+// pixels) are withdrawn: the line's width and the follower's error.
+constexpr double kLineClearDiv = 0.05;
+
+class ThroughLines {
+ public:
+  ThroughLines(const PreparedPhoto& photo, const GraticuleFit& graticule, const Strip& strip,
+               const TrackGrid& grid, double noise_floor)
+      : photo_(photo),
+        mapping_(graticule.mapping),
+        screen_from_pixel_(graticule.mapping),
+        strip_(strip),
+        grid_(grid),
+        half_width_(0.5 * graticule.divisions[0]),
+        half_height_(0.5 * graticule.divisions[1]),
+        noise_floor_(noise_floor) {}
+
+  // Withdraws from `nodes` the candidates lying on the lines beyond the face
+  // that `chosen` (a course through `nodes`) follows; returns how many lines.
+  int Withdraw(const std::vector<Chosen>& chosen, std::vector<std::vector<Node>>& nodes) const {
+    const int window =
+        std::max(6, static_cast<int>(std::lround(kStraightWindowDiv * grid_.px_per_div)));
+    std::vector<std::vector<cv::Point2d>> lines;
+    std::size_t first = 0;
+    for (std::size_t i = 1; i <= chosen.size(); ++i) {
+      if (i < chosen.size() && chosen[i].link == CoarsePath::kOnCourse) continue;
+      // chosen[first, i) is one stretch of the course, between restarts.
+      for (std::size_t a = first; a < i; a += std::max<std::size_t>(1, window / 4)) {
+        std::size_t b = a;
+        while (b < i && chosen[b].column < chosen[a].column + window) ++b;
+        if (b == i && chosen[b - 1].column - chosen[a].column < window - 2) break;
+        // Nearly every column seen: a line, not a chopper's dots.
+        if (4 * (b - a) < static_cast<std::size_t>(3 * window)) continue;
+        std::vector<cv::Point2d> points;  // working pixels
+        std::vector<float> values;
+        for (std::size_t k = a; k < b; ++k) {
+          const Node& n = nodes[chosen[k].column][chosen[k].index];
+          points.push_back(WorkingOf(n.column, n.row));
+          values.push_back(n.value);
+        }
+        if (OnLines(lines, points[points.size() / 2])) continue;
+        const double floor = std::max(noise_floor_, kLineShare * MedianOf(values));
+        std::vector<cv::Point2d> line = Beyond(points, floor);
+        if (!line.empty()) lines.push_back(std::move(line));
+      }
+      first = i;
+    }
+    for (const std::vector<cv::Point2d>& line : lines) Clear(line, nodes);
+    return static_cast<int>(lines.size());
+  }
+
+ private:
+  cv::Point2d WorkingOf(int column, double row) const {
+    return photo_.WorkingFromPhoto(ImageFromScreen(mapping_, {grid_.XOf(column), strip_.YOf(row)}));
+  }
+
+  // How far beyond the face a working pixel lies, divisions (<= 0: on it).
+  double BeyondFace(cv::Point2d working) const {
+    const cv::Point2d s = screen_from_pixel_(photo_.PhotoFromWorking(working));
+    return std::max({-kOverscanDiv - s.x, s.x - 2.0 * half_width_ - kOverscanDiv,
+                     std::abs(s.y) - half_height_ - kOverscanDiv});
+  }
+
+  float RidgeAt(cv::Point2d p) const {
+    const cv::Mat1f& r = photo_.ridge;
+    if (!(p.x >= 0.0 && p.y >= 0.0 && p.x < r.cols - 1 && p.y < r.rows - 1)) return 0.0f;
+    const int x = static_cast<int>(p.x), y = static_cast<int>(p.y);
+    const float fx = static_cast<float>(p.x - x), fy = static_cast<float>(p.y - y);
+    return (r(y, x) * (1 - fx) + r(y, x + 1) * fx) * (1 - fy) +
+           (r(y + 1, x) * (1 - fx) + r(y + 1, x + 1) * fx) * fy;
+  }
+
+  // Follows a thin bright line from `start` along `direction` (working
+  // pixels), a pixel a step, re-centred on the brightest of five points
+  // across it within a pixel; stops after a gap longer than kLineGapDiv,
+  // a turn of more than kMaxLineTurnDeg or at the image's edge. Returns
+  // where it saw the line.
+  std::vector<cv::Point2d> Follow(cv::Point2d start, cv::Point2d direction, double floor) const {
+    const int max_miss = std::max(2, static_cast<int>(std::lround(kLineGapDiv * grid_.px_per_div)));
+    const double min_cos = std::cos(kMaxLineTurnDeg * 3.14159265358979 / 180.0);
+    const cv::Point2d initial = direction;
+    const std::size_t chord = std::max<std::size_t>(
+        8, static_cast<std::size_t>(std::lround(kBendChordDiv * grid_.px_per_div)));
+    const double max_bend_cos = std::cos(kMaxLineBendDeg * 3.14159265358979 / 180.0);
+    const int max_steps = 2 * (photo_.ridge.cols + photo_.ridge.rows);
+    std::vector<cv::Point2d> seen;
+    cv::Point2d p = start, d = direction;
+    for (int step = 0, miss = 0; step < max_steps && miss <= max_miss; ++step) {
+      p += d;
+      if (!(p.x >= 1.0 && p.y >= 1.0 && p.x < photo_.ridge.cols - 2 && p.y < photo_.ridge.rows - 2))
+        break;
+      const cv::Point2d n(-d.y, d.x);
+      double best = -1.0, offset = 0.0;
+      for (const double o : {0.0, -0.5, 0.5, -1.0, 1.0}) {
+        const double v = RidgeAt(p + o * n);
+        if (v > best) best = v, offset = o;
+      }
+      if (best < floor) {
+        ++miss;
+        continue;
+      }
+      miss = 0;
+      p += 0.5 * offset * n;
+      d += 0.05 * offset * n;
+      d *= 1.0 / std::hypot(d.x, d.y);
+      if (d.dot(initial) < min_cos) break;
+      seen.push_back(p);
+      // A line bending within a few tenths of a division (chords of
+      // `chord` steps turning by more than kMaxLineBendDeg) is a trace's
+      // swing, not a scratch: it stops where it began to bend.
+      const std::size_t k = seen.size() - 1;
+      if (k >= 2 * chord) {
+        const cv::Point2d a = seen[k - chord] - seen[k - 2 * chord], b = seen[k] - seen[k - chord];
+        if (a.dot(b) < max_bend_cos * std::hypot(a.x, a.y) * std::hypot(b.x, b.y)) {
+          seen.resize(k - chord);
+          break;
+        }
+      }
+    }
+    return seen;
+  }
+
+  // The line through `points` (a straight stretch of the course, working
+  // pixels) followed both ways, when it runs on beyond the face; else empty.
+  std::vector<cv::Point2d> Beyond(const std::vector<cv::Point2d>& points, double floor) const {
+    cv::Point2d mean(0.0, 0.0);
+    for (const cv::Point2d& p : points) mean += p;
+    mean *= 1.0 / points.size();
+    double sxx = 0.0, sxy = 0.0, syy = 0.0;
+    for (const cv::Point2d& p : points) {
+      const cv::Point2d d = p - mean;
+      sxx += d.x * d.x, sxy += d.x * d.y, syy += d.y * d.y;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+    cv::Point2d u(std::cos(angle), std::sin(angle));
+    if ((points.back() - points.front()).dot(u) < 0.0) u = -u;
+    const cv::Point2d n(-u.y, u.x);
+    double residual2 = 0.0;
+    for (const cv::Point2d& p : points) residual2 += std::pow((p - mean).dot(n), 2);
+    if (residual2 > kStraightPx * kStraightPx * points.size()) return {};
+    const cv::Point2d head = mean + u * (points.back() - mean).dot(u);
+    const cv::Point2d tail = mean + u * (points.front() - mean).dot(u);
+    std::vector<cv::Point2d> forward = Follow(head, u, floor);
+    std::vector<cv::Point2d> backward = Follow(tail, -u, floor);
+    const auto beyond = [&](const std::vector<cv::Point2d>& seen) {
+      return std::any_of(seen.begin(), seen.end(),
+                         [&](const cv::Point2d& p) { return BeyondFace(p) >= kBeyondFaceDiv; });
+    };
+    if (!beyond(forward) && !beyond(backward)) return {};
+    std::vector<cv::Point2d> line(backward.rbegin(), backward.rend());
+    line.insert(line.end(), points.begin(), points.end());
+    line.insert(line.end(), forward.begin(), forward.end());
+    return line;
+  }
+
+  // Whether a course's point lies on a line already found.
+  bool OnLines(const std::vector<std::vector<cv::Point2d>>& lines, cv::Point2d p) const {
+    const double reach = std::max(1.5, kLineClearDiv * grid_.px_per_div);
+    for (const auto& line : lines) {
+      for (const cv::Point2d& q : line) {
+        if (std::hypot(p.x - q.x, p.y - q.y) <= reach) return true;
+      }
+    }
+    return false;
+  }
+
+  // Withdraws the candidates within kLineClearDiv of `line` (working pixels).
+  void Clear(const std::vector<cv::Point2d>& line, std::vector<std::vector<Node>>& nodes) const {
+    const double reach = std::max(1.5, kLineClearDiv * grid_.px_per_div);
+    const int columns = static_cast<int>(nodes.size());
+    std::vector<std::pair<double, double>> rows(columns, {1e300, -1e300});
+    cv::Point2d previous;
+    bool have_previous = false;
+    for (const cv::Point2d& w : line) {
+      const cv::Point2d s = screen_from_pixel_(photo_.PhotoFromWorking(w));
+      const cv::Point2d q(s.x * grid_.px_per_div, strip_.RowOf(s.y));  // column, row
+      const int steps =
+          have_previous ? std::max(1, static_cast<int>(std::ceil(2.0 * std::abs(q.x - previous.x))))
+                        : 1;
+      for (int k = 1; k <= steps; ++k) {
+        const cv::Point2d r = have_previous ? previous + (q - previous) * (1.0 * k / steps) : q;
+        const int c = static_cast<int>(std::lround(r.x));
+        if (c < 0 || c >= columns) continue;
+        rows[c].first = std::min(rows[c].first, r.y);
+        rows[c].second = std::max(rows[c].second, r.y);
+      }
+      previous = q, have_previous = true;
+    }
+    for (int c = 0; c < columns; ++c) {
+      if (rows[c].first > rows[c].second) continue;
+      std::erase_if(nodes[c], [&](const Node& n) {
+        return n.row >= rows[c].first - reach && n.row <= rows[c].second + reach;
+      });
+    }
+  }
+
+  const PreparedPhoto& photo_;
+  const GraticuleMapping& mapping_;
+  ScreenFromPixel screen_from_pixel_;
+  const Strip& strip_;
+  const TrackGrid& grid_;
+  double half_width_, half_height_;
+  double noise_floor_;
+};
+
 }  // namespace
 
 TrackGrid MakeTrackGrid(const PreparedPhoto& photo, const GraticuleFit& graticule,
@@ -341,29 +576,47 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   const int max_gap =
       std::max(1, static_cast<int>(std::lround(options.max_gap_div * grid.px_per_div)));
   std::vector<Chosen> chosen = BestCourse(columns, grid, level, step_trace, max_gap);
-  std::vector<std::vector<Node>> kept;  // the candidates without the foreign runs, if any
+  // The candidates the course was last sought on, when not all of them.
+  std::vector<std::vector<Node>> kept;
   if (!step_trace) {
+    // Without the lines it took that run on beyond the face; again while the
+    // course sought anew takes another.
+    const ThroughLines through(photo, graticule, strip, grid, noise_floor);
+    for (int round = 0; round < kRounds; ++round) {
+      std::vector<std::vector<Node>> cleared = kept.empty() ? columns : kept;
+      const int found = through.Withdraw(chosen, cleared);
+      if (found == 0) break;
+      chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
+      kept = std::move(cleared);
+    }
+  }
+  if (!step_trace) {
+    const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
     const std::vector<Chosen> suspect = ForeignRuns(chosen);
     if (!suspect.empty()) {
-      kept = columns;
+      std::vector<std::vector<Node>> without_runs = before;
       // One candidate per column at most: erasing it leaves the others valid.
-      for (const Chosen& f : suspect) kept[f.column].erase(kept[f.column].begin() + f.index);
-      std::vector<Chosen> without = BestCourse(kept, grid, level, step_trace, max_gap);
+      for (const Chosen& f : suspect) {
+        without_runs[f.column].erase(without_runs[f.column].begin() + f.index);
+      }
+      std::vector<Chosen> without = BestCourse(without_runs, grid, level, step_trace, max_gap);
       // Foreign only if the course found without the run runs elsewhere
       // there: where it passes the same way, the run was the trace's own.
-      if (RunsElsewhere(without, kept, suspect, columns, kAwayDiv * grid.px_per_div)) {
+      if (RunsElsewhere(without, without_runs, suspect, before, kAwayDiv * grid.px_per_div)) {
         chosen = std::move(without);
-      } else {
-        kept.clear();
+        kept = std::move(without_runs);
       }
     }
   }
   if (!step_trace) {
-    // Once more without an excursion onto something beside the trace.
-    const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
-    const std::vector<Chosen> stray =
-        StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
-    if (!stray.empty()) {
+    // Once more without an excursion onto something beside the trace; and
+    // again while the course sought anew takes another (a ring's other arc,
+    // a second label), a few times at most.
+    for (int round = 0; round < kRounds; ++round) {
+      const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
+      const std::vector<Chosen> stray =
+          StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
+      if (stray.empty()) break;
       std::vector<std::vector<Node>> cleared = before;
       const double reach = kStrayClearDiv * grid.px_per_div;
       for (const Chosen& c : stray) {
