@@ -29,6 +29,8 @@ constexpr double kThetaStepDeg = 0.5;
 constexpr int kThetaBins = 360;
 // How far a family's lines may turn from its dominant direction (perspective).
 constexpr double kFamilySpreadDeg = 20.0;
+// How far the two families' dominant directions may be from perpendicular.
+constexpr double kFamilyAngleDeg = 10.0;
 // A grid line must lie within this fraction of the local spacing of where the
 // progression puts it.
 constexpr double kMatchTolerance = 0.15;
@@ -38,6 +40,14 @@ constexpr double kMatchTolerance = 0.15;
 // does not, and without this check such junk fills in for faint grid lines
 // (a lattice of half the spacing then outscores the true one).
 constexpr double kDirectionToleranceDeg = 2.0;
+// ... and the family's directions turn by at most this much per line. A
+// grid seen at 25 degrees of tilt turns its lines by at most 0.7 degree per
+// division, a phone held at a steep angle by 1.4; the lines a bright speck
+// or blob casts in the Hough votes (one through it in every direction) fan
+// out by several degrees per step, and a run of them in step along the
+// transversal took the place of a faint grid's family (randomised seed
+// 1026's run 0.713: 6.6 degrees per line).
+constexpr double kMaxTurnPerLineDeg = 2.5;
 // A grid line's votes count at most this many times the lattice's typical
 // line's (the ridge points' own cap, applied to whole lines).
 constexpr double kLineVoteCap = 1.5;
@@ -153,19 +163,26 @@ class Accumulator {
   // How much direction t's votes concentrate in a few lines: the sum of its
   // strongest cells, each smoothed along rho first so that the uneven
   // projection of the pixel grid (worst at 45 degrees, where bins alternately
-  // catch one and two pixel diagonals) does not count.
+  // catch one and two pixel diagonals) does not count, and taken above the
+  // local floor of its neighbours along rho. Noise votes in every cell, in
+  // proportion to the photo's length across that direction, which is
+  // longest near the diagonals: in a noisy photo (grain, a coarse JPEG, a
+  // panel's texture) the bare sums grew toward the ends of the range
+  // searched and outweighed a faint grid (randomised seeds 1003's and 1008's
+  // runs 0.713 took directions 24 and 32 degrees off the grid's).
   double Energy(int t) const {
     constexpr int kLines = 24;
+    constexpr int kFloorHalfWidth = 8;  // bins: several times a line's width
     std::vector<double> smoothed(rho_bins_);
     const float* row = votes_.ptr<float>(t);
     smoothed[0] = smoothed[rho_bins_ - 1] = 0.0;
     for (int r = 1; r + 1 < rho_bins_; ++r) {
       smoothed[r] = 0.25 * row[r - 1] + 0.5 * row[r] + 0.25 * row[r + 1];
     }
-    std::nth_element(smoothed.begin(), smoothed.begin() + kLines, smoothed.end(),
-                     std::greater<double>());
+    std::vector<double> lifted = AboveFloor(smoothed, kFloorHalfWidth);
+    std::nth_element(lifted.begin(), lifted.begin() + kLines, lifted.end(), std::greater<double>());
     double sum = 0.0;
-    for (int i = 0; i < kLines; ++i) sum += smoothed[i];
+    for (int i = 0; i < kLines; ++i) sum += lifted[i];
     return sum;
   }
 
@@ -388,9 +405,15 @@ FamilyMatch Grow(const Candidates& candidates, int j, int k, int m, int n_lines)
     directions.emplace_back(n, theta[candidate]);
     matched.emplace_back(n, candidate);
   };
+  const double max_turn = kMaxTurnPerLineDeg * kDegree;
+  auto turns_slowly = [&](int n, int candidate) {
+    std::vector<std::pair<int, double>> with = directions;
+    with.emplace_back(n, theta[candidate]);
+    return std::abs(FitCourse(with).q) <= max_turn;
+  };
   Progression1d model = FitProgression(points);
   for (int n = 1; n < m; ++n) {
-    if (const int c = find(model, n); c >= 0) add(n, c);
+    if (const int c = find(model, n); c >= 0 && turns_slowly(n, c)) add(n, c);
   }
   model = FitProgression(points);
   course = FitCourse(directions);
@@ -412,7 +435,7 @@ FamilyMatch Grow(const Candidates& candidates, int j, int k, int m, int n_lines)
         open[side] = false;
         continue;
       }
-      if (const int c = find(model, n); c >= 0) {
+      if (const int c = find(model, n); c >= 0 && turns_slowly(n, c)) {
         add(n, c);
         model = FitProgression(points);
         course = FitCourse(directions);
@@ -474,6 +497,10 @@ std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, doub
       for (int m = 1; m <= 3; ++m) {
         const double spacing = (u[k] - u[j]) / m;
         if (spacing < min_spacing_px || spacing > max_spacing_px) continue;
+        if (std::abs(candidates.theta[k] - candidates.theta[j]) >
+            m * kMaxTurnPerLineDeg * kDegree) {
+          continue;
+        }
         FamilyMatch match = Grow(candidates, j, k, m, n_lines);
         if (!best || match.score > best->score) best = std::move(match);
       }
@@ -619,16 +646,31 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   // are the same whichever pass casts them.
   Accumulator accumulator(points, ridge.size(), unit_weight);
   accumulator.Hold(fill, kCoarse);
-  int dominant[2];
+  // The two directions are taken together, as the pair whose votes
+  // concentrate most that is within kFamilyAngleDeg of a right angle: a
+  // screen's lines are perpendicular, and the photo's rotation turns both
+  // families alike (perspective up to 25 degrees of tilt bends the angle
+  // between them by at most 3.9 degrees, a phone's by 4.4). Apart, a family
+  // whose grid lines are faint took the direction of a hair or a scratch.
+  std::vector<double> energy[2];
+  int first[2];
   for (int f = 0; f < 2; ++f) {
-    const int first = (family_lo[f] + kCoarse - 1) / kCoarse * kCoarse;
-    int best = first;
-    double best_energy = -1.0;
-    for (int t = first; t <= family_hi[f]; t += kCoarse) {
-      const double e = accumulator.Energy(t);
-      if (e > best_energy) best_energy = e, best = t;
+    first[f] = (family_lo[f] + kCoarse - 1) / kCoarse * kCoarse;
+    for (int t = first[f]; t <= family_hi[f]; t += kCoarse) {
+      energy[f].push_back(accumulator.Energy(t));
     }
-    dominant[f] = best;
+  }
+  int dominant[2] = {first[0], first[1]};
+  double best_energy = -1.0;
+  for (std::size_t i = 0; i < energy[0].size(); ++i) {
+    for (std::size_t j = 0; j < energy[1].size(); ++j) {
+      const int t0 = first[0] + kCoarse * static_cast<int>(i);
+      const int t1 = first[1] + kCoarse * static_cast<int>(j);
+      if (std::abs((t1 - t0) * kThetaStepDeg - 90.0) > kFamilyAngleDeg) continue;
+      if (energy[0][i] + energy[1][j] > best_energy) {
+        best_energy = energy[0][i] + energy[1][j], dominant[0] = t0, dominant[1] = t1;
+      }
+    }
   }
   const int spread = static_cast<int>(kFamilySpreadDeg / kThetaStepDeg);
   std::fill(fill.begin(), fill.end(), false);
