@@ -17,21 +17,6 @@ constexpr double kSearchStep = 0.5;
 // grid line would.
 constexpr double kLineCap = 1.5;
 
-// The profile above its local floor: noise votes everywhere, more where the
-// photo is wider across, and a broad hump (glare, a print's border) is no
-// line. The floor is the running median over a window of `half` either side.
-std::vector<double> AboveFloor(const std::vector<double>& profile, int half) {
-  const int size = static_cast<int>(profile.size());
-  std::vector<double> lifted(size, 0.0), window;
-  for (int i = 0; i < size; ++i) {
-    const int lo = std::max(0, i - half), hi = std::min(size - 1, i + half);
-    window.assign(profile.begin() + lo, profile.begin() + hi + 1);
-    const auto middle = window.begin() + window.size() / 2;
-    lifted[i] = std::max(0.0, profile[i] - SelectNth(window.begin(), middle, window.end()));
-  }
-  return lifted;
-}
-
 // The most the lifted profile holds within one position of `at`.
 double ToothAt(const std::vector<double>& lifted, double at) {
   const int centre = static_cast<int>(std::lround(at));
@@ -54,6 +39,18 @@ double WindowScore(const double* teeth, int n_lines, std::vector<double>& scratc
 }
 
 }  // namespace
+
+std::vector<double> AboveFloor(const std::vector<double>& profile, int half) {
+  const int size = static_cast<int>(profile.size());
+  std::vector<double> lifted(size, 0.0), window;
+  for (int i = 0; i < size; ++i) {
+    const int lo = std::max(0, i - half), hi = std::min(size - 1, i + half);
+    window.assign(profile.begin() + lo, profile.begin() + hi + 1);
+    const auto middle = window.begin() + window.size() / 2;
+    lifted[i] = std::max(0.0, profile[i] - SelectNth(window.begin(), middle, window.end()));
+  }
+  return lifted;
+}
 
 std::vector<CombLine> FindComb(const std::vector<double>& profile, int n_lines, double min_spacing,
                                double max_spacing) {

@@ -19,6 +19,12 @@ struct CombLine {
   double votes = 0.0;  // the profile's height there above its local floor
 };
 
+// `profile` above its local floor, never below 0: the running median over a
+// window of `half` positions either side. Noise votes everywhere, more where
+// the photo is wider across, and a broad hump (glare, a print's border) is
+// no line; a line a few positions wide stands above it.
+std::vector<double> AboveFloor(const std::vector<double>& profile, int half);
+
 // The best comb of `n_lines` equally spaced lines in `profile` (votes per
 // position along the transversal, one direction), spaced between
 // `min_spacing` and `max_spacing` positions; each line placed at the
