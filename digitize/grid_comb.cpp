@@ -42,12 +42,22 @@ double WindowScore(const double* teeth, int n_lines, std::vector<double>& scratc
 
 std::vector<double> AboveFloor(const std::vector<double>& profile, int half) {
   const int size = static_cast<int>(profile.size());
-  std::vector<double> lifted(size, 0.0), window;
+  std::vector<double> lifted(size, 0.0);
+  // The window [lo, hi] kept sorted as it slides: one value in and one out
+  // a step, where selecting each window's median afresh was 8 % of a photo
+  // session's reduce (the lattice floors every direction's rho profile).
+  std::vector<double> sorted;
+  sorted.reserve(2 * static_cast<std::size_t>(std::max(half, 0)) + 1);
+  int lo = 0, hi = -1;
   for (int i = 0; i < size; ++i) {
-    const int lo = std::max(0, i - half), hi = std::min(size - 1, i + half);
-    window.assign(profile.begin() + lo, profile.begin() + hi + 1);
-    const auto middle = window.begin() + window.size() / 2;
-    lifted[i] = std::max(0.0, profile[i] - SelectNth(window.begin(), middle, window.end()));
+    for (; hi < std::min(size - 1, i + half); ++hi) {
+      const double in = profile[hi + 1];
+      sorted.insert(std::upper_bound(sorted.begin(), sorted.end(), in), in);
+    }
+    for (; lo < std::max(0, i - half); ++lo) {
+      sorted.erase(std::lower_bound(sorted.begin(), sorted.end(), profile[lo]));
+    }
+    lifted[i] = std::max(0.0, profile[i] - sorted[sorted.size() / 2]);
   }
   return lifted;
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -271,6 +273,46 @@ constexpr double kLineShare = 0.35;
 // pixels) are withdrawn: the line's width and the follower's error.
 constexpr double kLineClearDiv = 0.05;
 
+// Working pixels a line follower has passed, in cells of a given size, with
+// the line's direction there.
+class FollowedCells {
+ public:
+  explicit FollowedCells(double cell_px) : cell_(cell_px) {}
+  void Add(const std::vector<cv::Point2d>& points) {
+    for (std::size_t k = 1; k < points.size(); ++k) {
+      const cv::Point2d d = points[k] - points[k - 1];
+      const double norm = std::hypot(d.x, d.y);
+      if (norm > 0.0) cells_[Key(points[k], 0, 0)] = d * (1.0 / norm);
+    }
+  }
+  // Whether `p` lies within about a cell of a point passed along a line in
+  // `direction` (either way, within kSameLineDeg).
+  bool Covers(cv::Point2d p, cv::Point2d direction) const {
+    const double norm = std::hypot(direction.x, direction.y);
+    if (!(norm > 0.0)) return false;
+    const double min_cos = std::cos(kSameLineDeg * 3.14159265358979 / 180.0);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto it = cells_.find(Key(p, dx, dy));
+        if (it != cells_.end() && std::abs(it->second.dot(direction)) >= min_cos * norm) {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  static constexpr double kSameLineDeg = 3.0;
+  long long Key(cv::Point2d p, int dx, int dy) const {
+    const long long x = static_cast<long long>(std::floor(p.x / cell_)) + dx;
+    const long long y = static_cast<long long>(std::floor(p.y / cell_)) + dy;
+    return (x << 32) ^ (y & 0xffffffffLL);
+  }
+  double cell_;
+  std::unordered_map<long long, cv::Point2d> cells_;
+};
+
 class ThroughLines {
  public:
   ThroughLines(const PreparedPhoto& photo, const GraticuleFit& graticule, const Strip& strip,
@@ -290,6 +332,7 @@ class ThroughLines {
     const int window =
         std::max(6, static_cast<int>(std::lround(kStraightWindowDiv * grid_.px_per_div)));
     std::vector<std::vector<cv::Point2d>> lines;
+    FollowedCells followed(std::max(1.5, kLineClearDiv * grid_.px_per_div));
     std::size_t first = 0;
     for (std::size_t i = 1; i <= chosen.size(); ++i) {
       if (i < chosen.size() && chosen[i].link == CoarsePath::kOnCourse) continue;
@@ -308,8 +351,12 @@ class ThroughLines {
           values.push_back(n.value);
         }
         if (OnLines(lines, points[points.size() / 2])) continue;
+        // A stretch on a line already followed both ways and found on the
+        // face alone (a long straight stretch of trace, a contact level) is
+        // not followed again from each window along it.
+        if (followed.Covers(points[points.size() / 2], points.back() - points.front())) continue;
         const double floor = std::max(noise_floor_, kLineShare * MedianOf(values));
-        std::vector<cv::Point2d> line = Beyond(points, floor);
+        std::vector<cv::Point2d> line = Beyond(points, floor, followed);
         if (!line.empty()) lines.push_back(std::move(line));
       }
       first = i;
@@ -391,7 +438,8 @@ class ThroughLines {
 
   // The line through `points` (a straight stretch of the course, working
   // pixels) followed both ways, when it runs on beyond the face; else empty.
-  std::vector<cv::Point2d> Beyond(const std::vector<cv::Point2d>& points, double floor) const {
+  std::vector<cv::Point2d> Beyond(const std::vector<cv::Point2d>& points, double floor,
+                                  FollowedCells& followed) const {
     cv::Point2d mean(0.0, 0.0);
     for (const cv::Point2d& p : points) mean += p;
     mean *= 1.0 / points.size();
@@ -415,7 +463,11 @@ class ThroughLines {
       return std::any_of(seen.begin(), seen.end(),
                          [&](const cv::Point2d& p) { return BeyondFace(p) >= kBeyondFaceDiv; });
     };
-    if (!beyond(forward) && !beyond(backward)) return {};
+    if (!beyond(forward) && !beyond(backward)) {
+      followed.Add(forward);
+      followed.Add(backward);
+      return {};
+    }
     std::vector<cv::Point2d> line(backward.rbegin(), backward.rend());
     line.insert(line.end(), points.begin(), points.end());
     line.insert(line.end(), forward.begin(), forward.end());
