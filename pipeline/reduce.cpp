@@ -414,7 +414,7 @@ bool ReleaseDisagrees(const Estimate& seen, double typed, double share) {
 // The warning for a bar whose release alone disagrees with X0.
 std::string OneBarOff(const Session& session, const Run& run, const char* cell, const Estimate& bar,
                       const Estimate& other) {
-  const std::string& other_cell = std::string(cell) == "right" ? "left" : "right";
+  const char* other_cell = std::string_view(cell) == "right" ? "left" : "right";
   std::string scale;
   if (const auto trace = run.traces.find(cell); trace != run.traces.end()) {
     scale = trace->second.csv
