@@ -1,6 +1,9 @@
 // Every listed field of a result (options/result_fields.h) survives the results
 // file: each is filled with its own value, written, read back and compared,
 // so a field added to a list is checked with nothing added here.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -107,6 +110,33 @@ TEST_CASE(
 TEST_CASE(
     "result_fields: every listed field of a log channel's analysis is written and read back") {
   CheckRoundTrip<LogChannelResult>();
+}
+
+// Whether docs/results.md names `field` as a dataset or an attribute.
+bool Documented(const std::string& docs, const std::string& field) {
+  for (const std::string& form : {"/" + field + "`", "@" + field + "`", "`" + field + "`"}) {
+    if (docs.find(form) != std::string::npos) return true;
+  }
+  return false;
+}
+
+template <typename Result>
+void CheckDocumented() {
+  std::ifstream in(std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "docs" / "results.md");
+  const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  REQUIRE_FALSE(docs.empty());
+  ForEachField<Result>([&](const char* name, Quantity, const char*) {
+    INFO(name);
+    CHECK(Documented(docs, name));
+  });
+}
+
+TEST_CASE("result_fields: docs/results.md names every listed field") {
+  CheckDocumented<BarRebounds>();
+  CheckDocumented<CellCalibration>();
+  CheckDocumented<ContactLawFit>();
+  CheckDocumented<LeastSquaresSummary>();
+  CheckDocumented<LogChannelResult>();
 }
 
 TEST_CASE("result_fields: a field that holds nothing is left out and reads back as nothing") {
