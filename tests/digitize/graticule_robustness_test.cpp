@@ -141,8 +141,9 @@ std::vector<std::pair<std::string, RandomisedPhoto>> LoadRandomisedSession(
   return photos;
 }
 
-RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const std::string& id) {
-  for (auto& [photo_id, photo] : LoadRandomisedSession(dir, seed)) {
+RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const std::string& id,
+                               bool handling = false) {
+  for (auto& [photo_id, photo] : LoadRandomisedSession(dir, seed, 0, handling)) {
     if (photo_id == id) return std::move(photo);
   }
   FAIL("no photo " << id << " in seed " << seed);
@@ -150,15 +151,16 @@ RandomisedPhoto LoadRandomised(const testing::TempDir& dir, unsigned seed, const
 }
 
 // The graticule found on randomised seed `seed`'s photo `id` (the photo's
-// own drawn size), and its worst error against the truth, px.
+// own drawn size; `handling`: with marks, tape and prints), and its worst
+// error against the truth, px.
 struct FoundGraticule {
   GraticuleFit fit;
   double worst_px = 0.0;
 };
 
-FoundGraticule FindRandomised(unsigned seed, const std::string& id) {
+FoundGraticule FindRandomised(unsigned seed, const std::string& id, bool handling = false) {
   testing::TempDir dir;
-  const RandomisedPhoto p = LoadRandomised(dir, seed, id);
+  const RandomisedPhoto p = LoadRandomised(dir, seed, id, handling);
   const GraticuleOptions options;
   GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
   const double worst = testing::WorstMappingError(fit, p.truth);
@@ -275,23 +277,11 @@ namespace impactlab {
 // line at x = -1 div too"). Taken above the local floor, and the two
 // families taken together, near perpendicular, the grid's directions win.
 TEST_CASE("graticule: a faint grid in a grainy photo is searched along the grid's directions") {
-  testing::TempDir dir;
-  bool found = false;
-  for (const auto& [id, p] : LoadRandomisedSession(dir, 1003, 0, /*handling=*/true)) {
-    if (id != "0.713") continue;
-    found = true;
-    const GraticuleOptions options;
-    const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
-    // Measured 0.59 px and 0.14 px (299 px per division).
-    CHECK(fit.residual_px < 0.8);
-    CHECK(testing::WorstMappingError(fit, p.truth) < 0.3);
-  }
-  CHECK(found);
+  const FoundGraticule found = FindRandomised(1003, "0.713", /*handling=*/true);
+  // Measured 0.59 px and 0.14 px (299 px per division).
+  CHECK(found.fit.residual_px < 0.8);
+  CHECK(found.worst_px < 0.3);
 }
-
-}  // namespace impactlab
-
-namespace impactlab {
 
 // Randomised seed 1003 (with the generator's handling), run 0.405: a
 // barrel-distorted negative whose horizontal grid lines are fainter than
@@ -303,18 +293,10 @@ namespace impactlab {
 // Matched again with the perspective the vertical lines allow, it is the grid.
 TEST_CASE(
     "graticule: a family bent by perspective the other family does not show is matched again") {
-  testing::TempDir dir;
-  bool found = false;
-  for (const auto& [id, p] : LoadRandomisedSession(dir, 1003, 0, /*handling=*/true)) {
-    if (id != "0.405") continue;
-    found = true;
-    const GraticuleOptions options;
-    const GraticuleFit fit = FindGraticule(PreparePhoto(p.photo, options), {10, 8}, options);
-    // Measured 0.87 px and 0.55 px (128 px per division, lines 5 px wide).
-    CHECK(fit.residual_px < 1.0);
-    CHECK(testing::WorstMappingError(fit, p.truth) < 0.9);
-  }
-  CHECK(found);
+  const FoundGraticule found = FindRandomised(1003, "0.405", /*handling=*/true);
+  // Measured 0.87 px and 0.55 px (128 px per division, lines 5 px wide).
+  CHECK(found.fit.residual_px < 1.0);
+  CHECK(found.worst_px < 0.9);
 }
 
 }  // namespace impactlab
