@@ -38,6 +38,43 @@ std::pair<double, double> Differences(const TwoLinkRecord& a, const TwoLinkRecor
   return {angle, acceleration};
 }
 
+// The impact law's effect on each case (docs/two-link.md, "The impact law"):
+// the incremental Coulomb law against the paper's, impact by impact.
+void PrintImpactLaws() {
+  fmt::print(
+      "\n| case | impact law | impacts | slip reversed | stuck | friction work > 0 | largest "
+      "friction work J | first impact: P_n, P_t N s | its loss J |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
+  for (int c = 0; c < 3; ++c) {
+    for (const char* law : {"incremental", "paper"}) {
+      TwoLinkParameters p = TwoLinkParameters::Nominal();
+      p.surface.impact_friction = law;
+      const TwoLinkModel model(p);
+      TwoLinkSimulationOptions options;
+      options.keep_state = false;
+      const TwoLinkRecord record = SimulateTwoLink(model, p.cases[c], options);
+      int impacts = 0, reversed = 0, stuck = 0, positive = 0;
+      double largest = -1e300;
+      const ImpactOutcome* first = nullptr;
+      for (const TwoLinkEvent& e : record.events) {
+        if (e.kind != "impact") continue;
+        ++impacts;
+        reversed +=
+            e.impact.slip_reversed ||
+            e.impact.tangential_velocity_before_m_s * e.impact.tangential_velocity_after_m_s < 0.0;
+        stuck += e.impact.sticks;
+        positive += e.impact.friction_work_j > 0.0;
+        largest = std::max(largest, e.impact.friction_work_j);
+        if (!first) first = &e.impact;
+      }
+      if (!first) continue;
+      fmt::print("| {} | {} | {} | {} | {} | {} | {:.3g} | {:.4f}, {:+.4f} | {:.4f} |\n", c + 1,
+                 law, impacts, reversed, stuck, positive, largest, first->normal_impulse_n_s,
+                 first->tangential_impulse_n_s, -(first->normal_work_j + first->friction_work_j));
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,5 +135,6 @@ int main(int argc, char** argv) {
     fmt::print("\ncase {} at t = {:.3f} s ({}):{}\n\n", c + 1, record.time_s[k],
                record.in_contact[k] ? "on the surface" : "free", list);
   }
+  PrintImpactLaws();
   return 0;
 }

@@ -55,6 +55,18 @@ void OdeIntegrator<N>::Reset(System system, const State& y, double t_s, double f
   impl_->step_s = first_step_s;
 }
 
+namespace {
+
+template <std::size_t N>
+bool AllFinite(const std::array<double, N>& values) {
+  for (double v : values) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 template <std::size_t N>
 void OdeIntegrator<N>::Step(double limit_s) {
   if (!(limit_s > t_)) {
@@ -68,6 +80,18 @@ void OdeIntegrator<N>::Step(double limit_s) {
     State y_out;
     State dydt_out;
     const auto result = impl_->controlled.try_step(system, y_, impl_->dydt, t, y_out, dydt_out, dt);
+    // odeint accepts a step whose error estimate is NaN (NaN > 1 is false):
+    // a step that leaves the finite numbers is rejected and retried shorter.
+    const bool finite = AllFinite(y_out) && AllFinite(dydt_out);
+    if (result == odeint::success && !finite) {
+      impl_->step_s = 0.25 * (clipped ? limit_s - t_ : impl_->step_s);
+      if (!(impl_->step_s > 1e-15 * std::max(1.0, std::abs(t_)))) {
+        throw std::runtime_error(fmt::format(
+            "the state is not finite after any step from t = {} s (forces beyond double range)",
+            t_));
+      }
+      continue;
+    }
     if (result == odeint::success) {
       t_prev_ = t_;
       y_prev_ = y_;

@@ -27,7 +27,10 @@ Balance Assemble(const TwoLinkModel& model, const TwoLinkVector& q, const TwoLin
   b.rhs = model.AppliedForces(q, v, voltages) - velocity_forces;
   b.solver.compute(b.mass);
   if (b.solver.info() != Eigen::Success) {
-    throw std::domain_error("two-link: the mass matrix is not positive definite");
+    throw std::domain_error(fmt::format(
+        "the mass matrix is not positive definite at beam deflections {:.3g}, {:.3g} m (a state "
+        "far outside the arm's range: a diverging or too-stiff motion)",
+        q(kBeam1Deflection), q(kBeam2Deflection)));
   }
   return b;
 }
@@ -64,42 +67,44 @@ ConstrainedAcceleration ConstrainedMotion(const TwoLinkModel& model, const TwoLi
   return out;
 }
 
+ContactImpulseLaw ImpactLawOf(const TwoLinkSurface& surface) {
+  ContactImpulseLaw law;
+  law.friction_coefficient = surface.friction_coefficient;
+  law.friction =
+      surface.impact_friction == "paper" ? ImpactFriction::kPaper : ImpactFriction::kIncremental;
+  law.restitution = surface.restitution_law == "newton"    ? RestitutionLaw::kNewton
+                    : surface.restitution_law == "poisson" ? RestitutionLaw::kPoisson
+                                                           : RestitutionLaw::kEnergetic;
+  law.restitution_coefficient = surface.restitution_coefficient;
+  return law;
+}
+
 ImpactOutcome Impact(const TwoLinkModel& model, const TwoLinkVector& q,
-                     const TwoLinkVector& velocity_before) {
+                     const TwoLinkVector& velocity_before, double plastic_below_m_s) {
   TwoLinkMatrix mass;
   TwoLinkVector unused;
   model.Inertia(q, velocity_before, &mass, &unused);
   const Solver solver(mass);
   const PointMotion tip = model.Tip(q, velocity_before);
   const Eigen::Matrix<double, 2, kTwoLinkCoordinates>& rows = tip.jacobian;  // G_n, G_t
-  const double mu = model.parameters().surface.friction_coefficient;
-
-  ImpactOutcome out;
-  out.normal_velocity_before_m_s = rows.row(0).dot(velocity_before);
-  out.tangential_velocity_before_m_s = rows.row(1).dot(velocity_before);
-
-  // Sticking: both tip velocities to zero.
   const Eigen::Matrix<double, kTwoLinkCoordinates, 2> response = solver.solve(rows.transpose());
   const Eigen::Matrix2d delassus = rows * response;
-  const Eigen::Vector2d impulse = delassus.lu().solve(-(rows * velocity_before));
-  Eigen::Vector2d applied = impulse;
-  if (impulse(0) > 0.0 && std::abs(impulse(1)) <= mu * impulse(0)) {
-    out.sticks = true;
-  } else {
-    // Sliding against the pre-impact slip (or against the impulse sticking
-    // would have needed, when there was no slip).
-    const double slip = out.tangential_velocity_before_m_s;
-    const double direction =
-        slip != 0.0 ? (slip > 0.0 ? 1.0 : -1.0) : (impulse(1) < 0.0 ? 1.0 : -1.0);
-    const TwoLinkRow loaded = rows.row(0) - mu * direction * rows.row(1);
-    const TwoLinkVector loaded_response = solver.solve(loaded.transpose());
-    applied(0) = -rows.row(0).dot(velocity_before) / rows.row(0).dot(loaded_response);
-    applied(1) = -mu * direction * applied(0);
-  }
-  out.normal_impulse_n_s = applied(0);
-  out.tangential_impulse_n_s = applied(1);
-  const TwoLinkVector generalized_impulse = rows.transpose() * applied;
-  out.velocity = velocity_before + solver.solve(generalized_impulse);
+  const Eigen::Vector2d before = rows * velocity_before;
+  ContactImpulseLaw law = ImpactLawOf(model.parameters().surface);
+  if (std::abs(before(0)) < plastic_below_m_s) law.restitution_coefficient = 0.0;
+  const ContactImpulse contact = ResolveContactImpulse(delassus, before, law);
+
+  ImpactOutcome out;
+  out.normal_velocity_before_m_s = before(0);
+  out.tangential_velocity_before_m_s = before(1);
+  out.normal_impulse_n_s = contact.impulse(0);
+  out.tangential_impulse_n_s = contact.impulse(1);
+  out.sticks = contact.sticks;
+  out.slip_reversed = contact.slip_reversed;
+  out.normal_work_j = contact.normal_work_j;
+  out.friction_work_j = contact.friction_work_j;
+  const TwoLinkVector generalized_impulse = rows.transpose() * contact.impulse;
+  out.velocity = velocity_before + response * contact.impulse;
   out.normal_velocity_after_m_s = rows.row(0).dot(out.velocity);
   out.tangential_velocity_after_m_s = rows.row(1).dot(out.velocity);
   const double scale = (mass * velocity_before).norm();

@@ -9,12 +9,13 @@
 //   constrained:  M q'' = Q - h + W^T lambda,  G_n q'' = -a0_n
 //                 (lambda the surface's normal force, eq. 20; the tip stays
 //                 on the surface while lambda > 0)
-//   impact:       M (q'+ - q'-) = G_n^T P_n + G_t^T P_t,  G_n q'+ = 0
-//                 (the generalized momentum equations 22-26 with the tip's
-//                 normal velocity taken to zero); sticking, G_t q'+ = 0, when
-//                 it needs |P_t| <= mu P_n, else sliding with P_t = -mu s P_n.
+//   impact:       M (q'+ - q'-) = G_n^T P_n + G_t^T P_t  (the generalized
+//                 momentum equations 22-26), P from the contact's impact law
+//                 (multibody/contact_impulse.h: Coulomb friction at every
+//                 instant of the impulse; plastic, the paper's, by default).
 #pragma once
 
+#include "multibody/contact_impulse.h"
 #include "multibody/two_link_model.h"
 
 namespace impactlab {
@@ -34,14 +35,23 @@ struct ImpactOutcome {
   TwoLinkVector velocity = TwoLinkVector::Zero();  // q'+
   double normal_impulse_n_s = 0.0;
   double tangential_impulse_n_s = 0.0;
-  bool sticks = false;
+  bool sticks = false;         // the tip's slip is 0 after it
+  bool slip_reversed = false;  // the slip stopped during the impulse and resumed the other way
+  // The work of the normal and the friction impulse (their sum is the
+  // kinetic energy's change; friction's is never positive).
+  double normal_work_j = 0.0, friction_work_j = 0.0;
   double normal_velocity_before_m_s = 0.0, tangential_velocity_before_m_s = 0.0;
   double normal_velocity_after_m_s = 0.0, tangential_velocity_after_m_s = 0.0;
   // |M (q'+ - q'-) - G^T P| / |M q'-|: the momentum equations' residual.
   double momentum_residual = 0.0;
 };
+// The impact at configuration q by the surface's impact law; one approaching
+// slower than plastic_below_m_s is plastic whatever the restitution (where
+// bounces accumulate, the contact becomes persistent).
 ImpactOutcome Impact(const TwoLinkModel& model, const TwoLinkVector& q,
-                     const TwoLinkVector& velocity_before);
+                     const TwoLinkVector& velocity_before, double plastic_below_m_s = 0.0);
+
+ContactImpulseLaw ImpactLawOf(const TwoLinkSurface& surface);
 
 // In constrained motion q4 is the dependent coordinate (the document's), or
 // q1 where link 2 turns along the surface (|dg/dq4| small).

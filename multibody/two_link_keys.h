@@ -2,6 +2,9 @@
 // the reader, the writer, the checks and the docs' test all walk.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "multibody/two_link_parameters.h"
 
 namespace impactlab {
@@ -62,6 +65,8 @@ void VisitTwoLinkKeys(Parameters& p, Visit&& visit) {
         "kinetic mu");
   visit("surface", "slip_velocity_m_s", p.surface.slip_velocity_m_s, R::kPositive,
         "friction's regularisation speed, m/s");
+  visit("surface", "restitution_coefficient", p.surface.restitution_coefficient, R::kNonNegative,
+        "the impact's e, at most 1 (0: plastic)");
   visit("sensors", "counts_per_rev", p.sensors.counts_per_rev, R::kPositive,
         "encoder counts per motor turn");
   visit("sensors", "beam_sensitivity_v_per_g", p.sensors.beam_sensitivity_v_per_g, R::kPositive,
@@ -83,6 +88,18 @@ void VisitTwoLinkKeys(Parameters& p, Visit&& visit) {
   experiment("case1", p.cases[0]);
   experiment("case2", p.cases[1]);
   experiment("case3", p.cases[2]);
+}
+
+// The keys whose value is one of a few words:
+// visit(section, key, value&, allowed words, description), in file order.
+template <typename Parameters, typename Visit>
+void VisitTwoLinkChoices(Parameters& p, Visit&& visit) {
+  static const std::vector<std::string> restitution_laws = {"energetic", "newton", "poisson"};
+  static const std::vector<std::string> impact_frictions = {"incremental", "paper"};
+  visit("surface", "restitution_law", p.surface.restitution_law, restitution_laws,
+        "how e ends the impulse: energetic (Stronge), newton or poisson");
+  visit("surface", "impact_friction", p.surface.impact_friction, impact_frictions,
+        "friction during the impulse: incremental (Coulomb at every instant) or paper");
 }
 
 }  // namespace impactlab

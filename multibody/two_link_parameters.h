@@ -64,6 +64,11 @@ struct TwoLinkSurface {
   double distance_m = 0.025;          // the line x = -distance
   double friction_coefficient = 0.2;  // kinetic Coulomb mu
   double slip_velocity_m_s = 1e-3;  // friction is mu N v / sqrt(v^2 + v_s^2) (eq. 21, regularised)
+  // The impact law (multibody/contact_impulse.h): e in [0, 1] (0: plastic,
+  // the paper's), how it ends the impulse, and how friction acts during it.
+  double restitution_coefficient = 0.0;
+  std::string restitution_law = "energetic";    // "newton", "poisson" or "energetic"
+  std::string impact_friction = "incremental";  // "incremental" or "paper"
 };
 
 // Where the sensors sit and what the experiment's logger adds.
@@ -101,6 +106,10 @@ struct TwoLinkCase {
   double duration_s = 5.0;
   bool sanding = false;  // drive by TwoLinkSanding instead of constant voltages
 };
+
+// The most samples a case may log (sample rate x duration): beyond it a
+// record's memory, not the physics, is what limits.
+inline constexpr double kTwoLinkMaxSamples = 2e6;
 
 struct TwoLinkParameters {
   TwoLinkBeam beam1, beam2;

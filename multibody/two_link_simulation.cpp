@@ -1,8 +1,10 @@
 #include "multibody/two_link_simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -22,6 +24,55 @@ using State = Integrator::State;
 // again at once (Zeno chatter at one instant).
 constexpr double kContactTolerance = 1e-12;  // m
 
+// The model's fastest rate, 1/s, and what sets it: what makes an explicit
+// integrator's steps small. Each candidate's rate from its closed form.
+struct Rate {
+  double per_s = 0.0;
+  std::string what;
+  std::string Describe() const {
+    return fmt::format("the fastest rate in the model is {}, {:.3g} /s", what, per_s);
+  }
+};
+
+Rate FastestRate(const TwoLinkParameters& p) {
+  std::vector<std::pair<double, std::string>> rates;
+  auto beam = [&](const char* name, const TwoLinkBeam& b) {
+    const double length4 = std::pow(b.length_m, 4);
+    rates.push_back(
+        {3.516 * std::sqrt(b.flexural_rigidity_n_m2 / (b.mass_per_length_kg_per_m * length4)),
+         fmt::format("[{}] bending (flexural_rigidity_n_m2 = {:g})", name,
+                     b.flexural_rigidity_n_m2)});
+    rates.push_back(
+        {b.damping_n_s_per_m2 / b.mass_per_length_kg_per_m,
+         fmt::format("[{}] damping (damping_n_s_per_m2 = {:g})", name, b.damping_n_s_per_m2)});
+  };
+  auto drive = [&](const char* name, const TwoLinkDrive& d) {
+    const double n2 = d.gear_ratio * d.gear_ratio;
+    rates.push_back({n2 * d.torque_constant_n_m_per_a * d.back_emf_v_s_per_rad /
+                         (d.armature_resistance_ohm * d.equivalent_inertia_kg_m2),
+                     fmt::format("[{}] back-EMF braking n^2 K_t K_b / (R J_eq) (gear_ratio = {:g})",
+                                 name, d.gear_ratio)});
+    rates.push_back({std::sqrt(d.mesh_stiffness_n_m_per_rad / d.equivalent_inertia_kg_m2),
+                     fmt::format("[{}] gear mesh (mesh_stiffness_n_m_per_rad = {:g})", name,
+                                 d.mesh_stiffness_n_m_per_rad)});
+    rates.push_back(
+        {(d.mesh_damping_n_m_s + d.equivalent_damping_n_m_s) / d.equivalent_inertia_kg_m2,
+         fmt::format("[{}] damping (mesh_damping_n_m_s = {:g}, "
+                     "equivalent_damping_n_m_s = {:g})",
+                     name, d.mesh_damping_n_m_s, d.equivalent_damping_n_m_s)});
+  };
+  beam("beam1", p.beam1);
+  beam("beam2", p.beam2);
+  drive("drive_a", p.drive_a);
+  drive("drive_b", p.drive_b);
+  const auto fastest = std::max_element(rates.begin(), rates.end());
+  return {fastest->first, fastest->second};
+}
+
+// Dormand-Prince is stable for steps up to about 3.3 / |s| at a real or
+// lightly damped pole s.
+constexpr double kStableStepTimesRate = 3.3;
+
 // The regime the integrator is in.
 struct Regime {
   bool constrained = false;
@@ -38,7 +89,12 @@ class Simulation {
         rate_(options.sample_rate_hz > 0.0 ? options.sample_rate_hz
                                            : model.parameters().sensors.sample_rate_hz),
         end_(options.duration_s > 0.0 ? options.duration_s : experiment.duration_s),
-        integrator_({options.relative_tolerance, options.absolute_tolerance, options.max_step_s}) {}
+        integrator_({options.relative_tolerance, options.absolute_tolerance, options.max_step_s}),
+        step_budget_(options.max_steps > 0 ? options.max_steps
+                                           : 50000 + static_cast<long>(40000.0 * end_)),
+        wall_budget_s_(options.max_wall_seconds > 0.0 ? options.max_wall_seconds
+                                                      : 2.0 + 0.5 * end_),
+        started_(std::chrono::steady_clock::now()) {}
 
   TwoLinkRecord Run();
 
@@ -49,6 +105,7 @@ class Simulation {
   Integrator::System SystemFor(const Regime& regime);
   void Emit(double up_to_s, const Regime& regime);
   void Sample(double t, const State& y, const Regime& regime);
+  void CheckStep(const Regime& regime);
   double NormalForce(double t, const State& y) const {
     TwoLinkVector q, v;
     SplitState(y, &q, &v);
@@ -61,6 +118,10 @@ class Simulation {
   const double rate_;
   const double end_;
   Integrator integrator_;
+  const long step_budget_;
+  const double wall_budget_s_;
+  const std::chrono::steady_clock::time_point started_;
+  bool warned_deflection_ = false;
   TwoLinkRecord record_;
   long next_sample_ = 0;
   std::array<Eigen::Vector2d, kTwoLinkAccelerometers> last_velocity_{};
@@ -78,6 +139,79 @@ Integrator::System Simulation::SystemFor(const Regime& regime) {
                                 : FreeAcceleration(model_, q, v, voltages);
     dydt = JoinState(v, a);
   };
+}
+
+// Why a motion needs more steps than its budget: the model's stiffness, or,
+// where the steps are far below the stability limit, the motion itself.
+std::string WhyTooManySteps(const Rate& fastest, double t, long steps, std::size_t events) {
+  const double stable_step = kStableStepTimesRate / fastest.per_s;
+  const double mean_step = t / static_cast<double>(std::max(1L, steps));
+  if (mean_step < 0.1 * stable_step) {
+    return fmt::format(
+        "its steps average {:.3g} s, far below the {:.3g} s that stiffness allows ({}): the "
+        "motion itself needs them ({} impacts and separations so far)",
+        mean_step, stable_step, fastest.Describe(), events);
+  }
+  return fmt::format("too stiff for the explicit integrator: {}", fastest.Describe());
+}
+
+// After every accepted step: the budgets, the state's finiteness and the
+// small-deflection model's reach, each refused with its cause.
+void Simulation::CheckStep(const Regime& regime) {
+  const double t = integrator_.time();
+  const char* motion = regime.constrained ? "constrained" : "free";
+  ++record_.steps;
+  if (record_.steps > step_budget_) {
+    throw std::domain_error(
+        fmt::format("two-link, {} motion: more than {} integration steps by t = {:.6f} s: {}",
+                    motion, step_budget_, t,
+                    WhyTooManySteps(FastestRate(model_.parameters()), t, record_.steps,
+                                    record_.events.size())));
+  }
+  if (record_.steps % 64 == 0) {
+    const double spent =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    if (spent > wall_budget_s_) {
+      throw std::domain_error(fmt::format(
+          "two-link, {} motion: {:.1f} s of computing reached only t = {:.6f} s of {:g} s "
+          "(limit {:.1f} s): {}",
+          motion, spent, t, end_, wall_budget_s_,
+          WhyTooManySteps(FastestRate(model_.parameters()), t, record_.steps,
+                          record_.events.size())));
+    }
+  }
+  TwoLinkVector q, v;
+  SplitState(integrator_.state(), &q, &v);
+  if (!q.allFinite() || !v.allFinite()) {
+    throw std::domain_error(fmt::format(
+        "two-link, {} motion: the state is not finite at t = {:.6f} s (parameters beyond the "
+        "model's range; {})",
+        motion, t, FastestRate(model_.parameters()).Describe()));
+  }
+  const TwoLinkParameters& p = model_.parameters();
+  const std::pair<const char*, double> deflections[] = {
+      {"beam1", std::abs(q(kBeam1Deflection)) / p.beam1.length_m},
+      {"beam2", std::abs(q(kBeam2Deflection)) / p.beam2.length_m}};
+  for (const auto& [beam, ratio] : deflections) {
+    record_.max_deflection_ratio = std::max(record_.max_deflection_ratio, ratio);
+    const TwoLinkBeam& b = std::string_view(beam) == "beam1" ? p.beam1 : p.beam2;
+    if (ratio > options_.max_deflection_ratio) {
+      throw std::domain_error(fmt::format(
+          "two-link: [{}]'s tip deflects {:.3g} m on a {:g} m beam at t = {:.6f} s, beyond the "
+          "small-deflection model (limit {:g} of its length): flexural_rigidity_n_m2 = {:g} is "
+          "too low for the loads",
+          beam, ratio * b.length_m, b.length_m, t, options_.max_deflection_ratio,
+          b.flexural_rigidity_n_m2));
+    }
+    if (ratio > 0.1 && !warned_deflection_) {
+      warned_deflection_ = true;
+      record_.warnings.push_back(fmt::format(
+          "[{}]'s tip deflects {:.3g} m on a {:g} m beam at t = {:.6f} s: more than a tenth of "
+          "its length, where the model's linear deflections lose accuracy "
+          "(flexural_rigidity_n_m2 = {:g})",
+          beam, ratio * b.length_m, b.length_m, t, b.flexural_rigidity_n_m2));
+    }
+  }
 }
 
 void Simulation::Sample(double t, const State& y, const Regime& regime) {
@@ -143,12 +277,23 @@ TwoLinkRecord Simulation::Run() {
     throw std::domain_error(
         fmt::format("two-link: the tool's tip starts {:.4g} m inside the surface", -model_.Gap(q)));
   }
+  // The explicit integrator's steps cannot exceed its stability limit at the
+  // model's fastest rate: a motion that would need more steps than the budget
+  // is refused before it starts.
+  const Rate fastest = FastestRate(model_.parameters());
+  const double stable_step = kStableStepTimesRate / fastest.per_s;
+  if (end_ / stable_step > static_cast<double>(step_budget_)) {
+    throw std::domain_error(fmt::format(
+        "two-link: too stiff for the explicit integrator: {}, so steps of at most {:.3g} s, "
+        "about {:.3g} of them for {:g} s, more than the budget of {}",
+        fastest.Describe(), stable_step, end_ / stable_step, end_, step_budget_));
+  }
   Regime regime;
   double t = 0.0;
   State y = JoinState(q, v);
-  double first_step = 1e-4;
+  double first_step = std::min(1e-4, stable_step);
   while (t < end_) {
-    const double limit = t < case_.start_delay_s ? case_.start_delay_s : end_;
+    const double limit = t < case_.start_delay_s ? std::min(case_.start_delay_s, end_) : end_;
     integrator_.Reset(SystemFor(regime), y, t, first_step);
     if (next_sample_ == 0) Sample(0.0, y, regime);
     bool switched = false;
@@ -157,16 +302,15 @@ TwoLinkRecord Simulation::Run() {
     while (!switched && integrator_.time() < reached) {
       try {
         integrator_.Step(limit);
-      } catch (const std::runtime_error& e) {
-        throw std::domain_error(fmt::format("two-link, {} motion at t = {:.6f} s: {}",
+      } catch (const std::exception& e) {
+        // A step size that collapses, a state that leaves the finite numbers
+        // or a mass matrix that loses its definiteness on a trial step: a
+        // motion beyond what the model's parameters allow.
+        throw std::domain_error(fmt::format("two-link, {} motion at t = {:.6f} s: {} ({})",
                                             regime.constrained ? "constrained" : "free",
-                                            integrator_.time(), e.what()));
+                                            integrator_.time(), e.what(), fastest.Describe()));
       }
-      if (++record_.steps > options_.max_steps && options_.max_steps > 0) {
-        throw std::domain_error(fmt::format(
-            "two-link: more than {} integration steps by t = {:.6f} s (too stiff for the budget)",
-            options_.max_steps, integrator_.time()));
-      }
+      CheckStep(regime);
       const double t_lo = integrator_.previous_time(), t_hi = integrator_.time();
       const State& y_lo = integrator_.previous_state();
       const State& y_hi = integrator_.state();
@@ -202,10 +346,15 @@ TwoLinkRecord Simulation::Run() {
       record_event.time_s = t_event;
       if (!regime.constrained) {
         record_event.kind = "impact";
-        record_event.impact = Impact(model_, q, v);
+        record_event.impact = Impact(model_, q, v, options_.plastic_below_m_s);
         v = record_event.impact.velocity;
+        // A tip that rebounds (restitution) leaves; one brought to rest on
+        // the surface stays where the surface must push it.
+        const ImpactOutcome& impact = record_event.impact;
+        const bool rebounds =
+            impact.normal_velocity_after_m_s > 1e-9 * std::abs(impact.normal_velocity_before_m_s);
         regime.constrained =
-            ConstrainedMotion(model_, q, v, Voltages(t_event, q)).normal_force_n > 0.0;
+            !rebounds && ConstrainedMotion(model_, q, v, Voltages(t_event, q)).normal_force_n > 0.0;
         if (regime.constrained) {
           regime.dependent = DependentCoordinate(model_, q);
           CloseLoop(model_, regime.dependent, &q, &v);
@@ -264,6 +413,15 @@ TwoLinkRecord SimulateTwoLink(const TwoLinkModel& model, const TwoLinkCase& expe
   if (!(options.relative_tolerance > 0.0) || !(options.absolute_tolerance > 0.0) ||
       !(options.max_step_s > 0.0) || options.sample_rate_hz < 0.0 || options.duration_s < 0.0) {
     throw std::domain_error("two-link simulation: tolerances and steps must be positive");
+  }
+  const double rate = options.sample_rate_hz > 0.0 ? options.sample_rate_hz
+                                                   : model.parameters().sensors.sample_rate_hz;
+  const double duration = options.duration_s > 0.0 ? options.duration_s : experiment.duration_s;
+  if (!(rate * duration <= kTwoLinkMaxSamples)) {
+    throw std::invalid_argument(fmt::format(
+        "two-link: {:g} Hz for {:g} s is {:.3g} samples, over the limit of {:g} per case (the "
+        "sample rate and the case's duration)",
+        rate, duration, rate * duration, kTwoLinkMaxSamples));
   }
   Simulation simulation(model, experiment, options);
   return simulation.Run();

@@ -1,11 +1,13 @@
 #include "multibody/two_link_toml.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 #include "io/errors.h"
@@ -45,6 +47,23 @@ TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::files
       throw InputError({file, where, line}, "must be >= 0");
     }
   });
+  VisitTwoLinkChoices(p, [&](const char* section, const char* key, std::string& value,
+                             const std::vector<std::string>& allowed, const char*) {
+    known[section].insert(key);
+    const toml::node* node = table.at_path(fmt::format("{}.{}", section, key)).node();
+    if (!node) return;
+    if (!node->is_string()) {
+      throw InputError({file, fmt::format("{}.{}", section, key),
+                        static_cast<long long>(node->source().begin.line)},
+                       "must be a quoted word");
+    }
+    value = node->value<std::string>().value();
+    if (std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
+      throw InputError({file, fmt::format("{}.{}", section, key),
+                        static_cast<long long>(node->source().begin.line)},
+                       fmt::format("must be one of \"{}\"", fmt::join(allowed, "\", \"")));
+    }
+  });
   for (const auto& [section, node] : table) {
     const std::string name(section.str());
     const auto line = static_cast<long long>(node.source().begin.line);
@@ -66,14 +85,26 @@ TwoLinkParameters ParseTwoLinkParameters(std::string_view text, const std::files
 std::string TwoLinkParametersText(const TwoLinkParameters& parameters) {
   std::ostringstream out;
   std::string current;
+  // A section's words follow its numbers.
+  auto choices_of = [&](const std::string& section) {
+    VisitTwoLinkChoices(parameters,
+                        [&](const char* choice_section, const char* key, const std::string& word,
+                            const std::vector<std::string>&, const char* description) {
+                          if (section == choice_section) {
+                            out << fmt::format("{} = \"{}\"  # {}\n", key, word, description);
+                          }
+                        });
+  };
   VisitTwoLinkKeys(parameters, [&](const char* section, const char* key, const double& value,
                                    TwoLinkKeyRule, const char* description) {
     if (current != section) {
+      choices_of(current);
       out << (current.empty() ? "" : "\n") << "[" << section << "]\n";
       current = section;
     }
     out << fmt::format("{} = {}  # {}\n", key, value, description);
   });
+  choices_of(current);
   return out.str();
 }
 

@@ -114,6 +114,11 @@ nlohmann::json RecordJson(const TwoLinkRecord& r, const std::string& parameters_
       event["normal_impulse_n_s"] = e.impact.normal_impulse_n_s;
       event["tangential_impulse_n_s"] = e.impact.tangential_impulse_n_s;
       event["sticks"] = e.impact.sticks;
+      event["slip_reversed"] = e.impact.slip_reversed;
+      event["normal_velocity_after_m_s"] = e.impact.normal_velocity_after_m_s;
+      event["tangential_velocity_after_m_s"] = e.impact.tangential_velocity_after_m_s;
+      event["friction_work_j"] = e.impact.friction_work_j;
+      event["normal_work_j"] = e.impact.normal_work_j;
     }
     events.push_back(event);
   }

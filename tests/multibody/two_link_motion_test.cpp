@@ -447,9 +447,11 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "two-link: a sliding impact's friction impulse is mu times the normal one, against the slip") {
+    "two-link: by the paper's law a sliding impact's friction is mu times the normal impulse, "
+    "against the slip before") {
   TwoLinkParameters p = TwoLinkParameters::Nominal();
   p.surface.friction_coefficient = 0.2;
+  p.surface.impact_friction = "paper";
   const TwoLinkModel model(p);
   const Contact c = ContactState(model);
   const ImpactOutcome out = Impact(model, c.q, c.v);
@@ -461,6 +463,39 @@ TEST_CASE(
   CHECK(std::abs(tip.jacobian.row(0).dot(out.velocity)) <=
         1e-12 * std::abs(tip.jacobian.row(0).dot(c.v)));
   CHECK(out.momentum_residual <= 1e-12);
+}
+
+TEST_CASE(
+    "two-link: where the slip reverses during the impulse, the incremental law's friction does "
+    "no positive work, and the paper's ends pushing the tip along its slip") {
+  TwoLinkParameters p = TwoLinkParameters::Nominal();
+  const TwoLinkModel incremental_model(p);
+  p.surface.impact_friction = "paper";
+  const TwoLinkModel paper_model(p);
+  const Contact c = ContactState(incremental_model);
+  const ImpactOutcome incremental = Impact(incremental_model, c.q, c.v);
+  const ImpactOutcome paper = Impact(paper_model, c.q, c.v);
+  WARN("slip " << incremental.tangential_velocity_before_m_s << " -> "
+               << incremental.tangential_velocity_after_m_s << " (paper's "
+               << paper.tangential_velocity_after_m_s << ") m/s; P_n "
+               << incremental.normal_impulse_n_s << " (" << paper.normal_impulse_n_s << "), P_t "
+               << incremental.tangential_impulse_n_s << " (" << paper.tangential_impulse_n_s
+               << ") N s; friction work " << incremental.friction_work_j << " ("
+               << paper.friction_work_j << ") J");
+  REQUIRE(incremental.slip_reversed);
+  CHECK(incremental.friction_work_j <= 0.0);
+  // The paper's friction impulse points along the slip it leaves: Coulomb's
+  // law broken over the impulse's last part.
+  CHECK(paper.tangential_impulse_n_s * paper.tangential_velocity_after_m_s > 0.0);
+  CHECK(std::abs(incremental.tangential_impulse_n_s) <=
+        0.2 * incremental.normal_impulse_n_s * (1 + 1e-12));
+  CHECK(incremental.momentum_residual <= 1e-12);
+  // Both are plastic, and the energy lost is the impulses' work.
+  CHECK(std::abs(incremental.normal_velocity_after_m_s) <=
+        1e-12 * std::abs(incremental.normal_velocity_before_m_s));
+  const double lost = incremental_model.KineticEnergy(c.q, c.v) -
+                      incremental_model.KineticEnergy(c.q, incremental.velocity);
+  CHECK(lost == Approx(-(incremental.normal_work_j + incremental.friction_work_j)).epsilon(1e-9));
 }
 
 TEST_CASE("two-link: constrained acceleration keeps the tip's normal acceleration zero") {

@@ -112,12 +112,56 @@ std::vector<double> Values(const TwoLinkParameters& p) {
 TEST_CASE("two-link: a simulation over its step budget stops with the budget and the time") {
   const TwoLinkParameters p = TwoLinkParameters::Nominal();
   TwoLinkSimulationOptions options;
-  options.max_steps = 200;
+  // Above the ~1500 steps stiffness alone needs for 5 s, below the ~18 000
+  // that case 1 takes.
+  options.max_steps = 2000;
   CHECK_THROWS_WITH(SimulateTwoLink(TwoLinkModel(p), p.cases[0], options),
-                    Catch::Contains("more than 200 integration steps by t ="));
-  options.max_steps = 0;  // no limit
-  options.duration_s = 0.3;
-  CHECK(SimulateTwoLink(TwoLinkModel(p), p.cases[0], options).steps > 200);
+                    Catch::Contains("more than 2000 integration steps by t ="));
+  options.max_steps = 0;  // the default budget: 50 000 + 40 000 per simulated second
+  options.duration_s = 2.0;
+  CHECK(SimulateTwoLink(TwoLinkModel(p), p.cases[0], options).steps > 2000);
+}
+
+TEST_CASE("two-link: parameters beyond the model are refused with the key and the limit") {
+  struct Bad {
+    std::string toml, message;
+  };
+  const Bad cases[] = {
+      {"[sensors]\nsample_rate_hz = 1e9\n", "give 5e+09 samples, over the limit of 2e+06"},
+      {"[case1]\nduration_s = 1e9\n", "[case1] duration_s = 1e+09 give 1e+12 samples"},
+      {"[beam1]\nlength_m = 1e308\n", "[beam1] length_m = 1e+308 is beyond the model's 100 m"},
+      {"[hub3]\ninertia_kg_m2 = 1e300\n", "[hub3] inertia_kg_m2 = 1e+300 and"},
+      {"[case1]\nvoltage_a_v = 1e6\n", "[case1] voltage_a_v = 1e+06 is beyond the drives' 1000 V"},
+      {"[surface]\nrestitution_coefficient = 1.5\n", "must be at most 1"},
+      {"[surface]\nrestitution_law = \"elastic\"\n", "must be one of"},
+  };
+  for (const Bad& bad : cases) {
+    INFO(bad.toml);
+    CHECK_THROWS_WITH(ParseTwoLinkParameters(bad.toml, "bad.toml"), Catch::Contains(bad.message));
+  }
+}
+
+TEST_CASE("two-link: a motion beyond the model is refused with its cause, never NaN") {
+  auto refusal = [](const char* toml) {
+    const TwoLinkParameters p = ParseTwoLinkParameters(toml, "p.toml");
+    try {
+      SimulateTwoLink(TwoLinkModel(p), p.cases[0]);
+    } catch (const std::domain_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no refusal");
+  };
+  // Stiff: refused before it starts, naming the key that makes it so.
+  CHECK_THAT(refusal("[beam1]\nflexural_rigidity_n_m2 = 1e10\n"),
+             Catch::Contains("too stiff") && Catch::Contains("[beam1] bending"));
+  CHECK_THAT(refusal("[drive_a]\ngear_ratio = 1e5\n"),
+             Catch::Contains("too stiff") && Catch::Contains("[drive_a] back-EMF braking"));
+  CHECK_THAT(refusal("[beam1]\ndamping_n_s_per_m2 = 1e9\n"),
+             Catch::Contains("too stiff") && Catch::Contains("[beam1] damping"));
+  // Floppy: beyond the small-deflection model.
+  CHECK_THAT(refusal("[beam1]\nflexural_rigidity_n_m2 = 1e-9\n"),
+             Catch::Contains("[beam1]'s tip deflects") &&
+                 Catch::Contains("beyond the small-deflection model"));
 }
 
 TEST_CASE("two-link: the written parameter file reads back to identical values") {
