@@ -86,7 +86,8 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
   auto* calibration =
       cmd->add_option("--calibration", args->calibration, "Calibration id: digitize its trace");
   run->excludes(calibration);
-  cmd->add_option("-o,--out-dir", args->out_dir, "Folder for the CSV files (ID-TRACE.csv)")
+  cmd->add_option("-o,--out,--out-dir,--output", args->out_dir,
+                  "Folder for the CSV files (ID-TRACE.csv)")
       ->capture_default_str();
   cmd->add_option("--overlay", args->overlay, "Write the photo with what was found drawn on it");
   cmd->add_flag("-q,--quiet", args->quiet, "Print only errors");

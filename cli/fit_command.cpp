@@ -4,18 +4,16 @@
 // fitted values), fit.txt (what was determined, with uncertainties, and what
 // was not) and a session whose log pairs the experiment with the fitted
 // simulation, so `impactlab reduce DIR` shows fitted against measured.
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/progress_line.h"
 #include "cli/two_link_parameter_file.h"
 #include "fit/two_link_fit.h"
 #include "io/atomic_file.h"
@@ -92,7 +90,7 @@ void AddFitCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--threads", args->options.threads, "Simulations run side by side")
       ->capture_default_str();
-  cmd->add_option("-o,--out", args->out, "Folder to create (must not exist or be empty)")
+  cmd->add_option("-o,--out,--output", args->out, "Folder to create (must not exist or be empty)")
       ->required();
   cmd->callback([&action, args] {
     action = [args] {
@@ -120,26 +118,25 @@ void AddFitCommand(CLI::App& app, Action& action) {
       const TwoLinkMeasurement measurement = Measurement(*log);
       fmt::print(stderr, "fitting {} parameter(s) to log {} ({} samples)...\n", options.free.size(),
                  log->id, measurement.time_s.size());
-      // Progress on a terminal only, one line rewritten: logs and pipes get the summary alone.
-      const bool show_progress = isatty(fileno(stderr)) != 0;
-      if (show_progress) {
-        options.on_progress = [](const TwoLinkFitProgress& p) {
+      ProgressLine line;
+      if (line.Shown()) {
+        options.on_progress = [&line](const TwoLinkFitProgress& p) {
           const std::string start =
               p.starts > 1 ? fmt::format("start {}/{}, ", p.start + 1, p.starts) : "";
           if (p.stage == p.stages) {
-            fmt::print(stderr, "\r\033[K{}uncertainty: {} simulations, {:.1f} s", start,
-                       p.simulations, p.seconds);
+            line.Show(fmt::format("{}uncertainty: {} simulations, {:.1f} s", start, p.simulations,
+                                  p.seconds));
             return;
           }
-          fmt::print(stderr,
-                     "\r\033[K{}stage {}/{} ({}): iteration {}, chi2 {:.5g}, {} simulations, "
-                     "{:.1f} s",
-                     start, p.stage + 1, p.stages, p.stage_name, p.iteration, p.chi2, p.simulations,
-                     p.seconds);
+          line.Show(
+              fmt::format("{}stage {}/{} ({}): iteration {}, chi2 {:.5g}, {} simulations, "
+                          "{:.1f} s",
+                          start, p.stage + 1, p.stages, p.stage_name, p.iteration, p.chi2,
+                          p.simulations, p.seconds));
         };
       }
       const TwoLinkFitResult result = FitTwoLinkSimulation(start, measurement, options);
-      if (show_progress) fmt::print(stderr, "\r\033[K");
+      line.Clear();
 
       fs::create_directories(args->out / "logs", ec);
       if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());

@@ -11,14 +11,15 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utility.hpp>
 
+#include "cli/command_line_mistakes.h"
 #include "cli/commands.h"
 #include "cli/version.h"
 #include "fit/least_squares.h"
 #include "io/atomic_file.h"
 #include "io/errors.h"
 #include "io/hdf5_file.h"
-#include "io/spelling.h"
 #include "pipeline/process_memory.h"
+#include "pipeline/stage_options.h"
 
 namespace {
 
@@ -36,33 +37,33 @@ std::string Usage(const CLI::App& app) {
   return app.get_formatter()->make_help(&app, "impactlab", CLI::AppFormatMode::Normal);
 }
 
-std::vector<std::string> CommandNames(const CLI::App& app) {
-  std::vector<std::string> names;
-  for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
-  return names;
-}
-
-// `impactlab help [COMMAND]`.
+// `impactlab help [COMMAND [SUBCOMMAND]]`: the same text as `impactlab COMMAND
+// SUBCOMMAND --help`.
 void AddHelpCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("help", "Show the commands, or one command's options");
-  auto topic = std::make_shared<std::string>();
-  cmd->add_option("command", *topic, "The command to explain");
+  auto topic = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("command", *topic, "The command to explain, e.g. reduce or model kv");
   cmd->callback([&app, &action, topic] {
     action = [&app, topic] {
-      if (topic->empty()) {
-        fmt::print("{}", Usage(app));
-        return kExitOk;
-      }
-      for (const CLI::App* command : app.get_subcommands({})) {
-        if (command->get_name() == *topic) {
-          fmt::print("{}", command->help());
-          return kExitOk;
+      const CLI::App* command = &app;
+      std::string words;    // "model kv"
+      std::string parents;  // "impactlab model": CLI11's help names the command from them
+      for (const std::string& word : *topic) {
+        const CLI::App* sub = FindSubcommand(*command, word);
+        if (sub == nullptr) {
+          fmt::print(stderr, "{}\n", UnknownSubcommand(*command, words, word));
+          return kExitUsage;
         }
+        parents = words.empty() ? "impactlab" : "impactlab " + words;
+        words += (words.empty() ? "" : " ") + sub->get_name();
+        command = sub;
       }
-      fmt::print(stderr, "error: no command \"{}\"{}; the commands are: {}\n", *topic,
-                 impactlab::DidYouMean(*topic, CommandNames(app)),
-                 fmt::join(CommandNames(app), ", "));
-      return kExitUsage;
+      if (command == &app) {
+        fmt::print("{}", Usage(app));
+      } else {
+        fmt::print("{}", command->help(parents));
+      }
+      return kExitOk;
     };
   });
 }
@@ -70,12 +71,10 @@ void AddHelpCommand(CLI::App& app, Action& action) {
 // The first argument, when it is neither an option nor a command: a typo,
 // most likely, said with the nearest command.
 std::optional<std::string> UnknownCommand(const CLI::App& app, int argc, char** argv) {
-  if (argc < 2 || argv[1][0] == '-') return std::nullopt;
-  const std::vector<std::string> names = CommandNames(app);
-  if (std::find(names.begin(), names.end(), argv[1]) != names.end()) return std::nullopt;
-  return fmt::format(
-      "error: no command \"{}\"{}; the commands are: {}\nRun `impactlab help` for more.", argv[1],
-      impactlab::DidYouMean(argv[1], names), fmt::join(names, ", "));
+  if (argc < 2 || argv[1][0] == '-' || FindSubcommand(app, argv[1]) != nullptr) {
+    return std::nullopt;
+  }
+  return UnknownSubcommand(app, "", argv[1]);
 }
 
 }  // namespace
@@ -107,6 +106,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" too, of code 0.
+    if (e.get_exit_code() != 0) {
+      if (const auto mistake = ExplainParseError(app)) {
+        fmt::print(stderr, "{}\n", *mistake);
+        return kExitUsage;
+      }
+    }
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
@@ -118,7 +124,8 @@ int main(int argc, char** argv) {
     return action();
   } catch (const impactlab::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
-    return kExitInputError;
+    // A stage setting's flag is located at the command line: a bad command line.
+    return e.where().file == impactlab::kCommandLine ? kExitUsage : kExitInputError;
   } catch (const std::domain_error& e) {  // includes NoSeparationError
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitModelDomain;

@@ -1,7 +1,4 @@
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -10,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/progress_line.h"
 #include "cli/stage_flags.h"
 #include "cli/version.h"
 #include "io/atomic_file.h"
@@ -123,7 +121,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   cmd->add_option("session", args->session,
                   "Session folder (with session.toml), or its session.toml")
       ->required();
-  cmd->add_option("-o,--output", args->output, "Results file (written atomically)")
+  cmd->add_option("-o,--out,--output", args->output, "Results file (written atomically)")
       ->capture_default_str();
   cmd->add_option("--convention", args->convention,
                   "Pendulum: exact or thesis (overrides [reduction] convention)")
@@ -144,7 +142,8 @@ void AddReduceCommand(CLI::App& app, Action& action) {
   const auto stage_flags = std::make_shared<StageFlags>(*cmd);
   cmd->callback([&action, args, stage_flags] {
     action = [args, stage_flags] {
-      const auto start = std::chrono::steady_clock::now();
+      // Its clock is the command's: the summary's seconds are the line's.
+      ProgressLine line(args->quiet);
       CheckOutputPath(args->output, SessionFolderOf(args->session));  // before any work
       const ManifestReadResult manifest = ReadManifest(args->session);
       ReduceOptions options;
@@ -159,18 +158,19 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       const std::optional<SessionResult> previous =
           args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet, manifest.session);
       if (previous) options.previous = &*previous;
-      // Progress on a terminal only: logs and pipes get the summary alone.
-      const bool show_progress = !args->quiet && isatty(fileno(stderr)) != 0;
-      if (show_progress) {
-        // One line, rewritten: count, elapsed, an estimate of what is left, the last item.
-        options.on_progress = [start](const ReduceProgress& p) {
-          const double elapsed =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          const double left =
-              elapsed / static_cast<double>(p.done) * static_cast<double>(p.total - p.done);
-          fmt::print(stderr, "\r\033[K[{}/{}] {:.1f} s, ~{:.0f} s left: {} {}{}", p.done, p.total,
-                     elapsed, left, p.item, p.ok ? "ok" : "failed", p.reused ? " (reused)" : "");
-          if (p.done == p.total) fmt::print(stderr, "\r\033[K");
+      // Measuring the runs is counted item by item; the fits across them and
+      // writing the file come after, and the line says when they do.
+      const bool fits_follow = options.products == Products::kFit && !manifest.session.runs.empty();
+      if (line.Shown()) {
+        options.on_progress = [&line, fits_follow](const ReduceProgress& p) {
+          const std::string item =
+              fmt::format("{} {}{}", p.item, p.ok ? "ok" : "failed", p.reused ? " (reused)" : "");
+          if (p.done == p.total && fits_follow && p.item.starts_with("run ")) {
+            line.Show(
+                fmt::format("{}: {}; fitting across the runs", line.Count(p.done, p.total), item));
+          } else {
+            line.Show(fmt::format("{}: {}", line.Count(p.done, p.total, "left to measure"), item));
+          }
         };
       }
       SessionResult result = ReduceSession(manifest.session, options);
@@ -178,7 +178,9 @@ void AddReduceCommand(CLI::App& app, Action& action) {
         result.warnings.insert(result.warnings.begin(),
                                fmt::format("{}: {}", FormatLocation(w.where), w.message));
       }
+      line.Show(fmt::format("{:.1f} s: writing {}", line.Seconds(), args->output.string()));
       WriteResults(result, args->output);
+      line.Clear();
       for (const std::string& w : result.warnings) fmt::print(stderr, "warning: {}\n", w);
       for (const RunResult& run : result.runs) {
         if (!run.ok) fmt::print(stderr, "run {} failed: {}\n", run.id, run.reason);
@@ -188,10 +190,8 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       }
       const FailureCount count = CountFailures(manifest.session, options.products, result);
       if (!args->quiet) {
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         fmt::print(stderr, "{}; results in {} ({:.2f} s)\n", count.Summary(result),
-                   args->output.string(), seconds);
+                   args->output.string(), line.Seconds());
       }
       // The exit status says what the summary counts: anything failed.
       return count.Total() > 0 ? kExitRunsFailed : kExitOk;

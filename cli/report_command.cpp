@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/progress_line.h"
 #include "io/atomic_file.h"
 #include "io/errors.h"
 #include "io/spelling.h"
@@ -44,15 +45,15 @@ void AddReportCommand(CLI::App& app, Action& action) {
   cmd->add_option("-f,--format", args->format, "md, csv, tex or html (a self-contained page)")
       ->check(CLI::IsMember({"md", "csv", "tex", "html"}))
       ->capture_default_str();
-  cmd->add_option("-o,--output", args->output,
+  cmd->add_option("-o,--out,--output", args->output,
                   "Output file, - for standard output (default: standard output; for html, the "
                   "results file's name with .html); with csv, an existing folder gets one file "
                   "per table");
   cmd->add_option("--table", args->tables,
                   "Only this table (by name, e.g. table2_deviations; may be repeated)");
   cmd->add_option("--figures", args->figures,
-                  "Also write every figure of the HTML report as an SVG file into this existing "
-                  "folder (for papers)");
+                  "Also write every figure of the HTML report as an SVG file into this folder "
+                  "(created if missing; for papers)");
   cmd->callback([&action, args] {
     action = [args] {
       const ReportFormat format = *ParseReportFormat(args->format);
@@ -65,12 +66,27 @@ void AddReportCommand(CLI::App& app, Action& action) {
       const bool csv_folder = format == ReportFormat::kCsv && !args->output.empty() &&
                               std::filesystem::is_directory(args->output);
       if (!args->output.empty() && !csv_folder) CheckReportOutput(args->output, args->results);
-      if (!args->figures.empty() && !std::filesystem::is_directory(args->figures)) {
+      if (!args->figures.empty() && std::filesystem::exists(args->figures) &&
+          !std::filesystem::is_directory(args->figures)) {
         throw InputError({args->figures, "", std::nullopt},
-                         "--figures: expected an existing folder for the SVG files");
+                         "--figures: is a file; give a folder for the SVG files");
       }
+      // A photo session's page takes a second or two: said on a terminal.
+      ProgressLine line;
+      line.Show(fmt::format("reading {}", args->results.string()));
       const SessionResult result = ReadResults(args->results);
+      line.Show(fmt::format("{:.1f} s: {}", line.Seconds(),
+                            format == ReportFormat::kHtml || !args->figures.empty()
+                                ? "drawing the figures"
+                                : "making the tables"));
       if (!args->figures.empty()) {
+        // Made only once the results could be read: a failed report leaves no empty folder.
+        std::error_code ec;
+        std::filesystem::create_directories(args->figures, ec);
+        if (ec) {
+          throw InputError({args->figures, "", std::nullopt},
+                           "--figures: cannot create the folder: " + ec.message());
+        }
         for (const auto& [name, svg] : RenderStaticFigures(result)) {
           WriteFileAtomically(args->figures / name, svg);
         }
@@ -99,6 +115,7 @@ void AddReportCommand(CLI::App& app, Action& action) {
       const std::string text = format == ReportFormat::kHtml
                                    ? RenderHtmlReport(result)
                                    : RenderTables(result.title, tables, format);
+      line.Clear();  // before the text, which may go to the same terminal
       if (args->output.empty()) {
         fmt::print("{}", text);
       } else {

@@ -12,6 +12,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/progress_line.h"
 #include "cli/two_link_parameter_file.h"
 #include "io/errors.h"
 #include "multibody/two_link_toml.h"
@@ -41,7 +42,8 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
   cmd->add_option("--case", args->cases, "The document's case(s): 1, 2, 3")
       ->check(CLI::Range(1, 3))
       ->capture_default_str();
-  cmd->add_option("-o,--out", args->out, "Session folder to create (must not exist or be empty)");
+  cmd->add_option("-o,--out,--output", args->out,
+                  "Session folder to create (must not exist or be empty)");
   cmd->add_option("--experiment", args->experiment,
                   "Parameters of the experiment (default: the same file); keys left out keep "
                   "the simulation's values")
@@ -65,7 +67,16 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
                                ? options.simulation
                                : ReadTwoLinkParameterFile(args->experiment, options.simulation);
       options.write_state = !args->no_state;
+      ProgressLine line;
+      if (line.Shown()) {
+        options.on_progress = [&line](const TwoLinkLogProgress& p) {
+          // The last case's files are written after its last simulation.
+          line.Show(fmt::format("{}: case {} {}{}", line.Count(p.done, p.total), p.case_number,
+                                p.source, p.done == p.total ? "; writing its logs" : ""));
+        };
+      }
       const TwoLinkLogSummary summary = WriteTwoLinkSession(args->out, options);
+      line.Clear();
       std::filesystem::path truth = args->truth;
       if (truth.empty()) {
         truth = args->out.lexically_normal();

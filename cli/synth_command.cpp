@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/progress_line.h"
 #include "io/errors.h"
 #include "synth/session_generator.h"
 
@@ -19,7 +20,8 @@ void AddSynthCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "synth", "Simulate a lab session: photos (or CSV traces) of simulated impacts, with truth");
-  cmd->add_option("--out", args->out, "Session folder to create (must not exist or be empty)")
+  cmd->add_option("-o,--out,--output", args->out,
+                  "Session folder to create (must not exist or be empty)")
       ->required();
   cmd->add_option("--preset", args->options.preset, "thesis (8 runs) or quick (2 small runs)")
       ->check(CLI::IsMember({"thesis", "quick"}))
@@ -54,7 +56,16 @@ void AddSynthCommand(CLI::App& app, Action& action) {
         if (truth.filename().empty()) truth = truth.parent_path();
         truth += ".truth.json";
       }
-      const SynthSummary summary = GenerateSession(args->out, args->options);
+      ProgressLine line;
+      SynthOptions options = args->options;
+      if (line.Shown()) {
+        options.on_progress = [&line](const SynthProgress& p) {
+          line.Show(
+              fmt::format("{}: run {}, {} photo(s)", line.Count(p.done, p.total), p.run, p.photos));
+        };
+      }
+      const SynthSummary summary = GenerateSession(args->out, options);
+      line.Clear();
       std::ofstream out(truth);
       out << summary.truth.dump(1) << "\n";
       if (!out) throw InputError({truth, "", std::nullopt}, "cannot write the truth file");

@@ -23,7 +23,8 @@ void AddSynthLogsCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand(
       "synth-logs",
       "Simulate encoder/accelerometer logs of a flexible arm striking a wall, with truth");
-  cmd->add_option("--out", args->out, "Session folder to create (must not exist or be empty)")
+  cmd->add_option("-o,--out,--output", args->out,
+                  "Session folder to create (must not exist or be empty)")
       ->required();
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed, the same files")
       ->capture_default_str();

@@ -95,7 +95,7 @@ StageSettings CommandLineSettings(
   StageSettings settings;
   for (const auto& [key, text] : assignments) {
     settings[key] =
-        StageSetting{ParseSettingText(text), InputLocation{"command line", "--" + key, {}}};
+        StageSetting{ParseSettingText(text), InputLocation{kCommandLine, "--" + key, {}}};
   }
   return settings;
 }

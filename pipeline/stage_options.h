@@ -62,8 +62,12 @@ SettingValues SettingsOfStages(const StageOptions& options,
 // `impactlab settings` and docs/settings.md.
 std::string SettingsTable(const StageOptions& defaults = {});
 
+// Where a setting from the command line is located (InputLocation::file), so
+// that an error about it reads as a bad command line, not a bad file.
+inline constexpr char kCommandLine[] = "command line";
+
 // Settings from the command line: `key=value` texts (io/manifest.h
-// ParseSettingText), each located at the flag `--key`.
+// ParseSettingText), each located at the flag `--key` of kCommandLine.
 StageSettings CommandLineSettings(
     const std::vector<std::pair<std::string, std::string>>& assignments);
 

@@ -7,6 +7,7 @@
 
 #include "calibration/photocell_calibration.h"
 #include "report/dygraph_plot.h"
+#include "report/figure_file_name.h"
 #include "report/html_escape.h"
 #include "report/svg_plot.h"
 #include "report/tables.h"
@@ -87,7 +88,7 @@ std::string CalibrationOverlays(const std::vector<CellCalibration>& calibrations
 }
 
 // The page's figures: each drawn by dygraphs where it stands, and kept, by a
-// file-safe name, for the static export (`report --figures DIR`).
+// file name, for the static export (`report --figures DIR`).
 class Figures {
  public:
   std::string Add(const Plot& plot, const std::string& caption) {
@@ -96,7 +97,7 @@ class Figures {
       return "";  // nothing to draw (a typed-in run whose fit failed has no times)
     }
     const std::string id = fmt::format("figure-{}", plots_.size() + 1);
-    plots_.push_back({FileSafeName(fmt::format("{:02d}-{}", plots_.size() + 1, plot.title)), plot});
+    plots_.push_back({FigureFileName(plots_.size() + 1, plot.title), plot});
     return fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", RenderDygraph(plot, id),
                        EscapeHtml(caption));
   }
@@ -488,7 +489,7 @@ std::vector<std::pair<std::string, std::string>> RenderStaticFigures(const Sessi
   Figures figures;
   BuildPage(r, figures);
   std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& [name, plot] : figures.plots()) out.emplace_back(name + ".svg", RenderSvg(plot));
+  for (const auto& [name, plot] : figures.plots()) out.emplace_back(name, RenderSvg(plot));
   return out;
 }
 

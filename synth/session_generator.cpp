@@ -82,8 +82,13 @@ SynthSummary GenerateSession(const std::filesystem::path& folder, const SynthOpt
     for (nlohmann::json& truth : CalibrationTruths(run_plan, run, photos)) {
       truth_calibrations.push_back(std::move(truth));
     }
-    summary.photos += static_cast<int>(photos.run.has_value());
-    for (const auto& photo : photos.calibrations) summary.photos += photo.has_value();
+    int run_photos = static_cast<int>(photos.run.has_value());
+    for (const auto& photo : photos.calibrations) run_photos += photo.has_value();
+    summary.photos += run_photos;
+    if (options.on_progress) {
+      options.on_progress(
+          {run_plan.id, run_photos, summary.manifest.runs.size(), plan.runs.size()});
+    }
   }
   FinishSessionFolder(folder, summary.manifest);
   summary.runs = static_cast<int>(plan.runs.size());

@@ -14,8 +14,10 @@
 // (synth/session_writer.h, synth/manifest_writer.h).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -24,6 +26,13 @@
 #include "synth/manifest_writer.h"
 
 namespace impactlab {
+
+// A run written, for SynthOptions::on_progress.
+struct SynthProgress {
+  std::string run;  // its id
+  int photos = 0;   // of this run, its calibrations' included
+  std::size_t done = 0, total = 0;
+};
 
 struct SynthOptions {
   std::string preset = "thesis";  // "thesis" (8 runs, the thesis's X0) or "quick" (2 small runs)
@@ -45,6 +54,9 @@ struct SynthOptions {
   double trace_noise = 0.002;  // electronic noise on each trace, fraction of its span
   // Photocell curves: 0 linear, 1 strongly nonlinear (slope varying ~7x), 1.
   double photocell_nonlinearity = 0.6;
+  // Called after each run's photos and traces are written (a thesis session
+  // takes seconds: the command shows it on a terminal).
+  std::function<void(const SynthProgress&)> on_progress;
 
   bool Check(std::string* error) const;
 };

@@ -225,15 +225,21 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
                    {"sample_rate_hz", options.experiment.sensors.sample_rate_hz}};
   const std::string experiment_text = TwoLinkParametersText(options.experiment);
   const std::string simulation_text = TwoLinkParametersText(options.simulation);
+  std::size_t simulations = 0;
   for (int number : options.cases) {
     const TwoLinkCase& experiment_case = options.experiment.cases[number - 1];
     const TwoLinkCase& simulation_case = options.simulation.cases[number - 1];
     TwoLinkSimulationOptions integration = options.integration;
     integration.keep_state = options.write_state;
+    const auto simulated = [&, total = 2 * options.cases.size()](const char* source) {
+      if (options.on_progress) options.on_progress({number, source, ++simulations, total});
+    };
     const TwoLinkRecord experiment =
         SimulateTwoLink(experiment_model, experiment_case, integration);
+    simulated("experiment");
     const TwoLinkRecord simulation =
         SimulateTwoLink(simulation_model, simulation_case, integration);
+    simulated("simulation");
     const Log log = CaseLog(number, options.experiment);
     WriteExperimentCsv(
         folder / log.experiment, experiment,

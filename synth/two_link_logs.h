@@ -10,8 +10,11 @@
 // acc1..acc4 (mid beam 1, RB2, mid beam 2, RB4).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +25,13 @@
 
 namespace impactlab {
 
+// A simulation done, for TwoLinkLogOptions::on_progress.
+struct TwoLinkLogProgress {
+  int case_number = 1;
+  std::string source;  // "experiment" or "simulation"
+  std::size_t done = 0, total = 0;
+};
+
 struct TwoLinkLogOptions {
   std::vector<int> cases = {1};  // of 1, 2, 3
   TwoLinkParameters simulation = TwoLinkParameters::Nominal();
@@ -30,6 +40,8 @@ struct TwoLinkLogOptions {
   bool write_state = true;
   TwoLinkSimulationOptions integration;
   std::string title;  // the manifest's; empty: a default
+  // Called after each simulation (seconds each: the command shows it on a terminal).
+  std::function<void(const TwoLinkLogProgress&)> on_progress;
 };
 
 struct TwoLinkLogSummary {
