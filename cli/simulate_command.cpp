@@ -95,6 +95,9 @@ void AddSimulateCommand(CLI::App& app, Action& action) {
             number, summary.rows[i], c["experiment"]["impact_time_s"].get<double>(),
             c["simulation"]["impact_time_s"].get<double>());
       }
+      for (const std::string& warning : summary.warnings) {
+        fmt::print(stderr, "warning: {}\n", warning);
+      }
       fmt::print(stderr, "session in {}; truth in {}\n", args->out.string(), truth.string());
       return kExitOk;
     };

@@ -1,10 +1,12 @@
 #include "synth/two_link_logs.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -195,9 +197,17 @@ std::uint64_t CaseSeed(std::uint64_t seed, int case_number) {
 
 TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
   if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
-  for (int number : options.cases) {
+  for (std::size_t i = 0; i < options.cases.size(); ++i) {
+    const int number = options.cases[i];
     if (number < 1 || number > 3) {
       throw std::invalid_argument(fmt::format("simulate two-link: no case {} (1, 2 or 3)", number));
+    }
+    if (std::find(options.cases.begin(), options.cases.begin() + i, number) !=
+        options.cases.begin() + i) {
+      throw std::invalid_argument(
+          fmt::format("simulate two-link: case {} is chosen twice (a session holds one log per "
+                      "case)",
+                      number));
     }
   }
   std::error_code ec;
@@ -237,9 +247,19 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
     const TwoLinkRecord experiment =
         SimulateTwoLink(experiment_model, experiment_case, integration);
     simulated("experiment");
-    const TwoLinkRecord simulation =
-        SimulateTwoLink(simulation_model, simulation_case, integration);
+    // The same parameters give the same record: simulated once.
+    const bool same = experiment_text == simulation_text;
+    std::optional<TwoLinkRecord> simulated_apart;
+    if (!same) simulated_apart = SimulateTwoLink(simulation_model, simulation_case, integration);
+    const TwoLinkRecord& simulation = same ? experiment : *simulated_apart;
     simulated("simulation");
+    for (const auto& [source, record] :
+         {std::pair{"experiment", &experiment}, std::pair{"simulation", &simulation}}) {
+      for (const std::string& warning : record->warnings) {
+        summary.warnings.push_back(fmt::format("case {} {}: {}", number, source, warning));
+      }
+      if (same) break;
+    }
     const Log log = CaseLog(number, options.experiment);
     WriteExperimentCsv(
         folder / log.experiment, experiment,

@@ -45,8 +45,9 @@ struct TwoLinkLogOptions {
 };
 
 struct TwoLinkLogSummary {
-  nlohmann::json truth;   // per case: impact times, events, the parameters
-  std::vector<int> rows;  // per case, in each of its files
+  nlohmann::json truth;               // per case: impact times, events, the parameters
+  std::vector<int> rows;              // per case, in each of its files
+  std::vector<std::string> warnings;  // "case N source: ..." where the model was stretched
 };
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
