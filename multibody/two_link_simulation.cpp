@@ -203,13 +203,14 @@ void Simulation::CheckStep(const Regime& regime) {
           beam, ratio * b.length_m, b.length_m, t, options_.max_deflection_ratio,
           b.flexural_rigidity_n_m2));
     }
-    if (ratio > 0.1 && !warned_deflection_) {
+    if (ratio > options_.warn_deflection_ratio && !warned_deflection_) {
       warned_deflection_ = true;
       record_.warnings.push_back(fmt::format(
-          "[{}]'s tip deflects {:.3g} m on a {:g} m beam at t = {:.6f} s: more than a tenth of "
+          "[{}]'s tip deflects {:.3g} m on a {:g} m beam at t = {:.6f} s: more than {:g} of "
           "its length, where the model's linear deflections lose accuracy "
           "(flexural_rigidity_n_m2 = {:g})",
-          beam, ratio * b.length_m, b.length_m, t, b.flexural_rigidity_n_m2));
+          beam, ratio * b.length_m, b.length_m, t, options_.warn_deflection_ratio,
+          b.flexural_rigidity_n_m2));
     }
   }
 }

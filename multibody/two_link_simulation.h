@@ -40,9 +40,11 @@ struct TwoLinkSimulationOptions {
   // simulated second (they take under 0.1 s per second).
   long max_steps = 0;
   double max_wall_seconds = 0.0;
-  // A beam tip deflected beyond this share of its length is refused (the
-  // model's deflections are linear); beyond a tenth of it, warned.
+  // A beam tip deflected beyond this share of its length is refused, and
+  // beyond the second warned: the model's deflections are linear. (The
+  // nominal cases peak at 0.10, when the motors start.)
   double max_deflection_ratio = 0.3;
+  double warn_deflection_ratio = 0.2;
   bool keep_state = true;  // the full state history per sample
 };
 
