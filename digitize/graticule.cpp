@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -440,10 +442,10 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
       std::max(0.2, (std::max(measured_half_length_px, half_length_px) + 2.0 * fit.line_width_px) /
                         fit.px_per_div) /
       0.02));
-  auto HiddenPlaces = [&](int family, int index, const std::vector<double>& along) {
+  auto Hidden = [&](int family, int index, const std::vector<double>& along) {
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
     const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
-    int hidden = 0;
+    std::vector<bool> hidden;
     for (const double a : along) {
       const cv::Point2d on =
           family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
@@ -455,27 +457,70 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
           brightest_off = std::max(brightest_off, v);
         }
       }
-      hidden += brightest - darkest > 2.5 * fit.line_contrast ||
-                brightest_off - darkest > 1.5 * fit.line_contrast;
+      hidden.push_back(brightest - darkest > 2.5 * fit.line_contrast ||
+                       brightest_off - darkest > 1.5 * fit.line_contrast);
     }
     return hidden;
   };
-  for (const auto& [family, index] : GridLines(divisions)) {
-    int seen = 0;
-    for (const LineSample& s : samples) {
-      if (s.family == family && s.index == index) {
-        seen +=
-            sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px;
-      }
+  auto HiddenPlaces = [&](int family, int index, const std::vector<double>& along) {
+    const std::vector<bool> hidden = Hidden(family, index, along);
+    return static_cast<int>(std::count(hidden.begin(), hidden.end(), true));
+  };
+  // Where each grid line was seen: (family, index, thousandths of a division
+  // along it) of every measurement that found a line where the fit puts it.
+  const auto place = [&](int family, int index, double along) {
+    return std::make_tuple(family, index, std::lround(along * 1000.0));
+  };
+  std::set<std::tuple<int, int, long>> seen_at;
+  for (const LineSample& s : samples) {
+    if (sees(s) && s.height > 0.3 * fit.line_contrast && s.fwhm_px < 3.0 * fit.line_width_px) {
+      const double along = s.family == 0 ? s.nominal_div.y + 0.5 * divisions[1] : s.nominal_div.x;
+      seen_at.insert(place(s.family, s.index, along));
     }
+  }
+  // Lines whose clear places all lie where the grid shows no line at all,
+  // and whether each line was seen at enough of its clear places, wherever
+  // the grid shows.
+  std::array<std::vector<bool>, 2> unjudged{std::vector<bool>(divisions[0] + 1, false),
+                                            std::vector<bool>(divisions[1] + 1, false)};
+  std::array<std::vector<bool>, 2> seen_where_clear = found;
+  for (const auto& [family, index] : GridLines(divisions)) {
     const bool centre_axis = 2 * index == divisions[family];
     const std::vector<double> along =
         SamplePositions(divisions[1 - family], options.samples_per_div, centre_axis);
-    const int hidden = HiddenPlaces(family, index, along);
+    const std::vector<bool> hidden = Hidden(family, index, along);
+    // A place is judged when it is clear and the grid shows a line there:
+    // this one or a neighbour. Where neither is seen the grid itself does
+    // not show (a printed figure whose faint corner took no ink, glare, a
+    // faded print), which says nothing about the lattice; a lattice of the
+    // wrong size has its extra line where the grid's own line beside it is
+    // seen (randomised seed 1018's run 0.405, a print whose grid lines took
+    // no ink over the lower left: its line x = 0 was seen at 6 of its 24
+    // places, all where it was printed).
+    int seen = 0, clear = 0, judged = 0;
+    for (std::size_t i = 0; i < along.size(); ++i) {
+      const bool here = seen_at.count(place(family, index, along[i])) > 0;
+      seen += here;
+      if (hidden[i]) continue;
+      ++clear;
+      const bool beside =
+          (index > 0 && seen_at.count(place(family, index - 1, along[i])) > 0) ||
+          (index < divisions[family] && seen_at.count(place(family, index + 1, along[i])) > 0);
+      judged += here || beside;
+    }
     const int expected = static_cast<int>(along.size());
-    // Judged where at least a few places are clear of traces.
-    found[family][index] = !(expected - hidden >= 3 && seen < 0.4 * (expected - hidden));
+    // Judged where at least a few places are clear of traces and show the grid.
+    found[family][index] = !(judged >= 3 && seen < 0.4 * judged);
+    unjudged[family][index] = clear >= 3 && judged < 3;
+    seen_where_clear[family][index] = !(clear >= 3 && seen < 0.4 * clear);
     counts[family][index] = {seen, expected};
+  }
+  // That holds where the grid shows along most of a family: a lattice on
+  // something that is not the grid has its lines unseen everywhere, their
+  // neighbours too, and is judged on every clear place.
+  for (int family = 0; family < 2; ++family) {
+    const auto blank = std::count(unjudged[family].begin(), unjudged[family].end(), true);
+    if (2 * blank > divisions[family] + 1) found[family] = seen_where_clear[family];
   }
   // A lattice of the wrong size shows in its outermost lines (one too many
   // lies beyond the screen) or in many (half the spacing misses every other
@@ -488,7 +533,10 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
     for (int index = 0; index <= divisions[family]; ++index) {
       if (f[index]) continue;
       const bool inner = index > 0 && index < divisions[family];
-      if (missing == 1 && inner && f[index - 1] && f[index + 1]) continue;
+      if (missing == 1 && inner && f[index - 1] && f[index + 1] && !unjudged[family][index - 1] &&
+          !unjudged[family][index + 1]) {
+        continue;
+      }
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
       // An outermost line unseen: the grid may lie a division further in.
       const int toward = inner ? 0 : (index == 0 ? 1 : -1);

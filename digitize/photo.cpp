@@ -73,30 +73,52 @@ void CheckUsable(const std::filesystem::path& path, const cv::Mat& image) {
   }
 }
 
-// The value of rank q (0..1) among `values`, looked for in [first, last)
-// only: those must be the values of ranks first .. last - 1, in some order.
-double QuantileInRange(std::vector<float>& values, double q, std::size_t first, std::size_t last) {
-  const auto at = values.begin() + static_cast<std::ptrdiff_t>(q * (values.size() - 1));
-  return digitize::SelectNth(values.begin() + first, at, values.begin() + last);
+// The mean of the brightest `share` of `values`; rearranges them.
+double MeanOfBrightest(std::vector<float>& values, double share) {
+  if (values.empty()) return 0.0;
+  const auto first =
+      values.begin() + static_cast<std::ptrdiff_t>((1.0 - share) * (values.size() - 1));
+  digitize::SelectNth(values.begin(), first, values.end());
+  double sum = 0.0;
+  for (auto v = first; v != values.end(); ++v) sum += *v;
+  return sum / static_cast<double>(values.end() - first);
 }
 
-// Dark traces when the photo's thin features stand further below the screen
-// than above it, judged in the middle of the frame, where the screen is.
-bool LooksNegative(const cv::Mat1f& grey) {
+// Dark traces when the photo's thin features are dark: what a closing by
+// `square` fills in (thin dark structure) outweighs what an opening takes
+// off (thin bright structure), each the mean of its brightest 5 % in the
+// middle of the frame (the middle three fifths each way, every other pixel),
+// where the traces and the grid are. Broad tones (a dark bezel, a light
+// panel or page round the screen, glare) are in neither, so they do not
+// decide: judged on the grey levels themselves, a positive photo whose
+// middle was mostly a light panel and a black bezel looked like a negative
+// (the tones below the median reached further than those above), and the
+// grid was searched for in the dark gaps between its lines. Measured on the
+// 204 photos of the randomised benchmark (4 of them misjudged before), the
+// external set's and the sample session's: the right side outweighs the
+// other by 1.28 times at least (1.85 outside the randomised set).
+constexpr double kThinShare = 0.05;
+bool ThinFeaturesDark(const cv::Mat1f& grey, const cv::Mat& square) {
+  const int reach = square.cols / 2;
   const cv::Rect middle(grey.cols / 5, grey.rows / 5, grey.cols * 3 / 5, grey.rows * 3 / 5);
-  std::vector<float> values;
-  values.reserve(middle.area());
-  for (int row = middle.y; row < middle.y + middle.height; ++row) {
-    const float* p = grey.ptr<float>(row);
-    values.insert(values.end(), p + middle.x, p + middle.x + middle.width);
+  // The morphology is read on the middle and a margin the square reaches
+  // over, so that the middle's values are the whole copy's.
+  const cv::Rect read = (middle + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) &
+                        cv::Rect(0, 0, grey.cols, grey.rows);
+  cv::Mat1f opened, closed;
+  cv::morphologyEx(grey(read), opened, cv::MORPH_OPEN, square);
+  cv::morphologyEx(grey(read), closed, cv::MORPH_CLOSE, square);
+  std::vector<float> bright, dark;
+  for (int row = middle.y; row < middle.y + middle.height; row += 2) {
+    const float* g = grey.ptr<float>(row);
+    const float* o = opened.ptr<float>(row - read.y);
+    const float* c = closed.ptr<float>(row - read.y);
+    for (int col = middle.x; col < middle.x + middle.width; col += 2) {
+      bright.push_back(g[col] - o[col - read.x]);
+      dark.push_back(c[col - read.x] - g[col]);
+    }
   }
-  // The median first: it splits the values, and each outer quantile is then
-  // looked for in its half only.
-  const std::size_t n = values.size(), mid = static_cast<std::size_t>(0.5 * (n - 1));
-  const double median = QuantileInRange(values, 0.5, 0, n);
-  const double low = QuantileInRange(values, 0.01, 0, mid + 1);
-  const double high = QuantileInRange(values, 0.99, mid, n);
-  return median - low > high - median;
+  return MeanOfBrightest(dark, kThinShare) > MeanOfBrightest(bright, kThinShare);
 }
 
 // The largest factor ShrinkByArea takes: its column sums of 8-bit pixels fit 16 bits.
@@ -280,9 +302,16 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
                                                              options.detect_width_px)));
   prepared.working = digitize::ShrunkGrey(prepared.image, prepared.shrink);
 
+  // Thin bright structure: the working copy less its opening by a square a
+  // little wider than a grid line or a trace. Broad light (glare,
+  // vignetting, a print's border) and edges do not pass; lines of any
+  // direction do.
+  constexpr int kOpeningPx = 5;
+  const cv::Mat square =
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpeningPx, kOpeningPx));
   switch (options.polarity) {
     case Polarity::kAuto:
-      prepared.dark_traces = LooksNegative(prepared.working);
+      prepared.dark_traces = ThinFeaturesDark(prepared.working, square);
       break;
     case Polarity::kBrightTraces:
       prepared.dark_traces = false;
@@ -292,14 +321,8 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
       break;
   }
   if (prepared.dark_traces) prepared.working = 1.0f - prepared.working;
-
-  // Thin bright structure: the working copy less its opening by a square a
-  // little wider than a grid line or a trace. Broad light (glare, vignetting,
-  // a print's border) and edges do not pass; lines of any direction do.
-  constexpr int kOpeningPx = 5;
   cv::Mat opened;
-  cv::morphologyEx(prepared.working, opened, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpeningPx, kOpeningPx)));
+  cv::morphologyEx(prepared.working, opened, cv::MORPH_OPEN, square);
   prepared.ridge = prepared.working - opened;
   prepared.prepare_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
