@@ -1046,14 +1046,28 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       }
       for (const auto& note : t.notes) out += fmt::format("\n{}\n", EscapeMarkdown(note));
       return out + "\n";
-    case ReportFormat::kHtml:
-      out += fmt::format(
-          "<table id=\"table-{}\">\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n"
-          "<tbody>\n",
-          t.name, EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
-      for (const auto& row : t.rows) {
-        out += fmt::format("<tr><td>{}</td></tr>\n",
-                           Join(RenderedCells(row, format), "</td><td>", nullptr));
+    case ReportFormat::kHtml: {
+      // Numbers right-aligned (class "num"), texts left.
+      const std::vector<bool> numeric = NumericColumns(t);
+      const auto open = [&](const char* tag, std::size_t c) {
+        return fmt::format("<{}{}>", tag, c > 0 && numeric[c] ? " class=\"num\"" : "");
+      };
+      out += fmt::format("<table id=\"table-{}\">\n<caption>{}</caption>\n<thead><tr>", t.name,
+                         EscapeHtml(t.caption));
+      for (std::size_t c = 0; c < t.columns.size(); ++c) {
+        out += open("th", c) + EscapeHtml(t.columns[c]) + "</th>";
+      }
+      out += "</tr></thead>\n<tbody>\n";
+      for (std::size_t i = 0; i < t.rows.size(); ++i) {
+        // The summary rows (K avg, the joint fit) set apart.
+        const bool summary =
+            !t.row_kinds.empty() && i < t.row_kinds.size() && t.row_kinds[i] != t.row_kinds.front();
+        out += summary ? "<tr class=\"summary\">" : "<tr>";
+        const std::vector<std::string> cells = RenderedCells(t.rows[i], format);
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+          out += open("td", c) + cells[c] + "</td>";
+        }
+        out += "</tr>\n";
       }
       out += "</tbody>\n</table>\n";
       for (const auto& note : t.notes) {
