@@ -149,7 +149,7 @@ TEST_CASE(
         comparison.columns.end());
 }
 
-TEST_CASE("exports: summary rows are rows of their own kind; Table 3's Delta K keeps its sign") {
+TEST_CASE("exports: summary rows are rows of their own kind and Table 3's Delta K keeps its sign") {
   const SessionResult r = Thesis();
   const std::vector<Table> tables = BuildTables(r);
   REQUIRE(r.kelvin_voigt);

@@ -27,7 +27,8 @@ std::string FigureScript(const std::string& html, const std::string& title) {
 }
 
 TEST_CASE(
-    "page: the photo session's page weighs under 2 MB, photos included; contact times with bars") {
+    "page: the photo session's page weighs under 2 MB with its photos and draws contact times with "
+    "bars") {
   const SessionResult r =
       ReduceSession(ReadManifest(testing::kSampleData / "thesis-photos").session, {});
   std::size_t photos = 0;
