@@ -12,6 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -217,25 +220,47 @@ void DrawPulse(Canvas& canvas, const GraticuleMapping& mapping, const DigitizedT
   DrawText(canvas, text, at, scale, kEdgeColour);
 }
 
+// The status lines, top left, on a dark panel of their own: on a print's
+// light border or a bright screen coloured text would not read.
 void DrawLegend(Canvas& canvas, const DigitizeResult& result, double text_scale) {
   const GraticuleFit& g = result.graticule;
   const double scale = 0.5 * text_scale;
-  const int line_height = static_cast<int>(std::lround(28 * scale / 0.5));
-  const int x = canvas.Px(10.0);
-  int y = line_height;
-  DrawText(canvas,
-           fmt::format("graticule {}x{}: residual {:.3f} px RMS ({} line samples), {:.1f} px/div{}",
-                       g.divisions[0], g.divisions[1], g.residual_px, g.samples_used, g.px_per_div,
-                       g.radial_fitted ? fmt::format(", k1 {:.4f}", g.mapping.radial_k1) : ""),
-           {x, y}, scale, kGridColour);
+  std::vector<std::pair<std::string, cv::Scalar>> lines;
+  lines.emplace_back(
+      fmt::format("graticule {}x{}: residual {:.3f} px RMS ({} line samples), {:.1f} px/div{}",
+                  g.divisions[0], g.divisions[1], g.residual_px, g.samples_used, g.px_per_div,
+                  g.radial_fitted ? fmt::format(", k1 {:.4f}", g.mapping.radial_k1) : ""),
+      kGridColour);
   for (std::size_t t = 0; t < result.traces.size(); ++t) {
     const DigitizedTrace& trace = result.traces[t];
+    lines.emplace_back(
+        fmt::format("{}: {} samples, {:.0f} % of the sweep, scatter {:.2f} px, {} outliers",
+                    trace.name, trace.trace.time_s.size(), 100.0 * trace.coverage, trace.noise_px,
+                    trace.outliers),
+        kTraceColours[t % std::size(kTraceColours)]);
+  }
+  const int thickness = std::max(1, static_cast<int>(std::lround(scale * 1.5)));
+  int baseline = 0, widest = 0;
+  const int text_height =
+      cv::getTextSize("Ag", cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline).height;
+  for (const auto& [text, colour] : lines) {
+    widest = std::max(
+        widest, cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline).width);
+  }
+  const int pad = std::max(3, text_height / 2);
+  const int line_height = text_height + baseline + pad;
+  const cv::Rect panel =
+      cv::Rect(0, 0, widest + 2 * pad, static_cast<int>(lines.size()) * line_height + pad) &
+      cv::Rect(0, 0, canvas.image.cols, canvas.image.rows);
+  // Darkened, not blacked out: the photo's corner still shows through.
+  canvas.image(panel) *= 0.2;
+  int y = pad + text_height;
+  for (const auto& [text, colour] : lines) {
+    // Light tints of the marks' colours: the same hue, readable on dark.
+    const cv::Scalar tint = 0.5 * colour + cv::Scalar(127, 127, 127);
+    cv::putText(canvas.image, text, {pad, y}, cv::FONT_HERSHEY_SIMPLEX, scale, tint, thickness,
+                cv::LINE_AA);
     y += line_height;
-    DrawText(canvas,
-             fmt::format("{}: {} samples, {:.0f} % of the sweep, scatter {:.2f} px, {} outliers",
-                         trace.name, trace.trace.time_s.size(), 100.0 * trace.coverage,
-                         trace.noise_px, trace.outliers),
-             {x, y}, scale, kTraceColours[t % std::size(kTraceColours)]);
   }
 }
 

@@ -17,6 +17,12 @@ namespace {
 // per photo instead of megabytes of PNG. Drawn at that size, not shrunk
 // afterwards: a full-size overlay cost about as much as the digitizing.
 constexpr int kOverlayWidthPx = 1200;
+// The JPEG as a report page shows it: no wider than the page's column (a
+// whole-factor shrink leaves a 1000 px photo at 1000 px), at a quality that
+// keeps a photo's overlay near 40 kB, so that a session's page with its 24
+// photos stays under 2 MB.
+constexpr int kOverlayPageWidthPx = 800;
+constexpr int kOverlayJpegQuality = 50;
 
 // The overlay as JPEG, and at a quarter of its width as RGB pixels for the
 // results file's HDF5 image: a thumbnail HDFView shows (the JPEG has every
@@ -27,7 +33,12 @@ constexpr double kPreviewScale = 0.25;
 void DrawOverlays(const Photo& photo, const DigitizeResult& result, bool thumbnail,
                   PhotoOverlay& out) {
   const cv::Mat bgr = DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx});
-  if (std::string problem; !imagefile::EncodeJpeg(bgr, 82, &out.jpeg, &problem)) {
+  cv::Mat page = bgr;
+  if (bgr.cols > kOverlayPageWidthPx) {
+    const double f = static_cast<double>(kOverlayPageWidthPx) / bgr.cols;
+    cv::resize(bgr, page, cv::Size(), f, f, cv::INTER_AREA);
+  }
+  if (std::string problem; !imagefile::EncodeJpeg(page, kOverlayJpegQuality, &out.jpeg, &problem)) {
     throw std::runtime_error("the overlay's JPEG: " +
                              problem);  // an 8-bit BGR image always encodes
   }

@@ -14,8 +14,9 @@ namespace impactlab {
 // The dygraphs library and its style sheet, as the page inlines them once.
 std::string DygraphLibrary();
 
-// `plot` as a <div> and the <script> that draws it there; `id` must be unique
-// in the page (letters, digits, '-').
+// `plot` as a <div> and the <script> that draws it there when it comes into
+// view (within a screen's height of it); `id` must be unique in the page
+// (letters, digits, '-').
 std::string RenderDygraph(const Plot& plot, const std::string& id);
 
 }  // namespace impactlab

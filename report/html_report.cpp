@@ -26,8 +26,8 @@ body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; 
 h1 { font-size: 1.6em; } h2 { margin-top: 2em; border-bottom: 1px solid #ccc; }
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
 caption { text-align: left; font-weight: bold; padding: 0.3em 0; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }
+th.num, td.num { text-align: right; } tr.summary td { border-top: 2px solid #888; }
 .note { font-size: 0.85em; color: #555; margin: 0.2em 0; }
 .ok { color: #2a7; } .failed { color: #c33; }
 .plot { display: flex; gap: 1em; align-items: flex-start; }
@@ -68,8 +68,9 @@ std::string OverlayFigure(const PhotoOverlay& o) {
     spread = "; spread whose pull inside curves was undone: " + spread;
   }
   return fmt::format(
-      "<figure><img alt=\"digitized {0}\" style=\"max-width:100%\" "
-      "src=\"data:image/jpeg;base64,{1}\"><figcaption>{0}: the graticule found (residual {2:.3f} "
+      "<figure><img alt=\"digitized {0}\" style=\"max-width:100%\" loading=\"lazy\" "
+      "decoding=\"async\" src=\"data:image/jpeg;base64,{1}\"><figcaption>{0}: the graticule found "
+      "(residual {2:.3f} "
       "px RMS) and the traces followed; coverage of the sweep: {3}{5}; {4:.0f} ms of digitizing "
       "beyond decoding.</figcaption></figure>\n",
       EscapeHtml(o.photo), Base64(o.jpeg), o.graticule_residual_px, coverage, o.processing_ms,
@@ -168,7 +169,11 @@ std::string RunFigure(const RunResult& run, const UnitLabels& u, Figures& figure
 }
 
 // Thesis Figures 13-14: each cell's points (thinned for display) and its
-// fitted curve on top, a colour per cell.
+// fitted curve on top, a colour per cell. A hundred points a cell show the
+// scatter, and 80 segments draw the smooth curve; more only weighs the page
+// (the cells' points lie at different x, so each costs a row of its own).
+constexpr std::size_t kCalibrationPoints = 100;
+constexpr int kCurvePoints = 80;
 std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures& figures) {
   Plot plot;
   plot.title = fmt::format("Run {}: photocell calibrations", run.id);
@@ -185,7 +190,7 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures
                       {},
                       PlotSeries::Style::kMarkers,
                       points_colour[k % 2]};
-    const std::size_t stride = std::max<std::size_t>(1, c.points_x.size() / 150);
+    const std::size_t stride = std::max<std::size_t>(1, c.points_x.size() / kCalibrationPoints);
     for (std::size_t i = 0; i < c.points_x.size(); i += stride) {
       points.x.push_back(c.points_x[i]);
       points.y.push_back(c.points_volts[i]);
@@ -202,8 +207,8 @@ std::string CalibrationFigure(const RunResult& run, const UnitLabels& u, Figures
                      {},
                      PlotSeries::Style::kLine,
                      curve_colour[k % 2]};
-    for (int i = 0; i <= 200; ++i) {
-      const double x = c.release_x * i / 200.0;
+    for (int i = 0; i <= kCurvePoints; ++i) {
+      const double x = c.release_x * i / kCurvePoints;
       curve.x.push_back(x);
       curve.y.push_back(stored.VoltsAt(x));
       if (band) curve.sigma.push_back(stored.DisplacementSigmaAt(x) * std::abs(stored.SlopeAt(x)));

@@ -11,7 +11,9 @@
 #include <fmt/format.h>
 
 #include "report/html_escape.h"
+#include "report/latex_table.h"
 #include "report/text_escape.h"
+#include "report/uncertainty.h"
 
 namespace impactlab {
 namespace {
@@ -25,24 +27,22 @@ Cell Signed(double v, int digits) {
   if (text.find_first_not_of("+-0.") == std::string::npos) text = "+" + text.substr(1);
   return Cell{text, v, std::nullopt, digits};
 }
-// Digits after the point that show a standard error to two significant
-// digits, and never fewer than `digits` (so no error reads "± 0.0000").
-int DecimalsFor(double sigma, int digits) {
-  if (!(sigma > 0.0) || !std::isfinite(sigma)) return digits;
-  const int shown = 1 - static_cast<int>(std::floor(std::log10(sigma)));
-  return std::clamp(std::max(shown, digits), 0, 15);
-}
 // At most four digits more than asked for: an error far below them (a
 // noiseless simulation's) is written in powers of ten instead.
 constexpr int kMoreDigits = 4;
+// The value and its error, the error to two significant digits
+// (report/uncertainty.h).
 Cell WithSigma(const Estimate& e, int digits) {
   if (e.sigma == 0.0) return Fixed(e.value, digits);
-  const int d = DecimalsFor(e.sigma, digits);
-  if (d > digits + kMoreDigits) {
+  if (!std::isfinite(e.sigma)) {
+    return Cell{fmt::format("{:.{}f} ± {}", e.value, digits, e.sigma), e.value, e.sigma, digits};
+  }
+  const RoundedEstimate r = RoundToError(e.value, e.sigma);
+  if (r.decimals > digits + kMoreDigits) {
     const int shown = digits + kMoreDigits;
     return Cell{fmt::format("{:.{}f} ± {:.2g}", e.value, shown, e.sigma), e.value, e.sigma, shown};
   }
-  return Cell{fmt::format("{:.{}f} ± {:.{}f}", e.value, d, e.sigma, d), e.value, e.sigma, d};
+  return Cell{r.value + " ± " + r.sigma, e.value, e.sigma, r.decimals};
 }
 Cell Sig(double v, int significant) {
   return Cell{fmt::format("{:.{}g}", v, significant), v, std::nullopt, -1};
@@ -154,10 +154,10 @@ Cell Determined(const LeastSquaresSummary& fit, const std::string& name, int dig
   return WithSigma(shown, digits);
 }
 
-// "ok", or the flag of a fit whose scatter exceeds its stated sigmas.
+// "ok", or the flag of a fit whose scatter exceeds its stated sigmas (by
+// the Birge ratio beside it).
 std::string ScatterStatus(const ScatterCheck& scatter) {
-  if (!scatter.excess) return "ok";
-  return fmt::format("ok; excess scatter: scaled ± = {:.3g} x stated", scatter.Scale());
+  return scatter.excess ? "ok; excess scatter" : "ok";
 }
 
 Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) {
@@ -183,8 +183,8 @@ Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) 
   }
   t.notes = {"Weighted by the maxima's uncertainties; K from the contact time (eq. 37).",
              "The ± are the stated standard errors (from the maxima's sigmas). Where chi2 is "
-             "significantly above its dof (p < 0.001) the status says by how much the scatter "
-             "exceeds them: multiply the ± by the Birge ratio sqrt(chi2/dof) (the results file "
+             "significantly above its dof (p < 0.001) the status says \"excess scatter\": "
+             "multiply the ± by the Birge ratio sqrt(chi2/dof) (the results file "
              "has them as *_std_error_scaled; the model's predicted maxima use them)."};
   return t;
 }
@@ -225,10 +225,12 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
   for (const RunResult& run : r.runs) {
     if (const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "poynting_thomson")) {
       row(run.id, *fit);
+      t.row_kinds.push_back("run");
     }
   }
   if (const LeastSquaresSummary* fit = FindFit(r.joint_fits, "poynting_thomson")) {
     row("all runs (joint)", *fit);
+    t.row_kinds.push_back("joint");
   }
   t.notes = {
       "\"undetermined\": the data fix only some combinations of log K1, log K2 and log C; "
@@ -237,13 +239,22 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
   return t;
 }
 
-// A parameter as "name = value ± stated", with "(± scaled)" when the fit's
-// scatter exceeds what its sigmas promise.
-std::string ParameterText(const NamedEstimate& p, double scale) {
-  std::string text =
-      fmt::format("{} = {:.5g} ± {:.2g}", p.name, p.estimate.value, p.estimate.sigma);
-  if (scale > 1.0) text += fmt::format(" (± {:.2g} scaled)", p.estimate.sigma * scale);
-  return text;
+// A parameter's unit kind (NamedEstimate::units) in the session's system.
+std::string UnitText(const std::string& kind, const UnitLabels& u) {
+  if (kind == "length") return u.length;
+  if (kind == "stiffness") return u.stiffness;
+  if (kind == "damping") return u.damping;
+  if (kind == "speed") return u.speed;
+  if (kind == "inverse_speed") return "s/" + u.length;
+  if (kind == "hertz_stiffness") return u.force + "/" + u.length + "^n";
+  return kind;  // "1", "s"
+}
+
+// The Birge-scaled standard error where the scatter exceeds the stated one
+// (scale > 1), else no value.
+Cell ScaledSigma(const Estimate& e, double scale) {
+  if (!(scale > 1.0) || !std::isfinite(e.sigma)) return "-";
+  return Sig(e.sigma * scale, 2);
 }
 
 Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
@@ -254,7 +265,6 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
       "Restitution models and contact laws fitted jointly to the runs' maxima, compared "
       "(leave-one-run-out)";
   t.columns = {"Model",
-               "Parameters",
                "k",
                "chi2",
                "dof",
@@ -265,19 +275,12 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
                fmt::format("LOO rms ({})", u.length),
                "Verdict"};
   for (const ModelComparisonRow& m : c.models) {
-    std::string parameters;
-    const double scale = CheckScatter(m.chi2, m.dof).Scale();
-    for (const NamedEstimate& p : m.parameters) {
-      if (p.name.rfind("log_restitution_", 0) == 0) continue;  // per-run values: too many
-      parameters += (parameters.empty() ? "" : "; ") + ParameterText(p, scale);
-    }
-    if (parameters.empty()) parameters = m.model == "per-run" ? "one ln e per run" : "-";
     if (!m.ok) {
       t.rows.push_back(
-          {m.model + " (failed)", m.reason, "-", "-", "-", "-", "-", "-", "-", "-", "failed"});
+          {m.model + " (failed)", "-", "-", "-", "-", "-", "-", "-", "-", "failed: " + m.reason});
       continue;
     }
-    t.rows.push_back({m.model, parameters, Count(m.parameter_count), Sig(m.chi2, 4), Count(m.dof),
+    t.rows.push_back({m.model, Count(m.parameter_count), Sig(m.chi2, 4), Count(m.dof),
                       Sig(m.aic, 5), Sig(m.bic, 5), Sig(m.log_restitution_spread, 3),
                       loo ? Sig(m.loo_rms_normalized, 4) : Cell("-"),
                       loo ? Sig(m.loo_rms_length, 4) : Cell("-"), m.verdict});
@@ -287,8 +290,30 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
                  : fmt::format("Lowest BIC: {} (no leave-one-out refits).", c.best_by_bic),
              "chi2 / dof far above 1 means the stated uncertainties understate the scatter; "
              "\"scaled\" standard errors are multiplied by sqrt(chi2/dof) (Birge) where that "
-             "excess is significant (p < 0.001)."};
+             "excess is significant (p < 0.001). The fitted parameters are in table "
+             "model_comparison_parameters."};
   for (const std::string& e : c.evidence) t.notes.push_back(e);
+  return t;
+}
+
+// The models' fitted parameters, one row per model and parameter (tidy: the
+// value and its errors in columns of their own).
+Table ModelParameterTable(const ModelComparison& c, const UnitLabels& u) {
+  Table t;
+  t.name = "model_comparison_parameters";
+  t.caption = "Restitution models: the fitted parameters";
+  t.columns = {"Model", "Parameter", "Value", "Scaled std error", "Units"};
+  for (const ModelComparisonRow& m : c.models) {
+    if (!m.ok) continue;
+    const double scale = CheckScatter(m.chi2, m.dof).Scale();
+    for (const NamedEstimate& p : m.parameters) {
+      t.rows.push_back({m.model, p.name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, scale),
+                        Cell::Unit(UnitText(p.units, u))});
+    }
+  }
+  t.notes = {
+      "± the stated standard error; \"scaled\": times the Birge ratio sqrt(chi2/dof), "
+      "where the scatter exceeds the stated errors (p < 0.001)."};
   return t;
 }
 
@@ -320,32 +345,18 @@ Table ReboundAnomalyTable(const SessionResult& r) {
   return t;
 }
 
-Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& u) {
+Table ContactLawTable(const std::vector<ContactLawFit>& laws) {
   Table t;
   t.name = "contact_laws";
   t.caption = "Contact laws fitted across the runs: maxima and the runs' own contact times";
-  t.columns = {"Law", "Parameters",  "k",   "chi2 maxima",     "chi2 contact",
-               "dof", "Birge ratio", "BIC", "LOO rms / sigma", "What the data fix"};
+  t.columns = {"Law",         "k",   "chi2 maxima",     "chi2 contact",     "dof",
+               "Birge ratio", "BIC", "LOO rms / sigma", "What the data fix"};
   for (const ContactLawFit& fit : laws) {
     if (!fit.ok && fit.maxima == 0) {
-      t.rows.push_back({fit.law + " (failed)", fit.reason, "-", "-", "-", "-", "-", "-", "-", "-"});
+      t.rows.push_back({fit.law + " (failed)", "-", "-", "-", "-", "-", "-", "-", fit.reason});
       continue;
     }
-    std::string parameters;
-    for (const NamedEstimate& p : fit.parameters) {
-      NamedEstimate shown = p;
-      if (p.units == "hertz_stiffness") shown.name += fmt::format(" ({}/{}^n)", u.force, u.length);
-      if (p.units == "stiffness") shown.name += fmt::format(" ({})", u.stiffness);
-      if (p.units == "inverse_speed") shown.name += fmt::format(" (s/{})", u.length);
-      parameters += (parameters.empty() ? "" : "; ") + ParameterText(shown, fit.scatter.Scale());
-    }
-    for (const ParameterInterval& in : fit.intervals) {
-      if (!in.profile) continue;
-      parameters += fmt::format("; {} profile 68 % [{:.4g}, {:.4g}]{}", in.name, in.lower, in.upper,
-                                in.at_bound ? " (at a bound)" : "");
-    }
-    if (parameters.empty()) parameters = "-";
-    t.rows.push_back({fit.law + (fit.ok ? "" : " (failed)"), parameters, Count(fit.parameter_count),
+    t.rows.push_back({fit.law + (fit.ok ? "" : " (failed)"), Count(fit.parameter_count),
                       Sig(fit.chi2_maxima, 4), Sig(fit.chi2_contact, 4), Count(fit.dof),
                       Sig(fit.scatter.birge_ratio, 3), Sig(fit.bic, 5),
                       fit.loo_ok ? Sig(fit.loo_rms_normalized, 4) : Cell("-"),
@@ -353,9 +364,44 @@ Table ContactLawTable(const std::vector<ContactLawFit>& laws, const UnitLabels& 
   }
   t.notes = {
       "Each law predicts every impact's e and contact time from its speed; a run's "
-      "maxima follow impact by impact. Birge ratio sqrt(chi2/dof); \"scaled\": the "
-      "standard errors times it where chi2 is significantly high (p < 0.001). \"profile 68 %\": "
-      "where chi2 is not quadratic over ±1 sigma, the interval from the chi2 profile."};
+      "maxima follow impact by impact. Birge ratio sqrt(chi2/dof). The fitted parameters "
+      "are in table contact_law_parameters."};
+  return t;
+}
+
+// The laws' parameters, one row per law and parameter: the value with its
+// stated and scaled errors, and the 68 % interval where it comes from the
+// chi2 profile.
+Table ContactLawParameterTable(const std::vector<ContactLawFit>& laws, const UnitLabels& u) {
+  Table t;
+  t.name = "contact_law_parameters";
+  t.caption = "Contact laws: the fitted parameters";
+  t.columns = {
+      "Law",  "Parameter", "Value", "Scaled std error", "Profile 68 % low", "Profile 68 % high",
+      "Units"};
+  bool at_bound = false;
+  for (const ContactLawFit& fit : laws) {
+    if (!fit.ok && fit.maxima == 0) continue;
+    for (std::size_t i = 0; i < fit.parameters.size(); ++i) {
+      const NamedEstimate& p = fit.parameters[i];
+      const ParameterInterval* in =
+          i < fit.intervals.size() && fit.intervals[i].profile ? &fit.intervals[i] : nullptr;
+      std::string name = p.name;
+      if (in != nullptr && in->at_bound) {
+        name += " (interval at a bound)";
+        at_bound = true;
+      }
+      t.rows.push_back(
+          {fit.law, name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, fit.scatter.Scale()),
+           in != nullptr ? Sig(in->lower, 4) : Cell("-"),
+           in != nullptr ? Sig(in->upper, 4) : Cell("-"), Cell::Unit(UnitText(p.units, u))});
+    }
+  }
+  t.notes = {
+      "± the stated standard error; \"scaled\": times the Birge ratio where chi2 is "
+      "significantly high (p < 0.001). \"Profile 68 %\": where chi2 is not quadratic over "
+      "±1 sigma, the interval from the chi2 profile."};
+  if (at_bound) t.notes.push_back("At a bound: an end of the interval stopped at n's bound.");
   return t;
 }
 
@@ -501,7 +547,8 @@ Table LogTable(const LogResult& log) {
                         differed ? Signed(row->difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
                         sim ? OptionalWithSigma(sim->damping_ratio, 4) : Cell("-"),
-                        compared ? Sig(row->rms_difference, 4) : Cell("-"), c.units, flagged});
+                        compared ? Sig(row->rms_difference, 4) : Cell("-"), Cell::Unit(c.units),
+                        flagged});
     }
   }
   t.notes = {
@@ -568,11 +615,12 @@ Table StiffnessTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
   });
   for (std::size_t i : order) {
     t.rows.push_back({s.run_ids[i], Fixed(s.sqrt_restitution[i], 4), Fixed(s.stiffness[i], 0),
-                      Fixed(std::abs(s.spread.deviation[i]), 0),
-                      Fixed(s.spread.pct_variation[i], 2)});
+                      Signed(s.spread.deviation[i], 0), Fixed(s.spread.pct_variation[i], 2)});
+    t.row_kinds.push_back("run");
   }
   t.rows.push_back({"K avg", "", Fixed(s.spread.average, 0), "", ""});
-  t.notes = {"xi is the run's fitted coefficient of restitution e."};
+  t.row_kinds.push_back("average");
+  t.notes = {"xi is the run's fitted coefficient of restitution e; Delta K = K - K avg."};
   return t;
 }
 
@@ -582,10 +630,10 @@ Table DampingLineTable(const SessionKelvinVoigt& s, const UnitLabels& u) {
   t.caption = "C versus sqrt(xi): least-squares line C = a (1 - b sqrt(xi)) (thesis eq. 40)";
   t.columns = {"Quantity", "Value", "Standard error", "Units"};
   const DampingLine& line = *s.damping_line;
-  t.rows = {{"a", Sig(line.a.value, 6), Sig(line.a.sigma, 3), u.damping},
+  t.rows = {{"a", Sig(line.a.value, 6), Sig(line.a.sigma, 3), Cell::Unit(u.damping)},
             {"b", Sig(line.b.value, 6), Sig(line.b.sigma, 3), "1"},
             {"correlation(a, b)", Fixed(line.correlation_ab, 4), "", "1"},
-            {"rms residual", Sig(line.rms_residual, 4), "", u.damping},
+            {"rms residual", Sig(line.rms_residual, 4), "", Cell::Unit(u.damping)},
             {"runs", Count(line.points), "", ""}};
   t.notes = {s.average_stiffness ? "C from the session's average K." : "C from each run's own K."};
   return t;
@@ -786,23 +834,6 @@ std::string FullPrecision(double v) {
   return fmt::format("{}", v);  // the shortest text that reads back to v exactly
 }
 
-// A text longer than this wraps in LaTeX (a p column), characters.
-constexpr std::size_t kLatexWrapChars = 60;
-
-// A number for siunitx: \num{0.08448(12)}, its error in the last digits shown.
-std::string LatexNumber(const Cell& cell) {
-  if (!cell.value || !std::isfinite(*cell.value)) return EscapeLatex(cell.text);
-  if (cell.sigma && std::isfinite(*cell.sigma) && *cell.sigma > 0.0 && cell.decimals >= 0) {
-    const double last_digits = std::round(*cell.sigma * std::pow(10.0, cell.decimals));
-    if (last_digits >= 1.0) {
-      return fmt::format("\\num{{{:.{}f}({:.0f})}}", *cell.value, cell.decimals, last_digits);
-    }
-    return fmt::format("\\num{{{:.{}f} +- {:.2g}}}", *cell.value, cell.decimals, *cell.sigma);
-  }
-  if (cell.sigma && !std::isfinite(*cell.sigma)) return EscapeLatex(cell.text);
-  return fmt::format("\\num{{{}}}", cell.text);
-}
-
 // The text cells of a row, each as its format writes it: escaped, and a
 // cell that points to a table linked (Markdown, HTML) or referenced (LaTeX).
 std::vector<std::string> RenderedCells(const std::vector<Cell>& row, ReportFormat format) {
@@ -820,10 +851,7 @@ std::vector<std::string> RenderedCells(const std::vector<Cell>& row, ReportForma
                                           EscapeHtml(cell.text))
                             : EscapeHtml(cell.text));
         break;
-      case ReportFormat::kLatex:
-        cells.push_back(to_table ? fmt::format("Table~\\ref{{tab:{}}}", cell.link.substr(6))
-                                 : LatexNumber(cell));
-        break;
+      case ReportFormat::kLatex:  // not used: LatexTable writes its own cells
       case ReportFormat::kCsv:
         cells.push_back(EscapeCsv(cell.text));
         break;
@@ -913,8 +941,14 @@ std::vector<Table> BuildTables(const SessionResult& r) {
     tables.push_back(StiffnessTable(*r.kelvin_voigt, u));
     if (r.kelvin_voigt->damping_line) tables.push_back(DampingLineTable(*r.kelvin_voigt, u));
   }
-  if (r.model_comparison) tables.push_back(ModelComparisonTable(*r.model_comparison, u));
-  if (!r.contact_laws.empty()) tables.push_back(ContactLawTable(r.contact_laws, u));
+  if (r.model_comparison) {
+    tables.push_back(ModelComparisonTable(*r.model_comparison, u));
+    tables.push_back(ModelParameterTable(*r.model_comparison, u));
+  }
+  if (!r.contact_laws.empty()) {
+    tables.push_back(ContactLawTable(r.contact_laws));
+    tables.push_back(ContactLawParameterTable(r.contact_laws, u));
+  }
   if (std::any_of(r.products.begin(), r.products.end(),
                   [](const ProductRecord& p) { return !p.made; })) {
     tables.push_back(SkippedProductTable(r));
@@ -944,6 +978,7 @@ std::vector<Table> BuildTables(const SessionResult& r) {
 std::vector<std::string> TidyColumns(const Table& t) {
   const std::vector<bool> with_sigma = ColumnsWithSigma(t);
   std::vector<std::string> columns;
+  if (!t.row_kinds.empty()) columns.push_back("row_kind");
   for (std::size_t c = 0; c < t.columns.size(); ++c) {
     columns.push_back(t.columns[c]);
     if (with_sigma[c]) columns.push_back(t.columns[c] + " std_error");
@@ -955,10 +990,20 @@ std::vector<std::vector<std::string>> TidyRows(const Table& t) {
   const std::vector<bool> with_sigma = ColumnsWithSigma(t);
   const std::vector<bool> numeric = NumericColumns(t);
   std::vector<std::vector<std::string>> rows;
-  for (const auto& row : t.rows) {
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const auto& row = t.rows[i];
     std::vector<std::string> cells;
+    // A summary row says what it is in row_kind; its label ("K avg") is no
+    // value of the first column (a run's id).
+    const bool summary =
+        !t.row_kinds.empty() && i < t.row_kinds.size() && t.row_kinds[i] != t.row_kinds.front();
+    if (!t.row_kinds.empty()) cells.push_back(i < t.row_kinds.size() ? t.row_kinds[i] : "");
     for (std::size_t c = 0; c < row.size(); ++c) {
       const Cell& cell = row[c];
+      if (c == 0 && summary) {
+        cells.push_back("");
+        continue;
+      }
       // Text in a number's column ("none", "not found") is no value there.
       const bool no_value = cell.text == "-" || (c < numeric.size() && numeric[c]);
       cells.push_back(cell.value ? FullPrecision(*cell.value) : no_value ? "" : cell.text);
@@ -1001,14 +1046,28 @@ std::string RenderTable(const Table& t, ReportFormat format) {
       }
       for (const auto& note : t.notes) out += fmt::format("\n{}\n", EscapeMarkdown(note));
       return out + "\n";
-    case ReportFormat::kHtml:
-      out += fmt::format(
-          "<table id=\"table-{}\">\n<caption>{}</caption>\n<thead><tr><th>{}</th></tr></thead>\n"
-          "<tbody>\n",
-          t.name, EscapeHtml(t.caption), Join(t.columns, "</th><th>", EscapeHtml));
-      for (const auto& row : t.rows) {
-        out += fmt::format("<tr><td>{}</td></tr>\n",
-                           Join(RenderedCells(row, format), "</td><td>", nullptr));
+    case ReportFormat::kHtml: {
+      // Numbers right-aligned (class "num"), texts left.
+      const std::vector<bool> numeric = NumericColumns(t);
+      const auto open = [&](const char* tag, std::size_t c) {
+        return fmt::format("<{}{}>", tag, c > 0 && numeric[c] ? " class=\"num\"" : "");
+      };
+      out += fmt::format("<table id=\"table-{}\">\n<caption>{}</caption>\n<thead><tr>", t.name,
+                         EscapeHtml(t.caption));
+      for (std::size_t c = 0; c < t.columns.size(); ++c) {
+        out += open("th", c) + EscapeHtml(t.columns[c]) + "</th>";
+      }
+      out += "</tr></thead>\n<tbody>\n";
+      for (std::size_t i = 0; i < t.rows.size(); ++i) {
+        // The summary rows (K avg, the joint fit) set apart.
+        const bool summary =
+            !t.row_kinds.empty() && i < t.row_kinds.size() && t.row_kinds[i] != t.row_kinds.front();
+        out += summary ? "<tr class=\"summary\">" : "<tr>";
+        const std::vector<std::string> cells = RenderedCells(t.rows[i], format);
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+          out += open("td", c) + cells[c] + "</td>";
+        }
+        out += "</tr>\n";
       }
       out += "</tbody>\n</table>\n";
       for (const auto& note : t.notes) {
@@ -1022,31 +1081,9 @@ std::string RenderTable(const Table& t, ReportFormat format) {
         out += "</details>\n";
       }
       return out;
-    case ReportFormat::kLatex: {
-      // booktabs rules and siunitx numbers (the preamble needs both packages).
-      // A column of long texts (notes, failure messages) wraps in a
-      // paragraph column; the others are one line each.
-      std::string spec;
-      for (std::size_t c = 0; c < t.columns.size(); ++c) {
-        std::size_t longest = 0;
-        for (const auto& row : t.rows) {
-          if (c < row.size() && !row[c].value) longest = std::max(longest, row[c].text.size());
-        }
-        spec += longest > kLatexWrapChars ? "p{7cm}" : c == 0 ? "l" : "r";
-      }
-      out += fmt::format(
-          "\\begin{{table}}[htbp]\n\\centering\n\\caption{{{}}}\n\\label{{tab:{}}}\n"
-          "\\begin{{tabular}}{{{}}}\n\\toprule\n",
-          EscapeLatex(t.caption), t.name, spec);
-      out += Join(t.columns, " & ", EscapeLatex) + " \\\\\n\\midrule\n";
-      for (const auto& row : t.rows) {
-        out += Join(RenderedCells(row, format), " & ", nullptr) + " \\\\\n";
-      }
-      out += "\\bottomrule\n\\end{tabular}\n";
-      for (const auto& note : t.notes)
-        out += fmt::format("\n\\par\\footnotesize {}\n", EscapeLatex(note));
-      return out + "\\end{table}\n\n";
     }
+    case ReportFormat::kLatex:
+      return LatexTable(t);
   }
   return out;
 }
@@ -1058,8 +1095,12 @@ std::string RenderTables(const std::string& title, const std::vector<Table>& tab
   // a % comment, which a newline in it must not end).
   if (format == ReportFormat::kMarkdown) out += fmt::format("# {}\n\n", EscapeMarkdown(title));
   if (format == ReportFormat::kLatex) {
-    out += fmt::format("% {}\n% Needs \\usepackage{{booktabs}} and \\usepackage{{siunitx}}.\n",
-                       EscapeLatex(title));
+    out += fmt::format("% {}\n% Needs in the preamble:\n", EscapeLatex(title));
+    const std::string packages = kLatexPackages;
+    for (std::size_t at = 0, end; (end = packages.find('\n', at)) != std::string::npos;
+         at = end + 1) {
+      out += "%   " + packages.substr(at, end - at) + "\n";
+    }
   }
   for (Table t : tables) {
     // A link to a table left out (report --table) would lead nowhere.

@@ -23,12 +23,20 @@ struct Cell {
   // (a link in Markdown and HTML, \ref{tab:NAME} in LaTeX) or, in HTML only,
   // "run-ID" or "log-ID"; empty: none. CSV writes the text alone.
   std::string link;
+  // The text is a unit ("lbf*s/in", a log channel's "m/s^2"): LaTeX typesets
+  // it with siunitx where it can.
+  bool unit = false;
 
   Cell() = default;
   Cell(std::string t) : text(std::move(t)) {}  // NOLINT: text cells read as strings
   Cell(const char* t) : text(t) {}             // NOLINT
   Cell(std::string t, std::optional<double> v, std::optional<double> s, int d)
       : text(std::move(t)), value(v), sigma(s), decimals(d) {}
+  static Cell Unit(std::string t) {
+    Cell c(std::move(t));
+    c.unit = true;
+    return c;
+  }
   bool operator==(const Cell&) const = default;
 };
 
@@ -40,6 +48,13 @@ struct Table {
   std::string caption;  // e.g. "Deviation of theoretical from experimental response (Table 2)"
   std::vector<std::string> columns;
   std::vector<std::vector<Cell>> rows;
+  // What each row is, where some rows summarise the others (Table 3's K avg,
+  // the joint fit of all runs): empty when every row is data of one kind;
+  // else one word per row ("run", "average", "joint"). CSV writes it as a
+  // column "row_kind" of its own and leaves a summary row's first cell (its
+  // label for a reader, "K avg") empty; the other formats set the summary
+  // rows apart.
+  std::vector<std::string> row_kinds;
   std::vector<std::string> notes;  // footnotes
   // Longer texts a reader may unfold: the HTML report folds them under the
   // table (<details>); the text formats leave them out (the results file
@@ -50,7 +65,8 @@ struct Table {
 // The table as CSV has it, tidy: a column whose numbers carry standard errors
 // is followed by "<column> std_error"; numbers at full precision (the
 // shortest text that reads back to the double exactly; an undetermined error
-// "inf"); no text in a number's place ("-" is an empty cell).
+// "inf"); no text in a number's place ("-" is an empty cell); where some rows
+// summarise the others, a first column "row_kind" (Table::row_kinds).
 std::vector<std::string> TidyColumns(const Table& table);
 std::vector<std::vector<std::string>> TidyRows(const Table& table);
 

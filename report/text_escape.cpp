@@ -20,6 +20,28 @@ bool ListMarkerEnds(const std::string& text, std::size_t next) {
   return next < text.size() && (text[next] == ' ' || text[next] == '\t');
 }
 
+// The power after a '^' at `at`: a parenthesised group (with its
+// parentheses, balanced) or a run of letters, digits and a leading sign;
+// empty if none.
+std::string PowerAfter(const std::string& text, std::size_t at) {
+  if (at >= text.size()) return "";
+  if (text[at] == '(') {
+    int depth = 0;
+    for (std::size_t j = at; j < text.size(); ++j) {
+      if (text[j] == '(') ++depth;
+      if (text[j] == ')' && --depth == 0) return text.substr(at, j - at + 1);
+    }
+    return "";
+  }
+  std::size_t end = at;
+  if (text[end] == '-' || text[end] == '+') ++end;
+  while (end < text.size() && std::isalnum(static_cast<unsigned char>(text[end]))) ++end;
+  if (end == at || (end == at + 1 && !std::isalnum(static_cast<unsigned char>(text[at])))) {
+    return "";
+  }
+  return text.substr(at, end - at);
+}
+
 }  // namespace
 
 std::string EscapeLatex(const std::string& text) {
@@ -47,9 +69,20 @@ std::string EscapeLatex(const std::string& text) {
       case '~':
         out += "\\textasciitilde{}";
         break;
-      case '^':
-        out += "\\textasciicircum{}";
+      case '^': {
+        // A power in prose ("k^(-1/(n+1))", "in^n") as a superscript; a
+        // circumflex alone as itself.
+        const std::string power = PowerAfter(text, i + 1);
+        if (power.empty()) {
+          out += "\\textasciicircum{}";
+        } else {
+          const bool grouped = text[i + 1] == '(';
+          out += "\\textsuperscript{" +
+                 EscapeLatex(grouped ? power.substr(1, power.size() - 2) : power) + "}";
+          i += power.size();
+        }
         break;
+      }
       case '\\':
         out += "\\textbackslash{}";
         break;
@@ -68,8 +101,8 @@ std::string EscapeLatex(const std::string& text) {
       case ']':
         out += "{]}";
         break;
-      case '*':
-        out += "$^*$";
+      case '*':  // braced: after \\ it would make \\*, a command
+        out += "{*}";
         break;
       default:
         out += IsControl(c) ? ' ' : c;
@@ -84,14 +117,24 @@ std::string EscapeMarkdown(const std::string& text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     switch (c) {
+      // Only what could start markup is escaped, so that prose reads as it
+      // is in a terminal too ("p < 0.001", "e -> 1", "Q & A"): a '<' that
+      // could open a tag, an '&' that could start an entity, a '>' that
+      // could start a quote.
       case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
+        out += i + 1 < text.size() && (std::isalpha(static_cast<unsigned char>(text[i + 1])) ||
+                                       std::strchr("/!?", text[i + 1]) != nullptr)
+                   ? "&lt;"
+                   : "<";
         break;
       case '&':
-        out += "&amp;";
+        out += i + 1 < text.size() &&
+                       (std::isalnum(static_cast<unsigned char>(text[i + 1])) || text[i + 1] == '#')
+                   ? "&amp;"
+                   : "&";
+        break;
+      case '>':
+        out += i == 0 ? "\\>" : ">";
         break;
       case '\\':
       case '`':

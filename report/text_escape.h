@@ -14,11 +14,14 @@ namespace impactlab {
 // no ^^5c trick, no group can be opened), < > | [ ] are made text, and
 // newlines, tabs and other control characters become spaces (a newline would
 // end a % comment; a blank line a paragraph; form feed is \par). "±" becomes
-// $\pm$ and "*" a superscript star (Table 2's mark of the fitted pair).
+// $\pm$; "*" is braced (after \\ it would be \\*); a power in prose
+// ("c k^(-1/(n+1))") a superscript, a lone "^" \textasciicircum{}.
 std::string EscapeLatex(const std::string& text);
 
-// Markdown text, in a table cell, a heading or a paragraph: < > & are
-// HTML-escaped (no raw HTML: <script>, <svg onload=...>), Markdown's own
+// Markdown text, in a table cell, a heading or a paragraph: a '<' that
+// could open a tag and an '&' that could start an entity are HTML-escaped
+// (no raw HTML: <script>, <svg onload=...>; "p < 0.001" stays as it is), a
+// leading '>' backslash-escaped (no quote), Markdown's own
 // specials \ ` * _ [ ] | # ~ are backslash-escaped (no code spans, emphasis,
 // links, images, cell breaks or headings), a leading - + or digit-dot is
 // escaped (no list), and newlines and other control characters become spaces

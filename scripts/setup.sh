@@ -1,13 +1,25 @@
 #!/usr/bin/env bash
 # Installs impactlab's dependencies from Debian (only those missing) and builds
 # it into ./build. Safe to run again.
-# Usage: scripts/setup.sh [--cli | --bench | --no-build]
+# Usage: scripts/setup.sh [--cli | --bench | --no-build] [--tex]
 #   (none)      build the command and the tests
 #   --bench     build everything: the command, the tests and the benchmarks (bench/)
 #   --cli       build only the command (build/cli/impactlab) and its libraries
 #   --no-build  install the dependencies only
+#   --tex       also install Debian's TeX (texlive-latex-recommended, texlive-science),
+#               with which a test compiles every LaTeX table of the report (without
+#               it, that test is skipped); a few hundred MB, so only when asked
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+tex=0
+mode=""
+for arg in "$@"; do
+  case "$arg" in
+    --tex) tex=1 ;;
+    *) mode="$arg" ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -16,6 +28,7 @@ packages=(
   catch2 libcli11-dev libtomlplusplus-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
   libjs-dygraphs chromium
 )
+[ "$tex" -eq 1 ] && packages+=(texlive-latex-recommended texlive-science)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -32,12 +45,12 @@ fi
 # The benchmarks are developers' programs (docs/benchmarks.md): left out of the
 # test build, which they would lengthen by a fifth.
 bench=OFF
-case "${1:-}" in
+case "$mode" in
   --no-build) exit 0 ;;
   --cli) target=(--target impactlab) ;;
   --bench) target=() bench=ON ;;
   "") target=() ;;
-  *) echo "setup: unknown option $1 (expected --cli, --bench or --no-build)" >&2; exit 2 ;;
+  *) echo "setup: unknown option $mode (expected --cli, --bench, --no-build or --tex)" >&2; exit 2 ;;
 esac
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DIMPACTLAB_BUILD_BENCH=$bench >&2
 cmake --build build -j2 "${target[@]}" >&2

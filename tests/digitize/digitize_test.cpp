@@ -263,6 +263,27 @@ TEST_CASE("digitize: the overlay is the photo with the findings drawn on it") {
   CHECK(cv::countNonZero(grey != photo.image) > 1000);  // lines, labels, insets
 }
 
+TEST_CASE("digitize: the overlay's status lines sit on a dark panel, in light text") {
+  const auto [photo, input, result] = DigitizeGreyScene();
+  // The photo's top left a print's light border, where coloured text alone
+  // could not be read.
+  const cv::Rect band(0, 0, std::min(300, photo.image.cols), std::min(24, photo.image.rows));
+  Photo light = input;
+  light.image = input.image.clone();
+  light.image(band).setTo(220);
+  const cv::Mat overlay = DrawOverlay(light, result);
+  cv::Mat grey;
+  cv::cvtColor(overlay, grey, cv::COLOR_BGR2GRAY);
+  // The first status line's band: darkened to a fifth, with light letters on it.
+  const cv::Mat region = grey(band), original = light.image(band);
+  CHECK(cv::mean(region)[0] < 0.5 * cv::mean(original)[0] + 20.0);
+  CHECK(cv::countNonZero(region > 150) > 100);
+  // Dark where there are no letters: the panel covers the band.
+  cv::Mat sorted;
+  cv::sort(region.clone().reshape(1, 1), sorted, cv::SORT_ASCENDING);
+  CHECK(sorted.at<unsigned char>(0, sorted.cols / 2) < 0.35 * cv::mean(original)[0] + 10.0);
+}
+
 TEST_CASE(
     "digitize: an overlay drawn smaller shrinks by a whole factor and keeps the trace's place") {
   const auto [photo, input, result] = DigitizeGreyScene();

@@ -28,7 +28,7 @@ TEST_CASE("html_report: one self-contained page with every table and a figure pe
     for (std::size_t p = 0; (p = html.find(text, p)) != std::string::npos; ++p) ++n;
     return n;
   };
-  CHECK(count("<script>") - count("<script>new Dygraph(") == 1);
+  CHECK(count("<script>") - count("<script>impactlabPlot(") == 1);
   for (const char* caption : {"thesis Table 2", "thesis Table 3", "thesis eq. 40", "thesis Table 4",
                               "thesis Figure 20"}) {
     INFO(caption);

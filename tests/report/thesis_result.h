@@ -3,9 +3,11 @@
 #pragma once
 
 #include <filesystem>
+#include <vector>
 
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
+#include "report/tables.h"
 
 namespace impactlab::testing {
 
@@ -13,5 +15,7 @@ inline SessionResult Thesis() {
   const auto folder = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "sample_data" / "thesis-1969";
   return ReduceSession(ReadManifest(folder).session, {});
 }
+
+inline std::vector<Table> ThesisTables() { return BuildTables(Thesis()); }
 
 }  // namespace impactlab::testing
