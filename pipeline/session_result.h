@@ -313,6 +313,7 @@ struct RunResult {
   static void VisitFields(Self& self, Visit&& visit) {
     visit("input_fingerprint", IfAny(self.fingerprint), Quantity::kDimensionless,
           "hash of the run's inputs");
+    visit("reused", self.reused, Quantity::kDimensionless, "1 when its measurement was reused");
     // A run the manifest rejected has neither X0 nor its numbering.
     visit("initial_displacement", IfAny(self.initial_displacement), Quantity::kLength, "X0");
     if (self.initial_displacement > 0.0) {
