@@ -633,7 +633,9 @@ void WriteRun(Out& out, const RunResult& run) {
   const RunMeasurement& m = run.measured;
   WriteFields(f, out.x, g, m, out.u);
   WriteFields(f, out.x, g, run, out.u);
-  WriteFields(f, out.x, g + "/stage_seconds", run.seconds, out.u);
+  // A run the manifest rejected took no time.
+  if (run.initial_displacement > 0.0)
+    WriteFields(f, out.x, g + "/stage_seconds", run.seconds, out.u);
   WriteSettings(out, g + "/settings", run.settings);
   if (!m.xmax.empty()) WriteRebounds(out, run);
   if (!m.measured_displacement.time_s.empty()) {

@@ -313,10 +313,10 @@ struct RunResult {
   static void VisitFields(Self& self, Visit&& visit) {
     visit("input_fingerprint", IfAny(self.fingerprint), Quantity::kDimensionless,
           "hash of the run's inputs");
-    visit("reused", self.reused, Quantity::kDimensionless, "1 when its measurement was reused");
-    // A run the manifest rejected has neither X0 nor its numbering.
+    // A run the manifest rejected has neither X0 nor its numbering, and was not measured.
     visit("initial_displacement", IfAny(self.initial_displacement), Quantity::kLength, "X0");
     if (self.initial_displacement > 0.0) {
+      visit("reused", self.reused, Quantity::kDimensionless, "1 when its measurement was reused");
       visit("first_rebound", self.first_rebound, Quantity::kDimensionless,
             "which rebound after the first impact the tables call 0");
     }
