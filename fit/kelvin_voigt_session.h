@@ -40,6 +40,17 @@ struct DampingLine {
   double correlation_ab = 0.0;
   double rms_residual = 0.0;  // damping units
   int points = 0;
+
+  // What the results file keeps as fields (options/result_fields.h).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("a", EvenEmpty(self.a), Quantity::kDamping, "a of C = a (1 - b sqrt(xi))");
+    visit("b", EvenEmpty(self.b), Quantity::kDimensionless, "b");
+    visit("correlation_ab", self.correlation_ab, Quantity::kDimensionless,
+          "the correlation of a and b");
+    visit("rms_residual", self.rms_residual, Quantity::kDamping, "RMS residual");
+    visit("points", self.points, Quantity::kDimensionless, "the runs it was fitted to");
+  }
 };
 // Throws std::invalid_argument with fewer than two points or equal abscissae.
 DampingLine FitDampingLine(const std::vector<double>& sqrt_restitution,
@@ -58,6 +69,23 @@ struct RunPrediction {
   std::vector<double> deviation;   // calculated - predicted
   std::vector<double> pct_peak;    // 100 deviation / calculated
   std::vector<double> pct_start;   // 100 deviation / start_xmax (Table 4's "% X0")
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // rebounds' dimension scale is the file's layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("source_run", self.source_run, Quantity::kDimensionless, "the run predicted from");
+    visit("target_run", self.target_run, Quantity::kDimensionless, "the run predicted");
+    visit("start_rebound", self.start_rebound, Quantity::kDimensionless,
+          "the target's rebound the prediction starts from");
+    visit("start_xmax", self.start_xmax, Quantity::kLength,
+          "the target's measured maximum of start_rebound");
+    visit("predicted_xmax", self.predicted, Quantity::kLength, "from the source run's restitution");
+    visit("calculated_xmax", self.calculated, Quantity::kLength, "the target's own fit");
+    visit("deviation", self.deviation, Quantity::kLength, "calculated - predicted");
+    visit("deviation_pct_peak", self.pct_peak, Quantity::kPercent, "% of calculated");
+    visit("deviation_pct_start", self.pct_start, Quantity::kPercent, "% of start_xmax");
+  }
 };
 RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run,
                          const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,

@@ -21,6 +21,7 @@
 #include "model/contact.h"
 #include "model/estimate.h"
 #include "model/pendulum.h"
+#include "options/result_fields.h"
 
 namespace impactlab {
 
@@ -64,6 +65,24 @@ struct KelvinVoigtTwoPointFit {
   std::optional<Estimate> damping;     // C, force*time/length
 
   std::vector<Estimate> predicted_xmax;  // model's X max of rebound 0, 1, ... (session numbering)
+
+  // What the results file keeps as fields of a fit that succeeded
+  // (options/result_fields.h); the status, the pair and the separation are
+  // stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("note", IfAny(self.note), Quantity::kDimensionless, "a caveat (equal maxima)");
+    visit("zeta", EvenEmpty(self.damping_ratio), Quantity::kDimensionless, "zeta");
+    visit("restitution", EvenEmpty(self.restitution), Quantity::kDimensionless, "e");
+    visit("log_restitution", EvenEmpty(self.log_restitution), Quantity::kDimensionless, "ln e");
+    visit("stiffness", self.stiffness, Quantity::kStiffness,
+          "the run's own K, when a contact time is known");
+    visit("damping", self.damping, Quantity::kDamping, "its C");
+    visit("contact_time_used", self.contact_time, Quantity::kSeconds,
+          "the contact time behind K and C");
+    visit("predicted_xmax", self.predicted_xmax, Quantity::kLength,
+          "the model's Xmax of rebound 0, 1, ...");
+  }
 };
 
 // Throws std::invalid_argument for a pair out of range, non-positive maxima or

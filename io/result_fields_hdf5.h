@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -32,29 +33,88 @@ inline std::string UnitOf(Quantity quantity, const UnitLabels& units) {
       return units.speed;
     case Quantity::kHertz:
       return "Hz";
+    case Quantity::kStiffness:
+      return units.stiffness;
+    case Quantity::kDamping:
+      return units.damping;
+    case Quantity::kMass:
+      return units.mass;
+    case Quantity::kAcceleration:
+      return units.acceleration;
+    case Quantity::kPercent:
+      return "%";
+    case Quantity::kPixels:
+      return "px";
+    case Quantity::kPixelsSquared:
+      return "px^2";
+    case Quantity::kDivisions:
+      return "div";
+    case Quantity::kChannel:
+      return units.channel;
   }
   return "1";
 }
 
+namespace result_fields_detail {
+
+template <typename T>
+struct Wrapping {
+  static constexpr bool kIfAny = false, kEvenEmpty = false;
+};
+template <typename T>
+struct Wrapping<IfAnyField<T>> {
+  static constexpr bool kIfAny = true, kEvenEmpty = false;
+};
+template <typename T>
+struct Wrapping<EvenEmptyField<T>> {
+  static constexpr bool kIfAny = false, kEvenEmpty = true;
+};
+
+// A listed name's object in the file, relative to `group` ("/" the root).
+inline std::string FieldPath(const std::string& group, std::string_view name) {
+  return (group.ends_with('/') ? group : group + "/") + std::string(name);
+}
+
+// Where a string field is kept: an attribute of the group, or of a dataset ("a@b").
+struct AttributePlace {
+  std::string object, name;
+};
+inline AttributePlace AttributeOf(const std::string& group, std::string_view name) {
+  const std::size_t at = name.find('@');
+  if (at == std::string_view::npos) return {group, std::string(name)};
+  return {FieldPath(group, name.substr(0, at)), std::string(name.substr(at + 1))};
+}
+
+}  // namespace result_fields_detail
+
 // Writes every listed field of `result` into `group` (created if absent);
 // numbers labelled in `units`. Fields that hold nothing (an empty vector or
-// matrix, an Estimate {0, 0}) are left out.
+// matrix, an Estimate {0, 0}, an empty optional) are left out, as the list's
+// IfAny fields are when empty or 0; its EvenEmpty vectors and estimates are
+// written.
 template <typename Result>
 requires HasFields<const Result>
 void WriteFields(Hdf5File& f, const Hdf5Extras& extras, const std::string& group,
                  const Result& result, const UnitLabels& units) {
+  using namespace result_fields_detail;
   if (!f.Exists(group)) f.CreateGroup(group);
   Result::VisitFields(
-      result, [&](const char* name, const auto& field, Quantity quantity, const char* /*meaning*/) {
+      result, [&](const char* name, auto&& listed, Quantity quantity, const char* /*meaning*/) {
+        using Wrap = Wrapping<std::remove_cvref_t<decltype(listed)>>;
+        const auto& field = FieldOf(listed);
         using Field = std::remove_cvref_t<decltype(field)>;
-        const std::string path = group + "/" + name;
+        const std::string path = FieldPath(group, name);
         const std::string unit = UnitOf(quantity, units);
         if constexpr (std::is_same_v<Field, double>) {
-          f.WriteScalar(path, field, unit);
+          if (!Wrap::kIfAny || field != 0.0) f.WriteScalar(path, field, unit);
+        } else if constexpr (std::is_same_v<Field, std::optional<double>>) {
+          if (field) f.WriteScalar(path, *field, unit);
         } else if constexpr (std::is_same_v<Field, std::vector<double>>) {
-          if (!field.empty()) f.WriteVector(path, field, unit);
+          if (Wrap::kEvenEmpty || !field.empty()) f.WriteVector(path, field, unit);
+        } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
+          f.WriteStrings(path, field);
         } else if constexpr (std::is_same_v<Field, Estimate>) {
-          if (field.value != 0.0 || field.sigma != 0.0) {
+          if (Wrap::kEvenEmpty || field.value != 0.0 || field.sigma != 0.0) {
             f.WriteScalar(path, field.value, unit);
             f.WriteScalar(path + "_std_error", field.sigma, unit);
           }
@@ -74,7 +134,12 @@ void WriteFields(Hdf5File& f, const Hdf5Extras& extras, const std::string& group
           if (!field.empty())
             extras.WriteMatrix(path, field.size(), field.size(), field.values, unit);
         } else if constexpr (std::is_same_v<Field, std::string>) {
-          f.SetAttribute(group, name, field);
+          const AttributePlace place = AttributeOf(group, name);
+          // A dataset's attribute is written with it (the group exists).
+          const bool on_dataset = place.object != group;
+          if ((!Wrap::kIfAny || !field.empty()) && (!on_dataset || f.Exists(place.object))) {
+            f.SetAttribute(place.object, place.name, field);
+          }
         } else {
           static_assert(std::is_same_v<Field, int> || std::is_same_v<Field, bool>,
                         "a listed field's type has no storage");
@@ -89,11 +154,17 @@ void WriteFields(Hdf5File& f, const Hdf5Extras& extras, const std::string& group
 template <typename Result>
 requires HasFields<Result>
 void ReadFields(const Hdf5File& f, const std::string& group, Result& result) {
-  Result::VisitFields(result, [&](const char* name, auto& field, Quantity, const char*) {
+  using namespace result_fields_detail;
+  Result::VisitFields(result, [&](const char* name, auto&& listed, Quantity, const char*) {
+    auto& field = FieldOf(listed);
     using Field = std::remove_cvref_t<decltype(field)>;
-    const std::string path = group + "/" + name;
+    const std::string path = FieldPath(group, name);
     if constexpr (std::is_same_v<Field, std::string>) {
-      if (f.HasAttribute(group, name)) field = f.ReadStringAttribute(group, name);
+      const AttributePlace place = AttributeOf(group, name);
+      if ((place.object == group || f.Exists(place.object)) &&
+          f.HasAttribute(place.object, place.name)) {
+        field = f.ReadStringAttribute(place.object, place.name);
+      }
     } else if constexpr (std::is_same_v<Field, int>) {
       if (f.HasAttribute(group, name)) {
         field = static_cast<int>(f.ReadIntegerAttribute(group, name));
@@ -101,10 +172,12 @@ void ReadFields(const Hdf5File& f, const std::string& group, Result& result) {
     } else if constexpr (std::is_same_v<Field, bool>) {
       if (f.HasAttribute(group, name)) field = f.ReadIntegerAttribute(group, name) != 0;
     } else if (f.Exists(path)) {
-      if constexpr (std::is_same_v<Field, double>) {
+      if constexpr (std::is_same_v<Field, double> || std::is_same_v<Field, std::optional<double>>) {
         field = f.ReadScalar(path);
       } else if constexpr (std::is_same_v<Field, std::vector<double>>) {
         field = f.ReadVector(path);
+      } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
+        field = f.ReadStrings(path);
       } else if constexpr (std::is_same_v<Field, Estimate>) {
         field = {f.ReadScalar(path), f.ReadScalarIfPresent(path + "_std_error").value_or(0.0)};
       } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
@@ -133,9 +206,8 @@ template <typename Result, typename Visit>
 requires HasFields<Result>
 void ForEachField(Visit&& visit) {
   Result result{};
-  Result::VisitFields(result, [&](const char* name, auto&, Quantity quantity, const char* meaning) {
-    visit(name, quantity, meaning);
-  });
+  Result::VisitFields(result, [&](const char* name, auto&&, Quantity quantity,
+                                  const char* meaning) { visit(name, quantity, meaning); });
 }
 
 }  // namespace impactlab

@@ -15,6 +15,7 @@
 
 #include "io/errors.h"
 #include "io/units.h"
+#include "options/result_fields.h"
 #include "options/settings.h"
 
 namespace impactlab {
@@ -45,6 +46,15 @@ struct Apparatus {
   double mass = 0.0;             // M of one pendulum, mass units (weight / g when given as weight)
   double gravity = 0.0;          // g, length/s^2 (the unit system's default unless given)
   Arrangement arrangement = Arrangement::kPair;
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // arrangement is the manifest's only.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("pendulum_length", self.pendulum_length, Quantity::kLength, "L");
+    visit("mass", self.mass, Quantity::kMass, "M of one pendulum");
+    visit("gravity", self.gravity, Quantity::kAcceleration, "g");
+  }
 };
 
 // Screen settings of one oscillograph trace. Positions are in graticule

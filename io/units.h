@@ -22,6 +22,9 @@ struct UnitLabels {
   std::string damping;       // "lbf*s/in" or "N*s/m"
   std::string acceleration;  // "in/s^2" or "m/s^2"
   std::string speed;         // "in/s" or "m/s"
+  // A log channel's values' units ("rad", "m/s^2"): set where a channel's
+  // results are written, empty elsewhere.
+  std::string channel;
 };
 
 // The manifest's name of the system: "in-lbf-s" or "SI".

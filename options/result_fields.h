@@ -19,8 +19,18 @@
 //   std::optional<Estimate> the same, none when empty
 //   std::vector<Estimate>  two 1-D datasets, `<name>` and `<name>_std_error` (none when empty)
 //   SquareMatrix           a 2-D dataset, n x n (none when empty)
+//   std::optional<double>  a scalar dataset, none when empty
+//   std::vector<std::string> a 1-D dataset of strings (written even when empty)
 //   std::string            an attribute of the result's group
 //   int, bool              an integer attribute of the result's group (bool: 0 or 1)
+// Two wrappers change when a field is left out:
+//   IfAny(x)      a string or a number left out when empty or 0 (0: not known)
+//   EvenEmpty(x)  a vector written even when empty (its presence says it was looked
+//                 for), an Estimate even when {0, 0}
+// A name is relative to the result's group and may reach into a subgroup
+// ("rebounds/xmax"); "a@b" is the string attribute b of the result's dataset
+// a, written when a is. A field stored only when an earlier one holds
+// something is listed under an `if` on that one: it is read back after it.
 // The meaning is for the documentation (docs/results.md lists every name).
 #pragma once
 
@@ -42,6 +52,15 @@ enum class Quantity {
   kLength,
   kSpeed,
   kHertz,
+  kStiffness,  // force/length
+  kDamping,    // force*time/length
+  kMass,
+  kAcceleration,
+  kPercent,  // "%"
+  kPixels,   // "px", of a photo
+  kPixelsSquared,
+  kDivisions,  // "div", of an oscillograph's graticule
+  kChannel,    // a log channel's own units (UnitLabels::channel)
 };
 
 // An n x n matrix, row-major (a covariance); empty when not known.
@@ -54,11 +73,47 @@ struct SquareMatrix {
   bool empty() const { return values.empty(); }
 };
 
+// A field left out of the file when it holds nothing: a string when empty, a
+// number when 0 (which then means "not known").
+template <typename T>
+struct IfAnyField {
+  T& field;
+};
+template <typename T>
+IfAnyField<T> IfAny(T& field) {
+  return {field};
+}
+
+// A vector written even when it is empty: its presence says it was looked
+// for (e.g. a photo's hand marks); an Estimate written even when {0, 0}.
+template <typename T>
+struct EvenEmptyField {
+  T& field;
+};
+template <typename T>
+EvenEmptyField<T> EvenEmpty(T& field) {
+  return {field};
+}
+
+// The member a listed field is, through its wrapper.
+template <typename T>
+T& FieldOf(T& field) {
+  return field;
+}
+template <typename T>
+T& FieldOf(IfAnyField<T> wrapped) {
+  return wrapped.field;
+}
+template <typename T>
+T& FieldOf(EvenEmptyField<T> wrapped) {
+  return wrapped.field;
+}
+
 namespace result_fields_detail {
 
 struct AnyVisit {
   template <typename Field>
-  void operator()(const char*, Field&, Quantity, const char*) const {}
+  void operator()(const char*, Field&&, Quantity, const char*) const {}
 };
 
 }  // namespace result_fields_detail

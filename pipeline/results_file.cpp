@@ -97,17 +97,6 @@ SettingValues ReadSettings(const In& in, const std::string& group) {
 std::string RunPath(const std::string& id) { return JoinPath({"runs", id}); }
 std::string KelvinVoigtPath(const std::string& id) { return RunPath(id) + "/fit/kelvin_voigt"; }
 
-std::vector<double> Values(const std::vector<Estimate>& e) {
-  std::vector<double> out;
-  for (const Estimate& x : e) out.push_back(x.value);
-  return out;
-}
-std::vector<double> Sigmas(const std::vector<Estimate>& e) {
-  std::vector<double> out;
-  for (const Estimate& x : e) out.push_back(x.sigma);
-  return out;
-}
-
 void WriteEstimate(Hdf5File& f, const std::string& name, const Estimate& e,
                    std::string_view units) {
   f.WriteScalar(name, e.value, units);
@@ -199,10 +188,7 @@ RgbImage DecodeOverlay(const std::vector<unsigned char>& jpeg) {
 // A digitized photo: the overlay image and the digitizer's figures of merit.
 void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
   Hdf5File& f = out.f;
-  f.CreateGroup(h);
-  f.SetAttribute(h, "photo", o.photo);
-  // Said where a reader of the results looks: the numbers rest on the user's hints.
-  if (!o.hints.empty()) f.SetAttribute(h, "hints", o.hints);
+  WriteFields(f, out.x, h, o, out.u);
   // The pixels as an HDF5 image, which HDFView shows (it cannot decode a
   // JPEG); the JPEG itself for the report's HTML, a tenth of the size.
   if (!out.thumbnails) {
@@ -213,11 +199,6 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
     out.x.WriteImage(h + "/overlay", image);
   }
   f.WriteBytes(h + "/overlay_jpeg", o.jpeg);
-  f.WriteScalar(h + "/graticule_residual", o.graticule_residual_px, "px");
-  f.WriteStrings(h + "/trace_names", o.trace_names);
-  f.WriteVector(h + "/trace_coverage", o.trace_coverage, "1");
-  f.WriteVector(h + "/trace_spread", o.trace_spread_px2, "px^2");
-  f.WriteVector(h + "/trace_spread_std_error", o.trace_spread_sigma_px2, "px^2");
   for (const std::string& a :
        SameLength(h, o.trace_names.size(),
                   {{"trace_coverage", o.trace_coverage.size()},
@@ -225,33 +206,15 @@ void WriteOverlay(Out& out, const std::string& h, const PhotoOverlay& o) {
                    {"trace_spread_std_error", o.trace_spread_sigma_px2.size()}})) {
     out.x.AttachScale(a, h + "/trace_names");
   }
+  // The file keeps seconds, the overlay milliseconds.
   f.WriteScalar(h + "/processing_time", 1e-3 * o.processing_ms, "s");
-  f.SetAttribute(h, "hand_marks", static_cast<long long>(o.hand_marks));
-  f.WriteVector(h + "/mark_stretch_trace", o.mark_stretch_trace, "1");
-  f.WriteVector(h + "/mark_stretch_from", o.mark_stretch_from_div, "div");
-  f.WriteVector(h + "/mark_stretch_to", o.mark_stretch_to_div, "div");
 }
 
 PhotoOverlay ReadOverlay(const Hdf5File& f, const std::string& h) {
   PhotoOverlay o;
-  o.photo = f.ReadStringAttribute(h, "photo");
-  if (f.HasAttribute(h, "hints")) o.hints = f.ReadStringAttribute(h, "hints");
+  ReadFields(f, h, o);
   o.jpeg = f.ReadBytes(h + "/overlay_jpeg");
-  o.graticule_residual_px = f.ReadScalar(h + "/graticule_residual");
-  o.trace_names = f.ReadStrings(h + "/trace_names");
-  o.trace_coverage = f.ReadVector(h + "/trace_coverage");
-  if (f.Exists(h + "/trace_spread")) {  // results written before it was measured have none
-    o.trace_spread_px2 = f.ReadVector(h + "/trace_spread");
-    o.trace_spread_sigma_px2 = f.ReadVector(h + "/trace_spread_std_error");
-  }
   o.processing_ms = 1e3 * f.ReadScalar(h + "/processing_time");
-  if (f.Exists(h +
-               "/mark_stretch_trace")) {  // results written before marks were looked for have none
-    o.hand_marks = static_cast<int>(f.ReadIntegerAttribute(h, "hand_marks"));
-    o.mark_stretch_trace = f.ReadVector(h + "/mark_stretch_trace");
-    o.mark_stretch_from_div = f.ReadVector(h + "/mark_stretch_from");
-    o.mark_stretch_to_div = f.ReadVector(h + "/mark_stretch_to");
-  }
   return o;
 }
 
@@ -389,39 +352,25 @@ LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const s
 void WriteModelComparison(Out& out, const ModelComparison& c) {
   Hdf5File& f = out.f;
   const std::string g = "/session/model_comparison";
-  f.CreateGroup(g);
-  f.SetAttribute(g, "best_by_leave_one_out", c.best_by_leave_one_out);
-  f.SetAttribute(g, "best_by_bic", c.best_by_bic);
-  f.WriteStrings(g + "/run_ids", c.run_ids);
-  f.WriteStrings(g + "/evidence", c.evidence);
+  WriteFields(f, out.x, g, c, out.u);
   for (const ModelComparisonRow& m : c.models) {
     const std::string h = g + "/" + m.model;
     f.CreateGroup(h);
     f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.reason);
-    f.SetAttribute(h, "verdict", m.verdict);
-    if (!m.ok && m.parameters.empty() && m.maxima == 0) continue;  // it did not run
-    f.SetAttribute(h, "maxima", static_cast<long long>(m.maxima));
-    f.SetAttribute(h, "parameter_count", static_cast<long long>(m.parameter_count));
-    f.SetAttribute(h, "dof", static_cast<long long>(m.dof));
+    if (!m.Ran()) {  // its status and verdict only
+      f.SetAttribute(h, "verdict", m.verdict);
+      continue;
+    }
+    WriteFields(f, out.x, h, m, out.u);
     WriteNamedEstimates(out, h, m.parameters);
-    f.WriteScalar(h + "/chi2", m.chi2, "1");
     f.WriteScalar(h + "/birge_ratio", CheckScatter(m.chi2, m.dof).birge_ratio, "1");
-    f.WriteScalar(h + "/aic", m.aic, "1");
-    f.WriteScalar(h + "/bic", m.bic, "1");
-    f.WriteScalar(h + "/log_restitution_spread", m.log_restitution_spread, "1");
-    if (c.best_by_leave_one_out.empty()) continue;  // no leave-one-out (products)
-    f.WriteScalar(h + "/leave_one_out_rms_normalized", m.loo_rms_normalized, "1");
-    f.WriteScalar(h + "/leave_one_out_rms", m.loo_rms_length, out.u.length);
   }
 }
 
 ModelComparison ReadModelComparison(const Hdf5File& f) {
   const std::string g = "/session/model_comparison";
   ModelComparison c;
-  c.best_by_leave_one_out = f.ReadStringAttribute(g, "best_by_leave_one_out");
-  c.best_by_bic = f.ReadStringAttribute(g, "best_by_bic");
-  c.run_ids = f.ReadStrings(g + "/run_ids");
-  if (f.Exists(g + "/evidence")) c.evidence = f.ReadStrings(g + "/evidence");
+  ReadFields(f, g, c);
   for (const std::string& model : f.Children(g)) {
     const std::string h = g + "/" + model;
     if (!f.IsGroup(h)) continue;
@@ -430,21 +379,8 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     const std::string status = f.ReadStringAttribute(h, "status");
     m.ok = status == "ok";
     if (!m.ok) m.reason = ReasonOf(status);
-    if (f.HasAttribute(h, "verdict")) m.verdict = f.ReadStringAttribute(h, "verdict");
-    if (!f.Exists(h + "/chi2")) {
-      c.models.push_back(std::move(m));
-      continue;
-    }
-    m.maxima = static_cast<int>(f.ReadIntegerAttribute(h, "maxima"));
-    m.parameter_count = static_cast<int>(f.ReadIntegerAttribute(h, "parameter_count"));
-    m.dof = static_cast<int>(f.ReadIntegerAttribute(h, "dof"));
-    m.parameters = ReadNamedEstimates(f, h);
-    m.chi2 = f.ReadScalar(h + "/chi2");
-    m.aic = f.ReadScalar(h + "/aic");
-    m.bic = f.ReadScalar(h + "/bic");
-    m.log_restitution_spread = f.ReadScalar(h + "/log_restitution_spread");
-    m.loo_rms_normalized = f.ReadScalarIfPresent(h + "/leave_one_out_rms_normalized").value_or(0.0);
-    m.loo_rms_length = f.ReadScalarIfPresent(h + "/leave_one_out_rms").value_or(0.0);
+    ReadFields(f, h, m);
+    if (f.Exists(h + "/parameter_names")) m.parameters = ReadNamedEstimates(f, h);
     c.models.push_back(std::move(m));
   }
   return c;
@@ -531,16 +467,6 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   return fit;
 }
 
-void WriteOptionalEstimate(Hdf5File& f, const std::string& name, const std::optional<Estimate>& e,
-                           std::string_view units) {
-  if (e) WriteEstimate(f, name, *e, units);
-}
-
-std::optional<Estimate> ReadOptionalEstimate(const Hdf5File& f, const std::string& name) {
-  if (!f.Exists(name)) return std::nullopt;
-  return ReadEstimate(f, name);
-}
-
 void WriteLogChannel(Out& out, const std::string& k, const LogChannelResult& c) {
   Hdf5File& f = out.f;
   f.CreateGroup(k);
@@ -577,25 +503,27 @@ void WriteLog(Out& out, const LogResult& log) {
   WriteSettings(out, g + "/settings", log.settings);
   for (const LogSourceResult& s : log.sources) {
     const std::string h = g + "/" + s.source;
-    f.CreateGroup(h);
-    f.SetAttribute(h, "impact_method", s.impact_method);
-    WriteOptionalEstimate(f, h + "/impact_time", s.impact_time_s, "s");
+    WriteFields(f, out.x, h, s, out.u);
     for (const LogChannelResult& c : s.channels) WriteLogChannel(out, h + "/" + c.channel, c);
   }
   if (log.sources.size() < 2) return;
-  const std::string h = g + "/comparison";
-  f.CreateGroup(h);
-  WriteOptionalEstimate(f, h + "/impact_offset", log.impact_offset_s, "s");
+  f.CreateGroup(g + "/comparison");
+  WriteFields(f, out.x, g, log, out.u);
   for (const LogComparisonRow& c : log.comparison) {
-    const std::string k = h + "/" + c.channel;
-    f.CreateGroup(k);
-    WriteEstimate(f, k + "/experiment_frequency", c.experiment_frequency_hz, "Hz");
-    WriteEstimate(f, k + "/simulation_frequency", c.simulation_frequency_hz, "Hz");
-    f.WriteScalar(k + "/frequency_difference", c.difference_hz, "Hz");
-    f.WriteScalar(k + "/frequency_difference_percent", c.difference_percent, "%");
-    f.WriteScalar(k + "/rms_difference", c.rms_difference, c.units);
-    f.WriteScalar(k + "/rms_difference_unaligned", c.rms_difference_unaligned, c.units);
+    UnitLabels units = out.u;
+    units.channel = c.units;
+    WriteFields(f, out.x, g + "/comparison/" + c.channel, c, units);
   }
+}
+
+// A channel's units as its sources' analyses have them.
+std::string ChannelUnitsOf(const LogResult& log, const std::string& channel) {
+  for (const LogSourceResult& s : log.sources) {
+    for (const LogChannelResult& c : s.channels) {
+      if (c.channel == channel) return c.units;
+    }
+  }
+  return "";
 }
 
 LogResult ReadLog(const In& in, const std::string& id) {
@@ -607,13 +535,13 @@ LogResult ReadLog(const In& in, const std::string& id) {
   log.ok = status == "ok";
   if (!log.ok) log.reason = ReasonOf(status);
   log.settings = ReadSettings(in, g + "/settings");
+  ReadFields(f, g, log);
   for (const std::string& source : f.Children(g)) {
     const std::string h = g + "/" + source;
     if (source == "comparison" || source == "settings" || !f.IsGroup(h)) continue;
     LogSourceResult s;
     s.source = source;
-    s.impact_method = f.ReadStringAttribute(h, "impact_method");
-    s.impact_time_s = ReadOptionalEstimate(f, h + "/impact_time");
+    ReadFields(f, h, s);
     for (const std::string& channel : f.Children(h)) {
       const std::string k = h + "/" + channel;
       if (f.IsGroup(k)) s.channels.push_back(ReadLogChannel(f, k, channel));
@@ -622,18 +550,14 @@ LogResult ReadLog(const In& in, const std::string& id) {
   }
   const std::string h = g + "/comparison";
   if (f.Exists(h)) {
-    log.impact_offset_s = ReadOptionalEstimate(f, h + "/impact_offset");
     for (const std::string& channel : f.Children(h)) {
       const std::string k = h + "/" + channel;
       if (!f.IsGroup(k)) continue;
       LogComparisonRow c;
       c.channel = channel;
-      c.experiment_frequency_hz = ReadEstimate(f, k + "/experiment_frequency");
-      c.simulation_frequency_hz = ReadEstimate(f, k + "/simulation_frequency");
-      c.difference_hz = f.ReadScalar(k + "/frequency_difference");
-      c.difference_percent = f.ReadScalar(k + "/frequency_difference_percent");
-      c.rms_difference = f.ReadScalar(k + "/rms_difference");
-      c.rms_difference_unaligned = f.ReadScalar(k + "/rms_difference_unaligned");
+      ReadFields(f, k, c);
+      // Written before the row kept its units: the channel's.
+      if (c.units.empty()) c.units = ChannelUnitsOf(log, channel);
       log.comparison.push_back(std::move(c));
     }
   }
@@ -652,23 +576,8 @@ void WriteKelvinVoigt(Out& out, const RunResult& run) {
                  std::vector<long long>{fit.rebounds_used[0], fit.rebounds_used[1]});
   f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
   if (!fit.ok) return;
-  if (!fit.note.empty()) f.SetAttribute(g, "note", fit.note);
-  WriteEstimate(f, g + "/zeta", fit.damping_ratio, "1");
-  WriteEstimate(f, g + "/restitution", fit.restitution, "1");
-  WriteEstimate(f, g + "/log_restitution", fit.log_restitution, "1");
-  if (fit.stiffness) {
-    WriteEstimate(f, g + "/stiffness", *fit.stiffness, out.u.stiffness);
-    WriteEstimate(f, g + "/damping", *fit.damping, out.u.damping);
-  }
-  if (fit.contact_time) {
-    f.WriteScalar(g + "/contact_time_used", *fit.contact_time, "s");
-    f.SetAttribute(g + "/contact_time_used", "source", fits.contact_time_source);
-  }
-  f.WriteVector(g + "/predicted_xmax", Values(fit.predicted_xmax), out.u.length);
-  f.WriteVector(g + "/predicted_xmax_std_error", Sigmas(fit.predicted_xmax), out.u.length);
-  f.WriteVector(g + "/deviation", fits.deviation, out.u.length);
-  f.WriteVector(g + "/deviation_pct_peak", fits.deviation_pct_peak, "%");
-  f.WriteVector(g + "/deviation_pct_x0", fits.deviation_pct_x0, "%");
+  WriteFields(f, out.x, g, fit, out.u);
+  WriteFields(f, out.x, g, fits, out.u);  // its contact time's source after the contact time
   if (!fits.model_response.time_s.empty()) {
     WriteCurve(out, g + "/response/time", fits.model_response.time_s, "s",
                g + "/response/displacement", fits.model_response.value, out.u.length);
@@ -684,26 +593,18 @@ void WriteKelvinVoigt(Out& out, const RunResult& run) {
   }
 }
 
-// The measured maxima, and when they fall: measured on the traces, or (typed-in
-// maxima) as the fitted model has them, which the "source" attribute says.
+// When the maxima fall: measured on the traces, or (typed-in maxima) as the
+// fitted model has them, which the "source" attribute says; the rebounds'
+// scale and each bar's own (the maxima are the measurement's fields).
 void WriteRebounds(Out& out, const RunResult& run) {
   Hdf5File& f = out.f;
   const RunMeasurement& m = run.measured;
   const std::string g = RunPath(run.id) + "/rebounds";
-  f.WriteVector(g + "/xmax", m.xmax, out.u.length);
-  f.WriteVector(g + "/xmax_std_error", m.xmax_sigma, out.u.length);
   const std::vector<double>& t_peak = run.PeakTimes();
   if (!t_peak.empty()) {
     f.WriteVector(g + "/t_peak", t_peak, "s");
     f.SetAttribute(g + "/t_peak", "source", std::string(run.PeakTimesSource()));
   }
-  if (!m.t_peak_sigma.empty()) f.WriteVector(g + "/t_peak_std_error", m.t_peak_sigma, "s");
-  if (!m.rebound_duration.empty()) f.WriteVector(g + "/duration", m.rebound_duration, "s");
-  if (!m.rebound_duration_sigma.empty()) {
-    f.WriteVector(g + "/duration_std_error", m.rebound_duration_sigma, "s");
-  }
-  if (m.release.sigma > 0.0) WriteEstimate(f, g + "/release_x", m.release, out.u.length);
-  if (run.ok) f.WriteStrings(g + "/anomalies", run.anomalies);
   WriteReboundScale(out, g, 0, m.xmax.size(),
                     SameLength(g, m.xmax.size(),
                                {{"xmax", m.xmax.size()},
@@ -729,16 +630,13 @@ void WriteRun(Out& out, const RunResult& run) {
   const std::string g = RunPath(run.id);
   f.CreateGroup(g);
   f.SetAttribute(g, "status", run.Status());
-  // X0 is positive for every run the manifest accepted; a rejected one has
-  // neither it nor its numbering.
-  if (run.initial_displacement > 0.0) {
-    f.SetAttribute(g, "first_rebound", static_cast<long long>(run.first_rebound));
-    f.WriteScalar(g + "/initial_displacement", run.initial_displacement, out.u.length);
-  }
-  if (!run.fingerprint.empty()) f.SetAttribute(g, "input_fingerprint", run.fingerprint);
-  WriteSettings(out, g + "/settings", run.settings);
   const RunMeasurement& m = run.measured;
-  if (!m.source.empty()) f.SetAttribute(g, "source", m.source);
+  WriteFields(f, out.x, g, m, out.u);
+  WriteFields(f, out.x, g, run, out.u);
+  // A run the manifest rejected took no time.
+  if (run.initial_displacement > 0.0)
+    WriteFields(f, out.x, g + "/stage_seconds", run.seconds, out.u);
+  WriteSettings(out, g + "/settings", run.settings);
   if (!m.xmax.empty()) WriteRebounds(out, run);
   if (!m.measured_displacement.time_s.empty()) {
     WriteCurve(out, g + "/displacement/time", m.measured_displacement.time_s, "s",
@@ -749,11 +647,6 @@ void WriteRun(Out& out, const RunResult& run) {
   }
   for (const CellCalibration& c : m.calibrations) {
     WriteCalibration(out, g + "/calibration/" + c.cell, c);
-  }
-  if (m.contact_time) {
-    f.WriteScalar(g + "/contact_time", *m.contact_time, "s");
-    f.WriteScalar(g + "/contact_time_std_error", m.contact_time_sigma, "s");
-    f.SetAttribute(g + "/contact_time", "source", m.contact_time_source);
   }
   if (run.fits.kelvin_voigt) WriteKelvinVoigt(out, run);
   const std::string scale = m.xmax.empty() ? "" : g + "/rebounds/rebound";
@@ -766,18 +659,8 @@ void WriteRun(Out& out, const RunResult& run) {
 void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
   Hdf5File& f = out.f;
   const std::string g = "/session/kelvin_voigt";
-  f.CreateGroup(g);
+  WriteFields(f, out.x, g, s, out.u);
   f.SetAttribute(g, "stiffness", s.average_stiffness ? "average" : "per-run");
-  f.WriteStrings(g + "/run_ids", s.run_ids);
-  f.WriteVector(g + "/sqrt_restitution", s.sqrt_restitution, "1");
-  f.WriteVector(g + "/stiffness", s.stiffness, out.u.stiffness);
-  f.WriteScalar(g + "/stiffness_average", s.spread.average, out.u.stiffness);
-  f.WriteVector(g + "/stiffness_deviation", s.spread.deviation, out.u.stiffness);
-  f.WriteVector(g + "/stiffness_pct_variation", s.spread.pct_variation, "%");
-  f.WriteVector(g + "/damping", s.damping, out.u.damping);
-  f.WriteVector(g + "/damping_std_error", s.damping_sigma, out.u.damping);
-  if (s.average_stiffness)
-    WriteEstimate(f, g + "/average_stiffness", *s.average_stiffness, out.u.stiffness);
   const std::size_t n = s.run_ids.size();
   for (const std::string& a :
        SameLength(g, n,
@@ -792,29 +675,15 @@ void WriteSessionKelvinVoigt(Out& out, const SessionKelvinVoigt& s) {
   if (s.damping_line) {
     const DampingLine& line = *s.damping_line;
     const std::string l = g + "/damping_line";
-    f.CreateGroup(l);
+    WriteFields(f, out.x, l, line, out.u);
     f.SetAttribute(l, "equation", "C = a (1 - b sqrt(xi))  (thesis eq. 40)");
-    WriteEstimate(f, l + "/a", line.a, out.u.damping);
-    WriteEstimate(f, l + "/b", line.b, "1");
-    f.WriteScalar(l + "/correlation_ab", line.correlation_ab, "1");
-    f.WriteScalar(l + "/rms_residual", line.rms_residual, out.u.damping);
-    f.SetAttribute(l, "points", static_cast<long long>(line.points));
   }
 }
 
 void WritePrediction(Out& out, const RunPrediction& p) {
   Hdf5File& f = out.f;
   const std::string g = JoinPath({"predictions", p.target_run + "_from_" + p.source_run});
-  f.CreateGroup(g);
-  f.SetAttribute(g, "source_run", p.source_run);
-  f.SetAttribute(g, "target_run", p.target_run);
-  f.SetAttribute(g, "start_rebound", static_cast<long long>(p.start_rebound));
-  f.WriteScalar(g + "/start_xmax", p.start_xmax, out.u.length);
-  f.WriteVector(g + "/predicted_xmax", p.predicted, out.u.length);
-  f.WriteVector(g + "/calculated_xmax", p.calculated, out.u.length);
-  f.WriteVector(g + "/deviation", p.deviation, out.u.length);
-  f.WriteVector(g + "/deviation_pct_peak", p.pct_peak, "%");
-  f.WriteVector(g + "/deviation_pct_start", p.pct_start, "%");
+  WriteFields(f, out.x, g, p, out.u);
   const std::size_t n = p.predicted.size();
   WriteReboundScale(out, g, p.start_rebound, n,
                     SameLength(g, n,
@@ -834,21 +703,14 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   const ProductRecord* thumbnails = r.FindProduct("thumbnails");
   Out out{f, extras, LabelsFor(r.units), r.settings, thumbnails == nullptr || thumbnails->made};
   f.SetAttribute("/", "layout", static_cast<long long>(kResultsLayout));
-  f.SetAttribute("/", "producer", r.producer);
-  f.SetAttribute("/", "session_title", r.title);
   f.SetAttribute("/", "units", std::string(UnitSystemName(r.units)));
+  WriteFields(f, extras, "/", r, out.u);
   WriteSessionSettings(f, r.settings);
-  f.SetAttribute("/", "created", r.created);
-  f.SetAttribute("/", "session_folder", r.session_folder);
   if (HasPendulum(r)) {
     f.SetAttribute("/", "convention", ConventionName(r.convention));
     f.SetAttribute("/", "separation", SeparationName(r.separation));
-    f.WriteScalar("/apparatus/pendulum_length", r.apparatus.pendulum_length, out.u.length);
-    f.WriteScalar("/apparatus/mass", r.apparatus.mass, out.u.mass);
-    f.WriteScalar("/apparatus/gravity", r.apparatus.gravity, out.u.acceleration);
+    WriteFields(f, extras, "/apparatus", r.apparatus, out.u);
   }
-  if (r.session_contact_time) f.WriteScalar("/session/contact_time", *r.session_contact_time, "s");
-  f.WriteStrings("/session/warnings", r.warnings);
   if (!r.products.empty()) {
     f.CreateGroup("/session/products");
     for (const ProductRecord& p : r.products)
@@ -869,14 +731,6 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
   for (const RunPrediction& p : r.predictions) WritePrediction(out, p);
 }
 
-std::vector<Estimate> Zip(const std::vector<double>& values, const std::vector<double>& sigmas) {
-  std::vector<Estimate> out;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    out.push_back({values[i], i < sigmas.size() ? sigmas[i] : 0.0});
-  }
-  return out;
-}
-
 // Layout 1 and the first files of layout 2 hold, with [reduction]
 // average_stiffness, the session's K and C in place of the run's own, and say
 // so in a "stiffness_source" attribute.
@@ -893,29 +747,13 @@ void ReadKelvinVoigt(const In& in, RunResult& run) {
   if (!fit.ok) {
     // Layout 1 repeated the reason in a "diagnostic" attribute.
     fit.reason = ReasonOf(status);
-  } else {
-    // An ok fit's caveat: "note"; before, "diagnostic".
-    for (const char* name : {"note", "diagnostic"}) {
-      if (fit.note.empty() && f.HasAttribute(k, name)) fit.note = f.ReadStringAttribute(k, name);
-    }
+  } else if (f.HasAttribute(k, "diagnostic")) {
+    // An ok fit's caveat, before it was its "note".
+    fit.note = f.ReadStringAttribute(k, "diagnostic");
   }
   if (fit.ok) {
-    fit.damping_ratio = ReadEstimate(f, k + "/zeta");
-    fit.restitution = ReadEstimate(f, k + "/restitution");
-    fit.log_restitution = ReadEstimate(f, k + "/log_restitution");
-    if (f.Exists(k + "/stiffness")) {
-      fit.stiffness = ReadEstimate(f, k + "/stiffness");
-      fit.damping = ReadEstimate(f, k + "/damping");
-    }
-    fit.contact_time = f.ReadScalarIfPresent(k + "/contact_time_used");
-    if (fit.contact_time && f.HasAttribute(k + "/contact_time_used", "source")) {
-      fits.contact_time_source = f.ReadStringAttribute(k + "/contact_time_used", "source");
-    }
-    fit.predicted_xmax =
-        Zip(f.ReadVector(k + "/predicted_xmax"), f.ReadVector(k + "/predicted_xmax_std_error"));
-    fits.deviation = f.ReadVector(k + "/deviation");
-    fits.deviation_pct_peak = f.ReadVector(k + "/deviation_pct_peak");
-    fits.deviation_pct_x0 = f.ReadVector(k + "/deviation_pct_x0");
+    ReadFields(f, k, fit);
+    ReadFields(f, k, fits);
   }
   if (f.Exists(k + "/response/time")) {
     fits.model_response = {f.ReadVector(k + "/response/time"),
@@ -924,21 +762,13 @@ void ReadKelvinVoigt(const In& in, RunResult& run) {
   fits.kelvin_voigt = std::move(fit);
 }
 
+// When the maxima fall (the fitted model's times for typed-in runs), and each bar's.
 void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   RunMeasurement& m = run.measured;
-  if (f.Exists(g + "/rebounds/xmax")) {
-    m.xmax = f.ReadVector(g + "/rebounds/xmax");
-    m.xmax_sigma = f.ReadVector(g + "/rebounds/xmax_std_error");
-  }
   if (f.Exists(g + "/rebounds/t_peak")) {
     const bool from_model = f.ReadStringAttribute(g + "/rebounds/t_peak", "source") == "model";
     (from_model ? run.fits.model_peak_times : m.t_peak) = f.ReadVector(g + "/rebounds/t_peak");
   }
-  m.t_peak_sigma = ReadVectorIfPresent(f, g + "/rebounds/t_peak_std_error");
-  m.rebound_duration = ReadVectorIfPresent(f, g + "/rebounds/duration");
-  m.rebound_duration_sigma = ReadVectorIfPresent(f, g + "/rebounds/duration_std_error");
-  if (f.Exists(g + "/rebounds/release_x")) m.release = ReadEstimate(f, g + "/rebounds/release_x");
-  if (f.Exists(g + "/rebounds/anomalies")) run.anomalies = f.ReadStrings(g + "/rebounds/anomalies");
   if (f.Exists(g + "/rebounds/right")) m.right = ReadBar(f, g + "/rebounds/right");
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }
@@ -952,15 +782,10 @@ RunResult ReadRun(const In& in, const std::string& id) {
   const std::string status = f.ReadStringAttribute(g, "status");
   run.ok = status == "ok";
   if (!run.ok) run.reason = ReasonOf(status);
-  if (f.HasAttribute(g, "first_rebound")) {
-    run.first_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "first_rebound"));
-  }
   RunMeasurement& m = run.measured;
-  if (f.HasAttribute(g, "source")) m.source = f.ReadStringAttribute(g, "source");
-  if (f.HasAttribute(g, "input_fingerprint")) {
-    run.fingerprint = f.ReadStringAttribute(g, "input_fingerprint");
-  }
-  run.initial_displacement = f.ReadScalarIfPresent(g + "/initial_displacement").value_or(0.0);
+  ReadFields(f, g, m);
+  ReadFields(f, g, run);  // after the status and the maxima, which say what it holds
+  if (f.Exists(g + "/stage_seconds")) ReadFields(f, g + "/stage_seconds", run.seconds);
   ReadRebounds(f, g, run);
   if (f.Exists(g + "/displacement/time")) {
     m.measured_displacement = {f.ReadVector(g + "/displacement/time"),
@@ -978,13 +803,11 @@ RunResult ReadRun(const In& in, const std::string& id) {
   }
   // Before, a session's one contact time was written here as the run's, with
   // the source "session"; the fit's "contact_time_used" holds it now.
-  if (f.Exists(g + "/contact_time") &&
-      f.ReadStringAttribute(g + "/contact_time", "source") == "session") {
+  if (m.contact_time_source == "session") {
+    m.contact_time.reset();
+    m.contact_time_sigma = 0.0;
+    m.contact_time_source.clear();
     if (run.ok) run.fits.contact_time_source = "session";
-  } else if (f.Exists(g + "/contact_time")) {
-    m.contact_time = f.ReadScalar(g + "/contact_time");
-    m.contact_time_sigma = f.ReadScalar(g + "/contact_time_std_error");
-    m.contact_time_source = f.ReadStringAttribute(g + "/contact_time", "source");
   }
   for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
     const std::string g_fit = g + "/fit/" + model;
@@ -997,67 +820,31 @@ RunResult ReadRun(const In& in, const std::string& id) {
 SessionKelvinVoigt ReadSessionKelvinVoigt(const Hdf5File& f) {
   const std::string g = "/session/kelvin_voigt";
   SessionKelvinVoigt s;
-  if (f.Exists(g + "/average_stiffness"))
-    s.average_stiffness = ReadEstimate(f, g + "/average_stiffness");
-  s.run_ids = f.ReadStrings(g + "/run_ids");
-  s.sqrt_restitution = f.ReadVector(g + "/sqrt_restitution");
-  s.stiffness = f.ReadVector(g + "/stiffness");
-  s.spread.average = f.ReadScalar(g + "/stiffness_average");
-  s.spread.deviation = f.ReadVector(g + "/stiffness_deviation");
-  s.spread.pct_variation = f.ReadVector(g + "/stiffness_pct_variation");
-  s.damping = f.ReadVector(g + "/damping");
-  s.damping_sigma = ReadVectorIfPresent(f, g + "/damping_std_error");
-  s.damping_sigma.resize(s.damping.size(), 0.0);
-  const std::string l = g + "/damping_line";
-  if (f.Exists(l)) {
-    DampingLine line;
-    line.a = ReadEstimate(f, l + "/a");
-    line.b = ReadEstimate(f, l + "/b");
-    line.correlation_ab = f.ReadScalar(l + "/correlation_ab");
-    line.rms_residual = f.ReadScalar(l + "/rms_residual");
-    line.points = static_cast<int>(f.ReadIntegerAttribute(l, "points"));
-    s.damping_line = line;
-  }
+  ReadFields(f, g, s);
+  s.damping_sigma.resize(s.damping.size(), 0.0);  // files without them
+  if (f.Exists(g + "/damping_line")) ReadFields(f, g + "/damping_line", s.damping_line.emplace());
   return s;
 }
 
 RunPrediction ReadPrediction(const Hdf5File& f, const std::string& name) {
-  const std::string g = JoinPath({"predictions", name});
   RunPrediction p;
-  p.source_run = f.ReadStringAttribute(g, "source_run");
-  p.target_run = f.ReadStringAttribute(g, "target_run");
-  p.start_rebound = static_cast<int>(f.ReadIntegerAttribute(g, "start_rebound"));
-  p.start_xmax = f.ReadScalar(g + "/start_xmax");
-  p.predicted = f.ReadVector(g + "/predicted_xmax");
-  p.calculated = f.ReadVector(g + "/calculated_xmax");
-  p.deviation = f.ReadVector(g + "/deviation");
-  p.pct_peak = f.ReadVector(g + "/deviation_pct_peak");
-  p.pct_start = f.ReadVector(g + "/deviation_pct_start");
+  ReadFields(f, JoinPath({"predictions", name}), p);
   return p;
 }
 
 // The root's attributes and the apparatus (absent in layout 2 without runs
 // or calibrations: the defaults stay).
 void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
-  r.producer = f.ReadStringAttribute("/", "producer");
-  r.title = f.ReadStringAttribute("/", "session_title");
+  ReadFields(f, "/", r);
   const auto units = ParseUnitSystem(f.ReadStringAttribute("/", "units"));
   if (!units) throw InputError({f.path(), "/units", std::nullopt}, "unknown unit system");
   r.units = *units;
-  r.created = f.ReadStringAttribute("/", "created");
   r.settings = ReadSessionSettingsGroup(f);
-  r.session_folder = f.ReadStringAttribute("/", "session_folder");
   if (f.HasAttribute("/", "convention")) {
     r.convention = ParseConvention(f.ReadStringAttribute("/", "convention"));
     r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
   }
-  if (f.Exists("/apparatus")) {
-    r.apparatus.pendulum_length = f.ReadScalar("/apparatus/pendulum_length");
-    r.apparatus.mass = f.ReadScalar("/apparatus/mass");
-    r.apparatus.gravity = f.ReadScalar("/apparatus/gravity");
-  }
-  r.session_contact_time = f.ReadScalarIfPresent("/session/contact_time");
-  r.warnings = f.ReadStrings("/session/warnings");
+  if (f.Exists("/apparatus")) ReadFields(f, "/apparatus", r.apparatus);
   if (f.Exists("/session/products")) {
     for (const std::string& name : f.AttributeNames("/session/products")) {
       const std::string status = f.ReadStringAttribute("/session/products", name);

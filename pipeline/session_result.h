@@ -97,6 +97,33 @@ struct PhotoOverlay {
   // The manual hints of the manifest the digitizing used, e.g.
   // "graticule_corners, left.points" (empty: none; digitize/digitize.h HintsUsed).
   std::string hints;
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // images, the processing time (in s) and the traces' dimension scale are
+  // stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("photo", self.photo, Quantity::kDimensionless, "the photo, relative to the session");
+    visit("hints", IfAny(self.hints), Quantity::kDimensionless,
+          "the manifest's manual hints the digitizing used (absent: none)");
+    visit("graticule_residual", self.graticule_residual_px, Quantity::kPixels,
+          "RMS residual of the grid fit");
+    visit("trace_names", self.trace_names, Quantity::kDimensionless, "the traces found");
+    visit("trace_coverage", EvenEmpty(self.trace_coverage), Quantity::kDimensionless,
+          "per trace: the fraction of the sweep with samples");
+    visit("trace_spread", EvenEmpty(self.trace_spread_px2), Quantity::kPixelsSquared,
+          "per trace: the spread s^2 whose curvature pull was undone (0: not measured)");
+    visit("trace_spread_std_error", EvenEmpty(self.trace_spread_sigma_px2),
+          Quantity::kPixelsSquared, "its standard error");
+    visit("hand_marks", self.hand_marks, Quantity::kDimensionless,
+          "hand marks kept from the traces");
+    visit("mark_stretch_trace", EvenEmpty(self.mark_stretch_trace), Quantity::kDimensionless,
+          "per stretch dropped on a hand mark: its trace's index in trace_names");
+    visit("mark_stretch_from", EvenEmpty(self.mark_stretch_from_div), Quantity::kDivisions,
+          "the stretch's first x");
+    visit("mark_stretch_to", EvenEmpty(self.mark_stretch_to_div), Quantity::kDivisions,
+          "its last x");
+  }
 };
 
 // A sampled curve for the report's figures (decimated to a few thousand points).
@@ -145,12 +172,24 @@ struct CellCalibration {
   }
 };
 
-// Wall time spent per stage of one run, s (for benchmarks; not in the results file).
+// Wall time spent per stage of one run, s (for benchmarks; a reused run's
+// measurement took none).
 struct StageSeconds {
   double load = 0.0;       // reading traces: CSV parsing, or photo decoding and digitizing
   double calibrate = 0.0;  // photocell calibrations first computed by this run
   double extract = 0.0;    // conversion to displacement and rebound extraction
   double fit = 0.0;        // the closed-form fit and the model response
+
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("load", self.load, Quantity::kSeconds,
+          "reading traces: CSV parsing, or photo decoding and digitizing");
+    visit("calibrate", self.calibrate, Quantity::kSeconds,
+          "photocell calibrations first computed by this run");
+    visit("extract", self.extract, Quantity::kSeconds,
+          "conversion to displacement and rebound extraction");
+    visit("fit", self.fit, Quantity::kSeconds, "the closed-form fit and the model response");
+  }
 };
 
 // What measuring a run gave, its stages' results composed: its traces'
@@ -181,6 +220,33 @@ struct RunMeasurement {
   // Figures 16-18: the measured displacement (the average of the bars), length units.
   Curve measured_displacement;
   std::vector<PhotoOverlay> overlays;  // photo runs: the run photo, digitized
+
+  // What the results file keeps as fields of the run's group
+  // (options/result_fields.h). When the maxima fall (with the fitted model's
+  // times for typed-in runs), the bars, the calibrations, the displacement and
+  // the photos are stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("source", IfAny(self.source), Quantity::kDimensionless,
+          "where the maxima came from: typed-in, csv or photo");
+    visit("rebounds/xmax", self.xmax, Quantity::kLength,
+          "Xmax of rebound 0, 1, ... (session numbering)");
+    visit("rebounds/xmax_std_error", self.xmax_sigma, Quantity::kLength, "its standard error");
+    visit("rebounds/t_peak_std_error", self.t_peak_sigma, Quantity::kSeconds,
+          "trace runs: each peak time's standard error");
+    visit("rebounds/duration", self.rebound_duration, Quantity::kSeconds,
+          "trace runs: each rebound's impact-to-impact time");
+    visit("rebounds/duration_std_error", self.rebound_duration_sigma, Quantity::kSeconds,
+          "its standard error");
+    visit("rebounds/release_x", self.release, Quantity::kLength, "X0 as the traces show it");
+    visit("contact_time", self.contact_time, Quantity::kSeconds, "the run's own contact time");
+    if (self.contact_time) {
+      visit("contact_time_std_error", self.contact_time_sigma, Quantity::kSeconds,
+            "its standard error");
+      visit("contact_time@source", self.contact_time_source, Quantity::kDimensionless,
+            "typed-in or contact trace");
+    }
+  }
 };
 
 // The run's own fits (FitRun): what they were fitted to, the closed-form
@@ -198,6 +264,20 @@ struct RunFits {
   // Figures 16-18: the fitted Kelvin-Voigt model's response, length units.
   Curve model_response;
   std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
+
+  // What the results file keeps beside the two-point fit's fields, in its
+  // group, when it succeeded (options/result_fields.h); the model's peak
+  // times are stored as the run's, the fits and the response by the file's
+  // own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("contact_time_used@source", self.contact_time_source, Quantity::kDimensionless,
+          "typed-in, contact trace (the run's own) or session");
+    visit("deviation", self.deviation, Quantity::kLength, "predicted - measured (Table 2)");
+    visit("deviation_pct_peak", self.deviation_pct_peak, Quantity::kPercent,
+          "the same, % of the measured peak");
+    visit("deviation_pct_x0", self.deviation_pct_x0, Quantity::kPercent, "the same, % of X0");
+  }
 };
 
 // A run's result: what it is, whether it reduced (and the reason when not),
@@ -224,6 +304,28 @@ struct RunResult {
   SettingValues settings;
 
   std::string Status() const { return ok ? "ok" : "failed: " + reason; }
+
+  // What the results file keeps as the run's own fields, in its group
+  // (options/result_fields.h), read after the status and the measurement;
+  // the status, the stage timings and the settings are stored by the file's
+  // own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("input_fingerprint", IfAny(self.fingerprint), Quantity::kDimensionless,
+          "hash of the run's inputs");
+    // A run the manifest rejected has neither X0 nor its numbering, and was not measured.
+    visit("initial_displacement", IfAny(self.initial_displacement), Quantity::kLength, "X0");
+    if (self.initial_displacement > 0.0) {
+      visit("reused", self.reused, Quantity::kDimensionless, "1 when its measurement was reused");
+      visit("first_rebound", self.first_rebound, Quantity::kDimensionless,
+            "which rebound after the first impact the tables call 0");
+    }
+    if (self.ok && !self.measured.xmax.empty()) {
+      visit("rebounds/anomalies", self.anomalies, Quantity::kDimensionless,
+            "rebounds the free pendulum cannot explain, one sentence each");
+    }
+  }
+
   // When the maxima fall: measured on the traces, else the fitted model's
   // ("trace" or "model"; empty when neither is known).
   const std::vector<double>& PeakTimes() const {
@@ -245,6 +347,26 @@ struct SessionKelvinVoigt {
   std::optional<DampingLine> damping_line;
   // [reduction] average_stiffness: K_avg, which every run's C above is from.
   std::optional<Estimate> average_stiffness;
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // damping line is a group of its own, and which stiffness the C are from
+  // an attribute of the file's layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("run_ids", self.run_ids, Quantity::kDimensionless, "the runs in the analysis");
+    visit("sqrt_restitution", self.sqrt_restitution, Quantity::kDimensionless,
+          "sqrt(xi), xi = the run's fitted e");
+    visit("stiffness", self.stiffness, Quantity::kStiffness, "each run's own K");
+    visit("stiffness_average", self.spread.average, Quantity::kStiffness, "K avg");
+    visit("stiffness_deviation", self.spread.deviation, Quantity::kStiffness, "K - K avg");
+    visit("stiffness_pct_variation", self.spread.pct_variation, Quantity::kPercent,
+          "100 |K - K avg| / K avg");
+    visit("damping", self.damping, Quantity::kDamping,
+          "C per run: from its own K, or from K avg with the average option");
+    visit("damping_std_error", self.damping_sigma, Quantity::kDamping, "its standard error");
+    visit("average_stiffness", self.average_stiffness, Quantity::kStiffness,
+          "K avg with the average option, which every run's C is from");
+  }
 };
 
 // An encoder/accelerometer log (signal/log_analysis.h), as the results file keeps it.
@@ -281,6 +403,15 @@ struct LogSourceResult {
   std::optional<Estimate> impact_time_s;
   std::string impact_method;  // or why no impact was found
   std::vector<LogChannelResult> channels;
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // source names the group, and each channel is a group of its own.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("impact_method", self.impact_method, Quantity::kDimensionless,
+          "how the impact was found, or why it was not");
+    visit("impact_time", self.impact_time_s, Quantity::kSeconds, "the impact instant, when found");
+  }
 };
 
 struct LogComparisonRow {
@@ -289,6 +420,26 @@ struct LogComparisonRow {
   double difference_hz = 0.0, difference_percent = 0.0;  // simulation - experiment
   double rms_difference = 0.0;            // after aligning the impacts, channel units
   double rms_difference_unaligned = 0.0;  // channel units
+
+  // What the results file keeps as fields (options/result_fields.h), the
+  // channel's own units for the RMS differences; the channel names the group.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("channel_units", self.units, Quantity::kDimensionless,
+          "the channel's units: rad, m/s^2 or SI");
+    visit("experiment_frequency", EvenEmpty(self.experiment_frequency_hz), Quantity::kHertz,
+          "the experiment's dominant frequency");
+    visit("simulation_frequency", EvenEmpty(self.simulation_frequency_hz), Quantity::kHertz,
+          "the simulation's");
+    visit("frequency_difference", self.difference_hz, Quantity::kHertz,
+          "simulation - experiment (NaN: either has none)");
+    visit("frequency_difference_percent", self.difference_percent, Quantity::kPercent,
+          "the same, % of the experiment's");
+    visit("rms_difference", self.rms_difference, Quantity::kChannel,
+          "RMS of simulation - experiment after aligning the impacts");
+    visit("rms_difference_unaligned", self.rms_difference_unaligned, Quantity::kChannel,
+          "the same as recorded");
+  }
 };
 
 struct LogResult {
@@ -301,6 +452,15 @@ struct LogResult {
   std::vector<LogComparisonRow> comparison;
 
   std::string Status() const { return ok ? "ok" : "failed: " + reason; }
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // status, the settings, the sources and the comparison's channels are
+  // stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("comparison/impact_offset", self.impact_offset_s, Quantity::kSeconds,
+          "simulation - experiment impact time");
+  }
 };
 
 // Which restitution model predicts unseen runs best (fit/joint_fits.h).
@@ -317,6 +477,31 @@ struct ModelComparisonRow {
   // How the model fares against the best (lowest BIC): "best", "comparable",
   // "disfavoured" or "rejected" with its BIC difference (Kass-Raftery's 2, 10).
   std::string verdict;
+
+  // Whether the model was fitted: one that did not run holds only its
+  // status and verdict.
+  bool Ran() const { return ok || !parameters.empty() || maxima > 0; }
+
+  // What the results file keeps as fields of a model that ran
+  // (options/result_fields.h); the status, the parameters by name and the
+  // Birge ratio (from chi2 and dof) are stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("verdict", self.verdict, Quantity::kDimensionless,
+          "best, comparable, disfavoured or rejected with the BIC difference; failed");
+    visit("maxima", self.maxima, Quantity::kDimensionless, "N, the maxima fitted");
+    visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
+          "k, the per-run speeds included");
+    visit("dof", self.dof, Quantity::kDimensionless, "N - k");
+    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
+    visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
+    visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
+    visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
+          "the weighted standard deviation of the runs' ln e");
+    visit("leave_one_out_rms_normalized", IfAny(self.loo_rms_normalized), Quantity::kDimensionless,
+          "leave one run out: RMS of (predicted - measured)/sigma, when made");
+    visit("leave_one_out_rms", IfAny(self.loo_rms_length), Quantity::kLength, "the same in length");
+  }
 };
 
 struct ModelComparison {
@@ -327,6 +512,18 @@ struct ModelComparison {
   // The reading: sentences on what the data support and reject, with the
   // evidence (e.g. how ln e changes with speed against what a law needs).
   std::vector<std::string> evidence;
+
+  // What the results file keeps as fields (options/result_fields.h); each
+  // model is a group of its own.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("best_by_leave_one_out", self.best_by_leave_one_out, Quantity::kDimensionless,
+          "the model that predicts held-out runs best (empty: not made)");
+    visit("best_by_bic", self.best_by_bic, Quantity::kDimensionless, "the lowest BIC's");
+    visit("run_ids", self.run_ids, Quantity::kDimensionless, "the runs fitted");
+    visit("evidence", self.evidence, Quantity::kDimensionless,
+          "what the data support and reject, in sentences");
+  }
 };
 
 struct SessionResult {
@@ -355,6 +552,22 @@ struct SessionResult {
   // The session-level products (pipeline/products.h): each made, or skipped
   // with why; empty in a file written before they were recorded.
   std::vector<ProductRecord> products;
+
+  // What the results file keeps as the session's own fields, from its root
+  // (options/result_fields.h); the layout, the units, the pendulum, the
+  // settings and the products are stored by the file's own layout.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("session_title", self.title, Quantity::kDimensionless, "the manifest's title");
+    visit("producer", self.producer, Quantity::kDimensionless, "impactlab <version>");
+    visit("created", self.created, Quantity::kDimensionless, "when the file was written");
+    visit("session_folder", self.session_folder, Quantity::kDimensionless,
+          "the session folder reduced");
+    visit("session/contact_time", self.session_contact_time, Quantity::kSeconds,
+          "[reduction] contact_time, used for every run");
+    visit("session/warnings", self.warnings, Quantity::kDimensionless,
+          "the manifest's warnings and other non-fatal findings");
+  }
 
   int FailedRuns() const;
   const RunResult* FindRun(const std::string& id) const;

@@ -298,6 +298,18 @@ TEST_CASE("incremental: unchanged runs reuse their measurement, an edited run is
   CHECK_FALSE(fourth.runs[1].reused);
 }
 
+TEST_CASE("incremental: the results file says which runs' measurements were reused") {
+  testing::TempDir dir;
+  const Session session = TwoRunSession(dir.path());
+  const SessionResult first = ReduceSession(session, {});
+  ReduceOptions again;
+  again.previous = &first;
+  WriteResults(ReduceSession(session, again), dir.path() / "again.h5");
+  const SessionResult read = ReadResults(dir.path() / "again.h5");
+  CHECK(read.runs.at(0).reused);
+  CHECK_FALSE(read.runs.at(1).reused);
+}
+
 // Issue 14, item 4: reuse never serves stale or corrupt results.
 
 // The trace session with a second trace run ("again", the same traces) and

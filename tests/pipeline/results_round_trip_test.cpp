@@ -1,0 +1,157 @@
+// Every result a reduce produces survives the results file: the bundled
+// sessions of typed-in maxima and of logs, and a generated session of photos,
+// CSV traces and typed-in maxima, reduced, written, read, written again and
+// read again. Every listed field (options/result_fields.h) of every result is
+// compared, the reduce's own against the first reading and the two readings
+// against each other, so a field added to a list is compared with nothing
+// added here.
+#include <filesystem>
+#include <set>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "io/manifest.h"
+#include "pipeline/reduce.h"
+#include "pipeline/results_file.h"
+#include "synth/session_generator.h"
+#include "tests/pipeline/every_field.h"
+#include "tests/support/temp_dir.h"
+
+namespace impactlab {
+namespace {
+
+// Every listed field of every result a session holds, one line each named by
+// where the result is, and the listed types met. A result is compared where
+// the file holds its fields: a fit's only when it ran (a failed two-point
+// fit, a least-squares fit or a law that could not run, a model not fitted
+// keep only their status).
+struct SessionFields {
+  std::vector<std::string> lines;
+  std::set<std::string> types;
+
+  template <typename Result>
+  void Add(const Result& result, const std::string& where) {
+    types.insert(typeid(Result).name());
+    const std::vector<std::string> more = testing::EveryField(result, where + ": ");
+    lines.insert(lines.end(), more.begin(), more.end());
+  }
+  void AddCalibration(const CellCalibration& c, const std::string& where) {
+    Add(c, where);
+    if (c.overlay) Add(*c.overlay, where + "/digitized");
+  }
+  void AddLeastSquares(const LeastSquaresSummary& fit, const std::string& where) {
+    if (!fit.parameters.empty()) Add(fit, where + "/" + fit.model);
+  }
+  void AddRun(const RunResult& run) {
+    const std::string g = "runs/" + run.id;
+    Add(run, g);
+    Add(run.seconds, g + "/stage_seconds");
+    Add(run.measured, g);
+    if (run.measured.right) Add(*run.measured.right, g + "/rebounds/right");
+    if (run.measured.left) Add(*run.measured.left, g + "/rebounds/left");
+    for (const CellCalibration& c : run.measured.calibrations) {
+      AddCalibration(c, g + "/calibration/" + c.cell);
+    }
+    for (std::size_t i = 0; i < run.measured.overlays.size(); ++i) {
+      Add(run.measured.overlays[i], g + "/digitized/" + std::to_string(i));
+    }
+    if (run.fits.kelvin_voigt && run.fits.kelvin_voigt->ok) {
+      Add(*run.fits.kelvin_voigt, g + "/fit/kelvin_voigt");
+      Add(run.fits, g + "/fit/kelvin_voigt");
+    }
+    for (const LeastSquaresSummary& fit : run.fits.least_squares) AddLeastSquares(fit, g + "/fit");
+  }
+  void AddLog(const LogResult& log) {
+    const std::string g = "logs/" + log.id;
+    Add(log, g);
+    for (const LogSourceResult& s : log.sources) {
+      Add(s, g + "/" + s.source);
+      for (const LogChannelResult& c : s.channels) Add(c, g + "/" + s.source + "/" + c.channel);
+    }
+    for (const LogComparisonRow& c : log.comparison) Add(c, g + "/comparison/" + c.channel);
+  }
+
+  explicit SessionFields(const SessionResult& r) {
+    Add(r, "");
+    if (!r.runs.empty() || !r.calibrations.empty()) Add(r.apparatus, "apparatus");
+    for (const RunResult& run : r.runs) AddRun(run);
+    for (const CellCalibration& c : r.calibrations) AddCalibration(c, "calibrations");
+    if (r.kelvin_voigt) {
+      Add(*r.kelvin_voigt, "session/kelvin_voigt");
+      if (r.kelvin_voigt->damping_line) {
+        Add(*r.kelvin_voigt->damping_line, "session/kelvin_voigt/damping_line");
+      }
+    }
+    for (const LeastSquaresSummary& fit : r.joint_fits) AddLeastSquares(fit, "session/joint_fits");
+    if (r.model_comparison) {
+      Add(*r.model_comparison, "session/model_comparison");
+      for (const ModelComparisonRow& m : r.model_comparison->models) {
+        if (m.Ran()) Add(m, "session/model_comparison/" + m.model);
+      }
+    }
+    for (const ContactLawFit& law : r.contact_laws) {
+      if (!law.parameters.empty() || law.maxima > 0) Add(law, "session/contact_laws/" + law.law);
+    }
+    for (const LogResult& log : r.logs) AddLog(log);
+    for (const RunPrediction& p : r.predictions) Add(p, "predictions");
+  }
+};
+
+// Reduces `folder`, writes and reads it twice, and compares every listed
+// field; returns the listed types the session holds.
+std::set<std::string> CheckSessionRoundTrip(const std::filesystem::path& folder) {
+  testing::TempDir dir;
+  ReduceOptions options;
+  options.jobs = 2;
+  const SessionResult reduced = ReduceSession(ReadManifest(folder).session, options);
+  WriteResults(reduced, dir.path() / "first.h5");
+  const SessionResult first = ReadResults(dir.path() / "first.h5");
+  WriteResults(first, dir.path() / "second.h5");
+  const SessionResult second = ReadResults(dir.path() / "second.h5");
+
+  const SessionFields original(reduced), once(first), twice(second);
+  CHECK(once.lines.size() > 10);
+  CHECK(once.lines == original.lines);
+  CHECK(twice.lines == once.lines);
+  // Where they differ, the first line that does.
+  for (std::size_t i = 0; i < once.lines.size() && i < original.lines.size(); ++i) {
+    if (once.lines[i] != original.lines[i]) {
+      FAIL_CHECK(original.lines[i] << "  read back as  " << once.lines[i]);
+      break;
+    }
+  }
+  return once.types;
+}
+
+const std::filesystem::path kSamples = std::filesystem::path(IMPACTLAB_SOURCE_DIR) / "sample_data";
+
+TEST_CASE("results_round_trip: every listed field of every result survives the file twice") {
+  std::set<std::string> met;
+  for (const char* session : {"thesis-1969", "logs-two-link"}) {
+    INFO(session);
+    met.merge(CheckSessionRoundTrip(kSamples / session));
+  }
+  {
+    INFO("a generated session of photos, CSV traces and typed-in maxima");
+    testing::TempDir dir;
+    SynthOptions synth;
+    synth.preset = "quick";
+    synth.style = PhotoStyle::kClean;
+    synth.seed = 11;
+    synth.csv_run = true;
+    synth.typed_run = true;
+    GenerateSession(dir.path() / "s", synth);
+    met.merge(CheckSessionRoundTrip(dir.path() / "s"));
+  }
+  // No listed type is left out of the comparison.
+  testing::ForEachListedResult([&]<typename Result>() {
+    INFO(typeid(Result).name());
+    CHECK(met.contains(typeid(Result).name()));
+  });
+}
+
+}  // namespace
+}  // namespace impactlab
