@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -538,7 +539,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.units = session.units;
   result.producer = options.producer;
   result.created = NowIso8601();
-  result.session_folder = session.folder.string();
+  // The folder as the file will be read later, from anywhere: absolute.
+  result.session_folder = std::filesystem::absolute(session.folder).lexically_normal().string();
   result.convention = options.convention.value_or(ParseConvention(session.reduction.convention));
   result.separation = options.separation.value_or(ParseSeparation(session.reduction.separation));
   result.session_contact_time = session.reduction.contact_time;

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -195,29 +196,10 @@ std::uint64_t CaseSeed(std::uint64_t seed, int case_number) {
   return seed + static_cast<std::uint64_t>(case_number);
 }
 
-TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
-  if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
-  for (std::size_t i = 0; i < options.cases.size(); ++i) {
-    const int number = options.cases[i];
-    if (number < 1 || number > 3) {
-      throw std::invalid_argument(fmt::format("simulate two-link: no case {} (1, 2 or 3)", number));
-    }
-    if (std::find(options.cases.begin(), options.cases.begin() + i, number) !=
-        options.cases.begin() + i) {
-      throw std::invalid_argument(
-          fmt::format("simulate two-link: case {} is chosen twice (a session holds one log per "
-                      "case)",
-                      number));
-    }
-  }
-  std::error_code ec;
-  if (fs::exists(folder) && !fs::is_empty(folder, ec)) {
-    throw InputError({folder, "", std::nullopt}, "the output folder exists and is not empty");
-  }
-  fs::create_directories(folder / "logs", ec);
-  if (options.write_state) fs::create_directories(folder / "state", ec);
-  if (ec) throw InputError({folder, "", std::nullopt}, "cannot create the folder: " + ec.message());
+namespace {
 
+// The cases' simulations and files, into a folder made ready for them.
+TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOptions& options) {
   const TwoLinkModel simulation_model(options.simulation);
   const TwoLinkModel experiment_model(options.experiment);
   SessionManifest manifest;
@@ -276,6 +258,50 @@ TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOp
   }
   WriteManifest(folder / "session.toml", manifest);
   return summary;
+}
+
+}  // namespace
+
+TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
+  if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
+  for (std::size_t i = 0; i < options.cases.size(); ++i) {
+    const int number = options.cases[i];
+    if (number < 1 || number > 3) {
+      throw std::invalid_argument(fmt::format("simulate two-link: no case {} (1, 2 or 3)", number));
+    }
+    if (std::find(options.cases.begin(), options.cases.begin() + i, number) !=
+        options.cases.begin() + i) {
+      throw std::invalid_argument(
+          fmt::format("simulate two-link: case {} is chosen twice (a session holds one log per "
+                      "case)",
+                      number));
+    }
+  }
+  std::error_code ec;
+  const bool folder_existed = fs::exists(folder);
+  if (folder_existed && !fs::is_empty(folder, ec)) {
+    throw InputError({folder, "", std::nullopt}, "the output folder exists and is not empty");
+  }
+  fs::create_directories(folder / "logs", ec);
+  if (options.write_state) fs::create_directories(folder / "state", ec);
+  if (ec) throw InputError({folder, "", std::nullopt}, "cannot create the folder: " + ec.message());
+  // A run that fails takes away what it wrote (the folder was empty or
+  // absent), so that the same command can simply be run again.
+  try {
+    return WriteTwoLinkCases(folder, options);
+  } catch (...) {
+    std::error_code ignored;
+    if (folder_existed) {
+      std::vector<fs::path> written;
+      for (const auto& entry : fs::directory_iterator(folder, ignored)) {
+        written.push_back(entry.path());
+      }
+      for (const fs::path& entry : written) fs::remove_all(entry, ignored);
+    } else {
+      fs::remove_all(folder, ignored);
+    }
+    throw;
+  }
 }
 
 }  // namespace impactlab

@@ -51,7 +51,7 @@ struct TwoLinkLogSummary {
 };
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
-// or be empty. Throws std::invalid_argument for bad options, InputError for a
+// or be empty; a run that fails removes what it wrote. Throws std::invalid_argument for bad options, InputError for a
 // folder that cannot be written, std::runtime_error when a simulation fails.
 TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
                                       const TwoLinkLogOptions& options);
