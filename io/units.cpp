@@ -21,4 +21,14 @@ UnitLabels LabelsFor(UnitSystem system) {
 
 double StandardGravity(UnitSystem system) { return system == UnitSystem::kSI ? 9.80665 : 385.644; }
 
+std::string UnitOfKind(const std::string& kind, const UnitLabels& u) {
+  if (kind == "length") return u.length;
+  if (kind == "stiffness") return u.stiffness;
+  if (kind == "damping") return u.damping;
+  if (kind == "speed") return u.speed;
+  if (kind == "inverse_speed") return "s/" + u.length;
+  if (kind == "hertz_stiffness") return u.force + "/" + u.length + "^n";
+  return kind;  // "1", "s"
+}
+
 }  // namespace impactlab

@@ -35,4 +35,9 @@ UnitLabels LabelsFor(UnitSystem system);
 // PENDUL use) or 9.80665 m/s^2.
 double StandardGravity(UnitSystem system);
 
+// A fitted parameter's unit kind (NamedEstimate::units: "length",
+// "stiffness", "damping", "speed", "inverse_speed", "hertz_stiffness", or a
+// unit itself, "1", "s") in the system's labels.
+std::string UnitOfKind(const std::string& kind, const UnitLabels& labels);
+
 }  // namespace impactlab

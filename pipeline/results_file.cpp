@@ -238,17 +238,6 @@ CellCalibration ReadCalibration(const In& in, const std::string& g, const std::s
   return c;
 }
 
-// A unit kind of NamedEstimate ("length", "stiffness", ...) in the session's system.
-std::string UnitsOf(const std::string& kind, const UnitLabels& u) {
-  if (kind == "length") return u.length;
-  if (kind == "stiffness") return u.stiffness;
-  if (kind == "damping") return u.damping;
-  if (kind == "speed") return u.speed;
-  if (kind == "inverse_speed") return "s/" + u.length;
-  if (kind == "hertz_stiffness") return u.force + "/" + u.length + "^n";
-  return kind;  // "1", "s"
-}
-
 // A fit's parameters: one dataset each (+ _std_error), and their names and unit
 // kinds, so that they read back in order.
 void WriteNamedEstimates(Out& out, const std::string& g,
@@ -257,7 +246,7 @@ void WriteNamedEstimates(Out& out, const std::string& g,
   for (const NamedEstimate& p : parameters) {
     names.push_back(p.name);
     kinds.push_back(p.units);
-    WriteEstimate(out.f, g + "/" + p.name, p.estimate, UnitsOf(p.units, out.u));
+    WriteEstimate(out.f, g + "/" + p.name, p.estimate, UnitOfKind(p.units, out.u));
   }
   out.f.WriteStrings(g + "/parameter_names", names);
   out.f.WriteStrings(g + "/parameter_unit_kinds", kinds);
@@ -310,7 +299,7 @@ void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary
   WriteNamedEstimates(out, g, fit.parameters);
   for (const NamedEstimate& p : fit.parameters) {
     f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
-                  UnitsOf(p.units, out.u));
+                  UnitOfKind(p.units, out.u));
   }
   if (!fit.predicted_xmax.empty() && !rebound_scale.empty()) {
     out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
@@ -399,13 +388,13 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
   WriteNamedEstimates(out, g, fit.parameters);
   for (const NamedEstimate& p : fit.parameters) {
     f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
-                  UnitsOf(p.units, out.u));
+                  UnitOfKind(p.units, out.u));
   }
   std::vector<std::string> methods;
   std::vector<double> rise_lower, rise_upper;
   for (std::size_t i = 0; i < fit.intervals.size() && i < fit.parameters.size(); ++i) {
     const ParameterInterval& in = fit.intervals[i];
-    const std::string units = UnitsOf(fit.parameters[i].units, out.u);
+    const std::string units = UnitOfKind(fit.parameters[i].units, out.u);
     f.WriteScalar(g + "/" + in.name + "_interval_lower", in.lower, units);
     f.WriteScalar(g + "/" + in.name + "_interval_upper", in.upper, units);
     methods.push_back(std::string(in.profile ? "profile" : "linear") +

@@ -239,17 +239,6 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
   return t;
 }
 
-// A parameter's unit kind (NamedEstimate::units) in the session's system.
-std::string UnitText(const std::string& kind, const UnitLabels& u) {
-  if (kind == "length") return u.length;
-  if (kind == "stiffness") return u.stiffness;
-  if (kind == "damping") return u.damping;
-  if (kind == "speed") return u.speed;
-  if (kind == "inverse_speed") return "s/" + u.length;
-  if (kind == "hertz_stiffness") return u.force + "/" + u.length + "^n";
-  return kind;  // "1", "s"
-}
-
 // The Birge-scaled standard error where the scatter exceeds the stated one
 // (scale > 1), else no value.
 Cell ScaledSigma(const Estimate& e, double scale) {
@@ -308,7 +297,7 @@ Table ModelParameterTable(const ModelComparison& c, const UnitLabels& u) {
     const double scale = CheckScatter(m.chi2, m.dof).Scale();
     for (const NamedEstimate& p : m.parameters) {
       t.rows.push_back({m.model, p.name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, scale),
-                        Cell::Unit(UnitText(p.units, u))});
+                        Cell::Unit(UnitOfKind(p.units, u))});
     }
   }
   t.notes = {
@@ -394,7 +383,7 @@ Table ContactLawParameterTable(const std::vector<ContactLawFit>& laws, const Uni
       t.rows.push_back(
           {fit.law, name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, fit.scatter.Scale()),
            in != nullptr ? Sig(in->lower, 4) : Cell("-"),
-           in != nullptr ? Sig(in->upper, 4) : Cell("-"), Cell::Unit(UnitText(p.units, u))});
+           in != nullptr ? Sig(in->upper, 4) : Cell("-"), Cell::Unit(UnitOfKind(p.units, u))});
     }
   }
   t.notes = {
