@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "tests/support/text_file.h"
+
 namespace impactlab {
 namespace {
 
@@ -25,10 +27,7 @@ const fs::path kRoot = fs::path(IMPACTLAB_SOURCE_DIR).lexically_normal();
 // Places outside the repository that docs once pointed to.
 constexpr std::string_view kOutside[] = {"/work/", "../shared", "external-sessions"};
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using testing::ReadText;
 
 std::vector<fs::path> Docs() {
   std::vector<fs::path> docs = {kRoot / "README.md"};

@@ -17,18 +17,14 @@
 #include "report/html_report.h"
 #include "tests/support/sample_data.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/text_file.h"
 
 namespace impactlab {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 // The thesis's typed-in session with one more run whose rebounds grow: its
 // fit fails, and the page must still show it.

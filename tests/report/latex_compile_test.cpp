@@ -17,6 +17,7 @@
 #include "report/tables.h"
 #include "tests/support/sample_data.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/text_file.h"
 
 namespace impactlab {
 // A named namespace: the test program is one unity build.
@@ -24,12 +25,7 @@ namespace latex_compile_test {
 
 namespace fs = std::filesystem;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 TEST_CASE("latex_compile: every table compiles with pdflatex and fits an A4 article's page") {
   if (std::string(IMPACTLAB_PDFLATEX).empty()) {
