@@ -51,6 +51,10 @@ inline std::string UnitOf(Quantity quantity, const UnitLabels& units) {
       return "div";
     case Quantity::kChannel:
       return units.channel;
+    case Quantity::kPressure:
+      return units.pressure;
+    case Quantity::kHertzStiffness:
+      return units.hertz_stiffness;
   }
   return "1";
 }

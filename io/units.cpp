@@ -14,9 +14,10 @@ std::optional<UnitSystem> ParseUnitSystem(std::string_view name) {
 
 UnitLabels LabelsFor(UnitSystem system) {
   if (system == UnitSystem::kSI) {
-    return {"m", "N", "kg", "N/m", "N*s/m", "m/s^2", "m/s", ""};
+    return {"m", "N", "kg", "N/m", "N*s/m", "m/s^2", "m/s", "", "Pa", "N/m^1.5"};
   }
-  return {"in", "lbf", "lbf*s^2/in", "lbf/in", "lbf*s/in", "in/s^2", "in/s", ""};
+  return {"in",     "lbf",  "lbf*s^2/in", "lbf/in", "lbf*s/in",
+          "in/s^2", "in/s", "",           "psi",    "lbf/in^1.5"};
 }
 
 double StandardGravity(UnitSystem system) { return system == UnitSystem::kSI ? 9.80665 : 385.644; }

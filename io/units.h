@@ -25,6 +25,8 @@ struct UnitLabels {
   // A log channel's values' units ("rad", "m/s^2"): set where a channel's
   // results are written, empty elsewhere.
   std::string channel;
+  std::string pressure;         // "lbf/in^2" or "Pa": a material's modulus
+  std::string hertz_stiffness;  // "lbf/in^1.5" or "N/m^1.5": k of F = k x^(3/2)
 };
 
 // The manifest's name of the system: "in-lbf-s" or "SI".

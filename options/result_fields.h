@@ -59,8 +59,10 @@ enum class Quantity {
   kPercent,  // "%"
   kPixels,   // "px", of a photo
   kPixelsSquared,
-  kDivisions,  // "div", of an oscillograph's graticule
-  kChannel,    // a log channel's own units (UnitLabels::channel)
+  kDivisions,       // "div", of an oscillograph's graticule
+  kChannel,         // a log channel's own units (UnitLabels::channel)
+  kPressure,        // force/length^2: a material's modulus
+  kHertzStiffness,  // force/length^1.5: k of Hertz's F = k x^(3/2)
 };
 
 // An n x n matrix, row-major (a covariance); empty when not known.
