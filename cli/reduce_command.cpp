@@ -25,18 +25,23 @@ namespace {
 // so their values there are not looked at.
 std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, bool quiet,
                                              const Session& session) {
-  if (!std::filesystem::exists(path)) return std::nullopt;
+  // Only runs measured from traces can reuse; reading a file for none of
+  // them would cost more than the typed-in runs' whole reduce.
+  const auto measured_from_traces = [&](const std::string& id) {
+    return std::any_of(session.runs.begin(), session.runs.end(),
+                       [&](const Run& r) { return r.id == id && !r.HasTypedRebounds(); });
+  };
+  const bool any = std::any_of(session.runs.begin(), session.runs.end(),
+                               [](const Run& r) { return !r.HasTypedRebounds(); });
+  if (!any || !std::filesystem::exists(path)) return std::nullopt;
   SessionResult previous;
   try {
-    previous = ReadResults(path);
+    previous = ReadRunMeasurements(path, measured_from_traces);
   } catch (const std::exception& e) {
     if (!quiet) fmt::print(stderr, "note: not reusing {}: {}\n", path.string(), e.what());
     return std::nullopt;
   }
   std::erase_if(previous.runs, [&](const RunResult& run) {
-    const auto in_session = std::find_if(session.runs.begin(), session.runs.end(),
-                                         [&](const Run& r) { return r.id == run.id; });
-    if (in_session == session.runs.end() || in_session->HasTypedRebounds()) return false;
     if (run.measured.xmax.empty()) return false;  // nothing measured there: nothing to reuse
     const std::string problem = ReuseProblem(run.measured);
     if (problem.empty()) return false;

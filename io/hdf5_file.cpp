@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <type_traits>
+#include <unordered_set>
 
 #include <fmt/format.h>
 #include <hdf5.h>
@@ -64,6 +65,33 @@ constexpr std::size_t kCoreIncrementBytes = std::size_t{1} << 20;
 struct Hdf5File::Impl {
   std::filesystem::path path;
   Handle file;
+  // The groups this process made or found in the file, so that writing a
+  // dataset does not look its parents up again: a results file holds a
+  // thousand small datasets, and walking every parent path with H5Lexists
+  // was an eighth of writing one.
+  std::unordered_set<std::string> known_groups;
+  // The `units` attribute's type and dataspace, made once rather than for
+  // each of the thousand datasets that carry one.
+  Handle string_type, scalar_space;
+  // The group the last dataset went into, kept open: datasets are written
+  // group by group, and naming each by its full path made HDF5 walk the
+  // path from the root again for every one.
+  std::string open_group_name;
+  Handle open_group;
+
+  // `object`'s parent group, opened (or kept from the last call), and its name in it.
+  std::pair<hid_t, std::string> ParentOf(const std::string& object) {
+    const std::size_t found = object.rfind('/');
+    const std::size_t slash = found == std::string::npos ? 0 : found;
+    const std::string parent = slash == 0 ? "/" : object.substr(0, slash);
+    if (!open_group.valid() || parent != open_group_name) {
+      CheckedClose(open_group, parent);
+      open_group = Make(H5Gopen2(file.get(), parent.c_str(), H5P_DEFAULT), H5Gclose, parent,
+                        "open the group");
+      open_group_name = parent;
+    }
+    return {open_group.get(), object.substr(found == std::string::npos ? 0 : slash + 1)};
+  }
 
   [[noreturn]] void Fail(const std::string& object, const std::string& problem) const {
     throw InputError({path, object, std::nullopt}, problem);
@@ -108,13 +136,6 @@ struct Hdf5File::Impl {
     return plist;
   }
 
-  Handle IntermediateGroups(const std::string& object) const {
-    Handle plist = Make(H5Pcreate(H5P_LINK_CREATE), H5Pclose, object, "create a property list");
-    Check(H5Pset_create_intermediate_group(plist.get(), 1), object,
-          "set intermediate group creation");
-    return plist;
-  }
-
   // The transfer of `count` variable-length strings. HDF5 1.10 converts them
   // (pointers in memory, heap references on file) through a buffer it
   // allocates and zeroes on every write, 1 MB unless told: 1 MB cleared and
@@ -138,7 +159,9 @@ struct Hdf5File::Impl {
   void EnsureParentGroups(const std::string& object) {
     std::size_t pos = 1;
     while ((pos = object.find('/', pos)) != std::string::npos) {
-      const std::string group = object.substr(0, pos);
+      std::string group = object.substr(0, pos);
+      ++pos;
+      if (known_groups.contains(group)) continue;
       if (!LinkExists(group)) {
         Handle plist = OrderedGroupCreation(group);
         Handle g =
@@ -147,32 +170,46 @@ struct Hdf5File::Impl {
         CheckedClose(g, group);
         CheckedClose(plist, group);
       }
-      ++pos;
+      known_groups.insert(std::move(group));
     }
   }
 
   Handle CreateDataset(const std::string& name, hid_t type, const std::vector<hsize_t>& dims) {
     EnsureParentGroups(name);
     Handle space = Dataspace(dims, name);
-    Handle links = IntermediateGroups(name);
-    Handle dset = Make(H5Dcreate2(file.get(), name.c_str(), type, space.get(), links.get(),
-                                  H5P_DEFAULT, H5P_DEFAULT),
-                       H5Dclose, name, "create the dataset (does it exist already?)");
-    CheckedClose(links, name);
+    const auto [parent, leaf] = ParentOf(name);
+    Handle dset = Make(
+        H5Dcreate2(parent, leaf.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        H5Dclose, name, "create the dataset (does it exist already?)");
     CheckedClose(space, name);
     return dset;
   }
 
+  // Whether every link on the way to `name` exists (H5Lexists needs its parents).
+  bool PathExists(const std::string& name) const {
+    if (name == "/") return true;
+    std::size_t pos = 1;
+    while (true) {
+      pos = name.find('/', pos);
+      if (!LinkExists(name.substr(0, pos))) return false;
+      if (pos == std::string::npos) return true;
+      ++pos;
+    }
+  }
+
+  // Opened in one walk down the path; only a failure looks again, to say why.
   Handle OpenObject(const std::string& name) const {
-    if (name != "/" && !LinkExists(name)) Fail(name, "not found in the results file");
-    return Make(H5Oopen(file.get(), name.c_str(), H5P_DEFAULT), H5Oclose, name, "open the object");
+    Handle object(H5Oopen(file.get(), name.c_str(), H5P_DEFAULT), H5Oclose);
+    if (object.valid()) return object;
+    if (!PathExists(name)) Fail(name, "not found in the results file");
+    Fail(name, "HDF5 could not open the object");
   }
 
   Handle OpenDataset(const std::string& name) const {
-    OpenObject(name);  // for the "not found" message
     Handle dset(H5Dopen2(file.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!dset.valid()) Fail(name, "is not a dataset");
-    return dset;
+    if (dset.valid()) return dset;
+    if (!PathExists(name)) Fail(name, "not found in the results file");
+    Fail(name, "is not a dataset");
   }
 
   hssize_t ElementCount(const Handle& dset, const std::string& name) const {
@@ -188,19 +225,18 @@ struct Hdf5File::Impl {
     }
   }
 
+  // `fresh`: the object was just created, so it has no attribute to replace.
   void WriteStringAttribute(hid_t obj, const std::string& object, const std::string& name,
-                            const std::string& value) {
-    Handle type = VariableStringType(object);
-    Handle space = Dataspace({}, object);
-    DeleteAttributeIfPresent(obj, object, name);
-    Handle attr =
-        Make(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-             H5Aclose, object, "create an attribute");
+                            const std::string& value, bool fresh = false) {
+    if (!string_type.valid()) string_type = VariableStringType(object);
+    if (!scalar_space.valid()) scalar_space = Dataspace({}, object);
+    if (!fresh) DeleteAttributeIfPresent(obj, object, name);
+    Handle attr = Make(H5Acreate2(obj, name.c_str(), string_type.get(), scalar_space.get(),
+                                  H5P_DEFAULT, H5P_DEFAULT),
+                       H5Aclose, object, "create an attribute");
     const char* text = value.c_str();
-    Check(H5Awrite(attr.get(), type.get(), &text), object, "write an attribute");
+    Check(H5Awrite(attr.get(), string_type.get(), &text), object, "write an attribute");
     CheckedClose(attr, object);
-    CheckedClose(space, object);
-    CheckedClose(type, object);
   }
 
   void WriteIntegerAttribute(hid_t obj, const std::string& object, const std::string& name,
@@ -228,6 +264,9 @@ struct Hdf5File::Impl {
   // The finished in-memory file as bytes, then the file closed: every status
   // checked, and no disk I/O by HDF5 (core driver without backing store).
   std::string CloseToImage() {
+    CheckedClose(string_type, "");
+    CheckedClose(scalar_space, "");
+    CheckedClose(open_group, open_group_name);
     Check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "", "flush the file");
     const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
     if (size <= 0) Fail("", "HDF5 could not size the file image");
@@ -318,7 +357,7 @@ void Hdf5File::WriteScalar(const std::string& name, double value, std::string_vi
   Handle dset = impl_->CreateDataset(name, H5T_IEEE_F64LE, {});
   impl_->Check(H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), name,
                "write the dataset");
-  impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
+  impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units), /*fresh=*/true);
   impl_->CheckedClose(dset, name);
 }
 
@@ -330,7 +369,7 @@ void Hdf5File::WriteVector(const std::string& name, const std::vector<double>& v
         H5Dwrite(dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name,
         "write the dataset");
   }
-  impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units));
+  impl_->WriteStringAttribute(dset.get(), name, "units", std::string(units), /*fresh=*/true);
   impl_->CheckedClose(dset, name);
 }
 
@@ -404,18 +443,7 @@ void Hdf5File::SetAttribute(const std::string& object, const std::string& name,
   impl_->CheckedClose(obj, object);
 }
 
-bool Hdf5File::Exists(const std::string& object) const {
-  if (object == "/") return true;
-  // H5Lexists needs every parent to exist: walk down the path.
-  std::size_t pos = 1;
-  while (true) {
-    pos = object.find('/', pos);
-    const std::string prefix = object.substr(0, pos);
-    if (!impl_->LinkExists(prefix)) return false;
-    if (pos == std::string::npos) return true;
-    ++pos;
-  }
-}
+bool Hdf5File::Exists(const std::string& object) const { return impl_->PathExists(object); }
 
 std::vector<std::string> Hdf5File::Children(const std::string& group) const {
   const Handle obj = impl_->OpenObject(group);

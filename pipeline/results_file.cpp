@@ -762,7 +762,9 @@ void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }
 
-RunResult ReadRun(const In& in, const std::string& id) {
+// `measurement_only`: what a later reduce reuses (the run's status,
+// fingerprint and measurement), without its fits.
+RunResult ReadRun(const In& in, const std::string& id, bool measurement_only = false) {
   const Hdf5File& f = in.f;
   const std::string g = RunPath(id);
   RunResult run;
@@ -798,6 +800,7 @@ RunResult ReadRun(const In& in, const std::string& id) {
     m.contact_time_source.clear();
     if (run.ok) run.fits.contact_time_source = "session";
   }
+  if (measurement_only) return run;
   for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
     const std::string g_fit = g + "/fit/" + model;
     if (f.Exists(g_fit)) run.fits.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
@@ -854,15 +857,37 @@ void WriteResults(const SessionResult& result, const std::filesystem::path& path
   WriteHdf5Atomically(path, [&](Hdf5File& file) { WriteAll(file, result); });
 }
 
-SessionResult ReadResults(const std::filesystem::path& path) {
-  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+namespace {
+
+long long CheckedLayout(const Hdf5File& f) {
   const long long layout =
       f.HasAttribute("/", "layout") ? f.ReadIntegerAttribute("/", "layout") : 0;
   if (layout != 1 && layout != kResultsLayout) {
     throw InputError(
-        {path, "/layout", std::nullopt},
+        {f.path(), "/layout", std::nullopt},
         fmt::format("not an impactlab results file of layout 1 or {}", kResultsLayout));
   }
+  return layout;
+}
+
+}  // namespace
+
+SessionResult ReadRunMeasurements(const std::filesystem::path& path,
+                                  const std::function<bool(const std::string&)>& wanted) {
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  const long long layout = CheckedLayout(f);
+  SessionResult r;
+  ReadSessionSettings(f, r);
+  const In in{f, layout, r.settings};
+  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
+    if (wanted(id)) r.runs.push_back(ReadRun(in, id, /*measurement_only=*/true));
+  }
+  return r;
+}
+
+SessionResult ReadResults(const std::filesystem::path& path) {
+  const Hdf5File f = Hdf5File::OpenReadOnly(path);
+  const long long layout = CheckedLayout(f);
   SessionResult r;
   ReadSessionSettings(f, r);
   const In in{f, layout, r.settings};

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "pipeline/session_result.h"
 
@@ -18,5 +20,11 @@ void WriteResults(const SessionResult& result, const std::filesystem::path& path
 // Reads a results file of layout 1 or 2. Throws InputError naming the file
 // and object for a file that is neither.
 SessionResult ReadResults(const std::filesystem::path& path);
+
+// Only what a later reduce reuses: the session's settings and, for each run
+// `wanted` names, its status, fingerprint and measurement (no fits, no
+// session-level results). Throws as ReadResults does.
+SessionResult ReadRunMeasurements(const std::filesystem::path& path,
+                                  const std::function<bool(const std::string&)>& wanted);
 
 }  // namespace impactlab
