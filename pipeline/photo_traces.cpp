@@ -1,5 +1,6 @@
 #include "pipeline/photo_traces.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -13,38 +14,34 @@
 namespace impactlab {
 namespace {
 
-// The overlay at a size a report page shows well, as JPEG: a few hundred kB
-// per photo instead of megabytes of PNG. Drawn at that size, not shrunk
-// afterwards: a full-size overlay cost about as much as the digitizing.
-constexpr int kOverlayWidthPx = 1200;
-// The JPEG as a report page shows it: no wider than the page's column (a
-// whole-factor shrink leaves a 1000 px photo at 1000 px), at a quality that
-// keeps a photo's overlay near 40 kB, so that a session's page with its 24
-// photos stays under 2 MB.
+// The overlay as a report page shows it, as JPEG: no wider than the page's
+// column, at a quality that keeps a photo's overlay near 40 kB, so that a
+// session's page with its 24 photos stays under 2 MB. Drawn at that size (the
+// photo shrunk by a whole factor), not shrunk afterwards: a full-size overlay
+// cost about as much as the digitizing, and shrinking a drawn one to the
+// column by a fraction was a tenth of the sample photo session's CPU.
 constexpr int kOverlayPageWidthPx = 800;
 constexpr int kOverlayJpegQuality = 50;
 
-// The overlay as JPEG, and at a quarter of its width as RGB pixels for the
-// results file's HDF5 image: a thumbnail HDFView shows (the JPEG has every
-// pixel). Half-width pixels cost about 60 ms of the sample photo session's
-// 1 s reduce; at a quarter of the width the whole reduce took 68 ms less.
-constexpr double kPreviewScale = 0.25;
+// The overlay at a third of its width as RGB pixels, for the results file's
+// HDF5 image: a thumbnail HDFView shows (the JPEG has every pixel). A
+// whole-factor shrink is OpenCV's fast path.
+constexpr int kPreviewShrink = 3;
 
 void DrawOverlays(const Photo& photo, const DigitizeResult& result, bool thumbnail,
                   PhotoOverlay& out) {
-  const cv::Mat bgr = DrawOverlay(photo, result, {.max_width_px = kOverlayWidthPx});
-  cv::Mat page = bgr;
-  if (bgr.cols > kOverlayPageWidthPx) {
-    const double f = static_cast<double>(kOverlayPageWidthPx) / bgr.cols;
-    cv::resize(bgr, page, cv::Size(), f, f, cv::INTER_AREA);
-  }
+  const cv::Mat page = DrawOverlay(photo, result, {.max_width_px = kOverlayPageWidthPx});
   if (std::string problem; !imagefile::EncodeJpeg(page, kOverlayJpegQuality, &out.jpeg, &problem)) {
     throw std::runtime_error("the overlay's JPEG: " +
                              problem);  // an 8-bit BGR image always encodes
   }
   if (!thumbnail) return;
+  const int f = kPreviewShrink;
+  const cv::Rect whole(0, 0, std::max(f, page.cols / f * f), std::max(f, page.rows / f * f));
   cv::Mat small;
-  cv::resize(bgr, small, cv::Size(), kPreviewScale, kPreviewScale, cv::INTER_AREA);
+  cv::resize(page(whole & cv::Rect(0, 0, page.cols, page.rows)), small,
+             cv::Size(std::max(1, page.cols / f), std::max(1, page.rows / f)), 0.0, 0.0,
+             cv::INTER_AREA);
   RgbImage& preview = out.preview;
   preview = {small.rows, small.cols, {}};
   preview.pixels.resize(static_cast<std::size_t>(small.rows) * small.cols * 3);
