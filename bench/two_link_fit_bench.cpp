@@ -53,10 +53,11 @@ TwoLinkFitResult Run(const TwoLinkParameters& nominal, const std::vector<Hidden>
   return FitTwoLinkSimulation(nominal, LoggedMeasurement(*truth, record, seed), options);
 }
 
-void Print(const TwoLinkFitResult& fit, TwoLinkParameters truth) {
+void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in) {
+  TwoLinkParameters truth = truth_in;
   for (const FittedParameter& p : fit.parameters) {
     const double t = *Value(truth, p.name);
-    fmt::print("| {} | {:.6g} | {:.6g} | {:.3g} | {} |\n", p.name, t, p.value.value, p.value.sigma,
+    fmt::print("| {} | {:.9g} | {:.9g} | {:.3g} | {} |\n", p.name, t, p.value.value, p.value.sigma,
                p.value.sigma > 0 ? fmt::format("{:+.2f}", (p.value.value - t) / p.value.sigma)
                                  : std::string("-"));
   }
@@ -107,8 +108,12 @@ int main(int argc, char** argv) {
     for (const Hidden& h : hidden) free.push_back(h.name);
     for (int seed = 1; seed <= seeds; ++seed) {
       fmt::print("## Five parameters, seed {}\n\n{}", seed, header);
+      // Fitted before printing: as Print's two arguments, `truth` could be
+      // copied before Run sets it (their order is unspecified).
       TwoLinkParameters truth;
-      Print(Run(nominal, scaled, free, static_cast<std::uint64_t>(seed), starts, &truth), truth);
+      const TwoLinkFitResult fit =
+          Run(nominal, scaled, free, static_cast<std::uint64_t>(seed), starts, &truth);
+      Print(fit, truth);
     }
   }
   if (!skip_explanations) {
@@ -122,7 +127,8 @@ int main(int argc, char** argv) {
     for (const Hidden& h : explanations) {
       fmt::print("## Hidden: {} x {}, three explanations free\n\n{}", h.name, h.factor, header);
       TwoLinkParameters truth;
-      Print(Run(nominal, {h}, free, 11, starts, &truth), truth);
+      const TwoLinkFitResult fit = Run(nominal, {h}, free, 11, starts, &truth);
+      Print(fit, truth);
     }
   }
   return 0;

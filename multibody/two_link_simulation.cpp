@@ -106,6 +106,12 @@ class Simulation {
   void Emit(double up_to_s, const Regime& regime);
   void Sample(double t, const State& y, const Regime& regime);
   void CheckStep(const Regime& regime);
+  double Energy(const TwoLinkVector& q, const TwoLinkVector& v) const {
+    return model_.KineticEnergy(q, v) + model_.PotentialEnergy(q);
+  }
+  // Adds the work of the non-potential forces over [t0, t1] within the last
+  // step to the ledger.
+  void AddWork(double t0, double t1, const Regime& regime);
   double NormalForce(double t, const State& y) const {
     TwoLinkVector q, v;
     SplitState(y, &q, &v);
@@ -139,6 +145,34 @@ Integrator::System Simulation::SystemFor(const Regime& regime) {
                                 : FreeAcceleration(model_, q, v, voltages);
     dydt = JoinState(v, a);
   };
+}
+
+void Simulation::AddWork(double t0, double t1, const Regime& regime) {
+  // Three-point Gauss-Legendre on the step's dense output: exact for the
+  // power's polynomial degree 5 and below, beyond the interpolant's order.
+  static constexpr double kNodes[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  static constexpr double kWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  const double half = 0.5 * (t1 - t0), mid = 0.5 * (t0 + t1);
+  if (!(half > 0.0)) return;
+  for (int i = 0; i < 3; ++i) {
+    const double t = mid + half * kNodes[i];
+    TwoLinkVector q, v;
+    SplitState(integrator_.Interpolate(t), &q, &v);
+    const DriveVoltages voltages = Voltages(t, q);
+    // The conservative part of the applied forces is what they are at rest
+    // with the motors off (the beams' and meshes' elastic forces).
+    const TwoLinkVector non_potential =
+        model_.AppliedForces(q, v, voltages) -
+        model_.AppliedForces(q, TwoLinkVector::Zero(), DriveVoltages{});
+    record_.energy.drives_and_damping_j += kWeights[i] * half * v.dot(non_potential);
+    if (regime.constrained) {
+      const ConstrainedAcceleration c = ConstrainedMotion(model_, q, v, voltages);
+      const PointMotion tip = model_.Tip(q, v);
+      const double power = c.normal_force_n * tip.jacobian.row(0).dot(v) +
+                           c.friction_force_n * tip.jacobian.row(1).dot(v);
+      record_.energy.surface_j += kWeights[i] * half * power;
+    }
+  }
 }
 
 // Why a motion needs more steps than its budget: the model's stiffness, or,
@@ -223,6 +257,8 @@ void Simulation::Sample(double t, const State& y, const Regime& regime) {
     record_.max_loop_closure_m = std::max(record_.max_loop_closure_m, std::abs(model_.Gap(q)));
   }
   const double dt = 1.0 / rate_;
+  record_.energy.peak_kinetic_j =
+      std::max(record_.energy.peak_kinetic_j, model_.KineticEnergy(q, v));
   record_.time_s.push_back(t);
   record_.gearbox_a_rad.push_back(q(kGearboxAAngle));
   record_.gearbox_b_rad.push_back(q(kGearboxBAngle));
@@ -292,6 +328,7 @@ TwoLinkRecord Simulation::Run() {
   Regime regime;
   double t = 0.0;
   State y = JoinState(q, v);
+  record_.energy.initial_j = Energy(q, v);
   double first_step = std::min(1e-4, stable_step);
   while (t < end_) {
     const double limit = t < case_.start_delay_s ? std::min(case_.start_delay_s, end_) : end_;
@@ -329,9 +366,12 @@ TwoLinkRecord Simulation::Run() {
       const bool crossed = e_hi <= 0.0 && (e_lo > 0.0 || !regime.constrained);
       if (!crossed) {
         Emit(t_hi, regime);
+        AddWork(t_lo, t_hi, regime);
         if (regime.constrained) {
           SplitState(y_hi, &q, &v);
+          const double before = Energy(q, v);
           CloseLoop(model_, regime.dependent, &q, &v);
+          record_.energy.projections_j += Energy(q, v) - before;
           integrator_.ReplaceState(JoinState(q, v));
         }
         continue;
@@ -341,6 +381,7 @@ TwoLinkRecord Simulation::Run() {
                                  ? t_lo
                                  : integrator_.RefineRoot(event, e_lo, t_hi, e_hi);
       Emit(t_event, regime);
+      AddWork(t_lo, t_event, regime);
       const State y_event = integrator_.Exact(t_event);
       SplitState(y_event, &q, &v);
       TwoLinkEvent record_event;
@@ -349,6 +390,8 @@ TwoLinkRecord Simulation::Run() {
         record_event.kind = "impact";
         record_event.impact = Impact(model_, q, v, options_.plastic_below_m_s);
         v = record_event.impact.velocity;
+        record_.energy.impacts_j +=
+            record_event.impact.normal_work_j + record_event.impact.friction_work_j;
         // A tip that rebounds (restitution) leaves; one brought to rest on
         // the surface stays where the surface must push it.
         const ImpactOutcome& impact = record_event.impact;
@@ -358,7 +401,9 @@ TwoLinkRecord Simulation::Run() {
             !rebounds && ConstrainedMotion(model_, q, v, Voltages(t_event, q)).normal_force_n > 0.0;
         if (regime.constrained) {
           regime.dependent = DependentCoordinate(model_, q);
+          const double before = Energy(q, v);
           CloseLoop(model_, regime.dependent, &q, &v);
+          record_.energy.projections_j += Energy(q, v) - before;
         }
       } else {
         record_event.kind = "separation";
@@ -381,6 +426,8 @@ TwoLinkRecord Simulation::Run() {
       first_step = integrator_.suggested_step();
     }
   }
+  SplitState(y, &q, &v);
+  record_.energy.final_j = Energy(q, v);
   return std::move(record_);
 }
 

@@ -54,6 +54,28 @@ struct TwoLinkEvent {
   ImpactOutcome impact;  // for impacts
 };
 
+// The energy's ledger over a simulation: the kinetic energy plus what the
+// beams and gear meshes store elastically, at the start and at the end, and
+// every work that changed it. Its imbalance is the integration's error
+// (docs/two-link.md, "Energy").
+struct TwoLinkEnergy {
+  double initial_j = 0.0, final_j = 0.0;
+  // The integral of q'^T Q over the motion, Q the forces that are not a
+  // potential's: the motors' torques, back-EMF braking and the beams', gears'
+  // and drives' damping.
+  double drives_and_damping_j = 0.0;
+  // The surface's force in constrained motion: sliding friction (never
+  // positive) and the normal force's work on the tip's residual normal speed.
+  double surface_j = 0.0;
+  double impacts_j = 0.0;       // the impulses' work, normal and friction
+  double projections_j = 0.0;   // the loop closure's projections onto the surface (numerical)
+  double peak_kinetic_j = 0.0;  // the largest kinetic energy at a sample
+
+  double Imbalance() const {
+    return final_j - initial_j - drives_and_damping_j - surface_j - impacts_j - projections_j;
+  }
+};
+
 struct TwoLinkRecord {
   std::vector<double> time_s;
   std::vector<double> gearbox_a_rad, gearbox_b_rad;  // what the encoders read (output side)
@@ -68,6 +90,7 @@ struct TwoLinkRecord {
   long rhs_evaluations = 0;
   double max_deflection_ratio = 0.0;  // the largest |beam tip deflection| / length
   std::vector<std::string> warnings;  // where the model's assumptions were stretched
+  TwoLinkEnergy energy;
 
   double FirstImpact() const;  // s; NaN-free: -1 when there was none
 };
