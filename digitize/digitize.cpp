@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
 #include "digitize/hand_marks.h"
 #include "io/errors.h"
@@ -73,6 +74,31 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
   return traces;
 }
 
+// The traces read on the ridge image of thin lines, or, where that reading
+// fails, on one that keeps lines up to half a division wide: a bold trace (a
+// line printed in a report's figure, a broad beam on a small photo) leaves
+// only its edges in the thin image, which a scratch or a grid line
+// out-earns. Only a failed reading is repeated, so every photo read on thin
+// lines is read as before; when the bold reading fails too, the first
+// failure stands.
+std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepared,
+                                                    const GraticuleFit& graticule,
+                                                    const std::vector<TraceRequest>& requests,
+                                                    const TraceOptions& options,
+                                                    DigitizeResult& result) {
+  try {
+    return ExtractTracesBesideMarks(prepared, graticule, requests, options, result);
+  } catch (const InputError& thin_failure) {
+    if (digitize::BoldOpeningPx(prepared, graticule) <= digitize::kRidgeOpeningPx) throw;
+    try {
+      return ExtractTracesBesideMarks(digitize::WithBoldLines(prepared, graticule), graticule,
+                                      requests, options, result);
+    } catch (const InputError&) {
+      throw thin_failure;
+    }
+  }
+}
+
 }  // namespace
 
 DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
@@ -91,7 +117,7 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
 
   start = std::chrono::steady_clock::now();
   result.traces =
-      ExtractTracesBesideMarks(prepared, result.graticule, requests, options.traces, result);
+      ExtractTracesThinOrBold(prepared, result.graticule, requests, options.traces, result);
   result.traces_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
 #include "digitize/grey_ink.h"
 #include "digitize/halftone.h"
@@ -306,9 +307,8 @@ PreparedPhoto PreparePhoto(const Photo& photo, const GraticuleOptions& options) 
   // little wider than a grid line or a trace. Broad light (glare,
   // vignetting, a print's border) and edges do not pass; lines of any
   // direction do.
-  constexpr int kOpeningPx = 5;
-  const cv::Mat square =
-      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpeningPx, kOpeningPx));
+  const cv::Mat square = cv::getStructuringElement(
+      cv::MORPH_RECT, cv::Size(digitize::kRidgeOpeningPx, digitize::kRidgeOpeningPx));
   switch (options.polarity) {
     case Polarity::kAuto:
       prepared.dark_traces = ThinFeaturesDark(prepared.working, square);

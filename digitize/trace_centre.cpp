@@ -556,8 +556,14 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
 // runs along one.
 double ShareOnGridLines(const DigitizedTrace& trace, const GraticuleFit& graticule) {
   if (trace.screen_div.empty() || !(graticule.px_per_div > 0.0)) return 0.0;
+  // Within the line's and the trace's half widths of each other, both ways,
+  // the two overlap. A grid line followed by mistake is measured as wide as a
+  // line, so the trace's width counts only up to a line's: a bold trace (a
+  // third of a division, printed) would otherwise lie "on" a line over most
+  // of the screen.
   const double reach_div =
-      std::max(graticule.line_width_px + trace.width_px, 2.0) / graticule.px_per_div;
+      std::max(graticule.line_width_px + std::min(trace.width_px, graticule.line_width_px), 2.0) /
+      graticule.px_per_div;
   const double half_height = 0.5 * graticule.divisions[1];
   std::size_t on = 0;
   for (const cv::Point2d& p : trace.screen_div) {
