@@ -22,7 +22,7 @@ target=reduced
 "$exe" campaign --help >/dev/null 2>&1 && target=all
 fail() { echo "$1"; printf '%s\n' "$output"; exit 1; }
 run() {
-  output=$(snakemake -s "$snakefile" --directory "$dir" --cores 2 "$target" \
+  output=$(snakemake -s "$snakefile" --directory "$dir" --cores 2 --scheduler greedy "$target" \
     --config root="$dir/archive" output="$results" impactlab="$exe" 2>&1) ||
     fail "snakemake failed"
 }
