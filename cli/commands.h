@@ -27,6 +27,7 @@ void AddPendulCommand(CLI::App& app, Action& action);
 void AddDigitizeCommand(CLI::App& app, Action& action);
 void AddSynthCommand(CLI::App& app, Action& action);
 void AddSynthLogsCommand(CLI::App& app, Action& action);
+void AddSynthCampaignCommand(CLI::App& app, Action& action);
 void AddSettingsCommand(CLI::App& app, Action& action);
 void AddSimulateCommand(CLI::App& app, Action& action);
 void AddFitCommand(CLI::App& app, Action& action);

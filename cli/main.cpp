@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
   AddDigitizeCommand(app, action);
   AddSynthCommand(app, action);
   AddSynthLogsCommand(app, action);
+  AddSynthCampaignCommand(app, action);
   AddSimulateCommand(app, action);
   AddFitCommand(app, action);
   AddSettingsCommand(app, action);

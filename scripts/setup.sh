@@ -2,7 +2,8 @@
 # Installs impactlab's dependencies from Debian (only those missing) and builds
 # it into ./build. Safe to run again.
 # Usage: scripts/setup.sh [--cli | --bench | --no-build] [--tex]
-#   (none)      build the command and the tests
+#   (none)      build the command and the tests (and install snakemake, which the
+#               archive workflow's test runs)
 #   --bench     build everything: the command, the tests and the benchmarks (bench/)
 #   --cli       build only the command (build/cli/impactlab) and its libraries
 #   --no-build  install the dependencies only
@@ -29,6 +30,9 @@ packages=(
   libjs-dygraphs chromium
 )
 [ "$tex" -eq 1 ] && packages+=(texlive-latex-recommended texlive-science)
+# Snakemake runs the archive workflow (workflow/Snakefile, docs/campaign-workflow.md); the
+# command alone does not need it, the workflow's test and benchmark do.
+[ "$mode" != --cli ] && packages+=(snakemake)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -42,6 +42,24 @@ void InsertPhoto(toml::table& table, const std::optional<std::filesystem::path>&
   }
 }
 
+// [specimen]'s keys are its fields' names (io/specimen.h), each written when
+// it holds something.
+toml::table SpecimenTable(Specimen specimen) {
+  toml::table table;
+  struct Insert {
+    toml::table& table;
+    void operator()(const char* name, IfAnyField<std::string> text, Quantity, const char*) const {
+      if (!text.field.empty()) table.insert(name, text.field);
+    }
+    void operator()(const char* name, const std::optional<double>& number, Quantity,
+                    const char*) const {
+      if (number) table.insert(name, *number);
+    }
+  };
+  Specimen::VisitFields(specimen, Insert{table});
+  return table;
+}
+
 // A calibration's keys; its trace is a table of its own (PrintCalibration).
 toml::table CalibrationTable(const Calibration& calibration) {
   toml::table table{{"id", calibration.id},
@@ -165,6 +183,7 @@ std::string ManifestText(const SessionManifest& manifest) {
                                                                 (*manifest.divisions)[1]}}});
   }
   if (!setup.empty()) Print(out, setup);
+  if (manifest.specimen) Print(out, toml::table{{"specimen", SpecimenTable(*manifest.specimen)}});
 
   for (const Calibration& calibration : manifest.calibrations) PrintCalibration(out, calibration);
   for (const Run& run : manifest.runs) PrintRun(out, run);

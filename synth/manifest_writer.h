@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "io/session.h"
+#include "io/specimen.h"
 #include "io/units.h"
 
 namespace impactlab {
@@ -39,13 +40,15 @@ struct ManifestApparatus {
 // `fit_rebounds` with typed-in rebounds; the uncertainties and `contact_time`
 // when given; a trace's `csv`, `impact` and `points` when given, its screen
 // settings always; a log's `simulation` when given; a channel's
-// `counts_per_rev` and `gear_ratio` for an encoder, `sensitivity` when given.
+// `counts_per_rev` and `gear_ratio` for an encoder, `sensitivity` when given;
+// [specimen] when given, with the keys of its fields that hold something.
 struct SessionManifest {
   std::vector<std::string> comment;  // lines above the tables, each written as "# line"
   std::string title;
   UnitSystem units = UnitSystem::kInLbfS;
   std::optional<ManifestApparatus> apparatus;
   std::optional<std::array<int, 2>> divisions;  // [scope]: horizontal, vertical
+  std::optional<Specimen> specimen;             // [specimen]: what the bars are
   std::vector<Calibration> calibrations;
   std::vector<Run> runs;
   std::vector<Log> logs;

@@ -163,5 +163,26 @@ TEST_CASE("synth: a written manifest starts with its comment and says its format
   CHECK(text.find("\n\n\n") == std::string::npos);
 }
 
+// [specimen]'s keys are io/specimen.h's field names; a field not given is
+// not written.
+TEST_CASE("synth: a written manifest's [specimen] names each given field by its key") {
+  SessionManifest manifest = LabSession();
+  Specimen specimen;
+  specimen.material = "brass";
+  specimen.end_shape = "sphere";
+  specimen.sphere_radius = kThird;
+  specimen.modulus = 15e6;
+  specimen.poisson_ratio = 0.34;
+  manifest.specimen = specimen;
+  const std::string text = ManifestText(manifest);
+  const std::size_t table = text.find("\n[specimen]\n");
+  REQUIRE(table != std::string::npos);
+  const std::string keys = text.substr(table, text.find("\n\n", table + 1) - table);
+  CHECK(keys ==
+        "\n[specimen]\nend_shape = \"sphere\"\nmaterial = \"brass\"\nmodulus = 15000000.0\n"
+        "poisson_ratio = 0.34000000000000002\nsphere_radius = 0.33333333333333331");
+  CHECK(ManifestText(LabSession()).find("[specimen]") == std::string::npos);
+}
+
 }  // namespace
 }  // namespace impactlab
