@@ -135,6 +135,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
+  out.specimen = run.specimen;
   const bool from_photo = run.photo && std::any_of(run.traces.begin(), run.traces.end(),
                                                    [](const auto& t) { return !t.second.csv; });
   out.settings = run.HasTypedRebounds() ? SettingsOfStages(run_options, {"fit"})
@@ -202,6 +203,7 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
     failed.id = run.id;
     failed.initial_displacement = run.initial_displacement;
     failed.first_rebound = run.first_rebound;
+    failed.specimen = run.specimen;
     failed.reason = RunFailureReason(error, session, run);
     // What was measured before the failure (the photo's overlay, the
     // calibrations), for the report.
@@ -544,6 +546,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.convention = options.convention.value_or(ParseConvention(session.reduction.convention));
   result.separation = options.separation.value_or(ParseSeparation(session.reduction.separation));
   result.session_contact_time = session.reduction.contact_time;
+  result.specimen = session.specimen;
   if (options.jobs < 1) throw std::invalid_argument("jobs must be at least 1");
   // The settings are checked before any work; an entry's own with the entry.
   const StageOptions session_options =

@@ -626,6 +626,7 @@ void WriteRun(Out& out, const RunResult& run) {
   if (run.initial_displacement > 0.0)
     WriteFields(f, out.x, g + "/stage_seconds", run.seconds, out.u);
   WriteSettings(out, g + "/settings", run.settings);
+  if (!run.specimen.empty()) WriteFields(f, out.x, g + "/specimen", run.specimen, out.u);
   if (!m.xmax.empty()) WriteRebounds(out, run);
   if (!m.measured_displacement.time_s.empty()) {
     WriteCurve(out, g + "/displacement/time", m.measured_displacement.time_s, "s",
@@ -700,6 +701,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     f.SetAttribute("/", "separation", SeparationName(r.separation));
     WriteFields(f, extras, "/apparatus", r.apparatus, out.u);
   }
+  if (!r.specimen.empty()) WriteFields(f, extras, "/specimen", r.specimen, out.u);
   if (!r.products.empty()) {
     f.CreateGroup("/session/products");
     for (const ProductRecord& p : r.products)
@@ -775,6 +777,7 @@ RunResult ReadRun(const In& in, const std::string& id) {
   ReadFields(f, g, m);
   ReadFields(f, g, run);  // after the status and the maxima, which say what it holds
   if (f.Exists(g + "/stage_seconds")) ReadFields(f, g + "/stage_seconds", run.seconds);
+  if (f.Exists(g + "/specimen")) ReadFields(f, g + "/specimen", run.specimen);
   ReadRebounds(f, g, run);
   if (f.Exists(g + "/displacement/time")) {
     m.measured_displacement = {f.ReadVector(g + "/displacement/time"),
@@ -834,6 +837,7 @@ void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
     r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
   }
   if (f.Exists("/apparatus")) ReadFields(f, "/apparatus", r.apparatus);
+  if (f.Exists("/specimen")) ReadFields(f, "/specimen", r.specimen);
   if (f.Exists("/session/products")) {
     for (const std::string& name : f.AttributeNames("/session/products")) {
       const std::string status = f.ReadStringAttribute("/session/products", name);
