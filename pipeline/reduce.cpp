@@ -17,6 +17,7 @@
 #include "io/errors.h"
 #include "pipeline/least_squares_runs.h"
 #include "pipeline/log_results.h"
+#include "pipeline/material_constants.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 #include "rebounds/rebound_anomalies.h"
@@ -650,6 +651,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   const LawInputs law_inputs{pendulum, session.apparatus->mass, result.separation,
                              ContactRebounds(session), options.jobs};
   MakeSessionFits(law_inputs, session_options.fit, session_options.products, result);
+  AddMaterialConstants(session.specimen, result.runs, session_options.fit.contact_laws.exponent,
+                       result.contact_laws);
   RecordThumbnails(session_options.products, result);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
