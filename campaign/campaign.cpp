@@ -77,7 +77,7 @@ Campaign MakeCampaign(const std::vector<fs::path>& inputs, const CampaignOptions
   std::set<std::string> taken;
   struct Read {
     SessionResult result;
-    std::string name, file;
+    std::string input, name, file;
   };
   std::vector<Read> read;
   for (const fs::path& input : inputs) {
@@ -85,12 +85,13 @@ Campaign MakeCampaign(const std::vector<fs::path>& inputs, const CampaignOptions
     try {
       std::error_code error;
       Read r;
+      r.input = input.string();
       if (fs::is_directory(input, error)) {
         const fs::path folder = input.has_filename() ? input : input.parent_path();
         r.name = UniqueName(folder.filename().string(), taken);
         r.result = ReduceFolder(input, r.name, options, &r.file);
       } else {
-        r.result = ReadResults(input);
+        r.result = ReadResults(input, ResultsReading::kEstimates);
         r.name = UniqueName(input.stem().string(), taken);
         r.file = input.string();
       }
@@ -101,7 +102,11 @@ Campaign MakeCampaign(const std::vector<fs::path>& inputs, const CampaignOptions
   }
   if (!read.empty()) campaign.units = read.front().result.units;
   for (const Read& r : read) {
-    campaign.sessions.push_back(TabulateSession(r.result, r.name, r.file, campaign.units));
+    try {
+      campaign.sessions.push_back(TabulateSession(r.result, r.name, r.file, campaign.units));
+    } catch (const std::exception& error) {  // e.g. a unit kind with no conversion
+      campaign.failures.push_back({r.input, fmt::format("{}: {}", r.file, error.what())});
+    }
   }
   std::stable_sort(campaign.sessions.begin(), campaign.sessions.end(), GroupedBefore);
   campaign.fits = FitMaterials(campaign.sessions, options.false_alarm);

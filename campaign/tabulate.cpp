@@ -188,7 +188,7 @@ CampaignSession TabulateSession(const SessionResult& source, const std::string& 
       const double b = n + 1 < sx.size() ? sx[n + 1] / x[n + 1] : 0.0;
       s.restitution.push_back({run.id, v * factor("speed"), e, e * std::hypot(a, b)});
     }
-    if (run.measured.contact_time && x.front() > 0.0 && run.fits.contact_time_source != "session") {
+    if (run.measured.contact_time && x.front() > 0.0) {
       s.contact_times.push_back({run.id, SpeedFromAmplitude(pendulum, x.front()) * factor("speed"),
                                  *run.measured.contact_time, run.measured.contact_time_sigma});
     }

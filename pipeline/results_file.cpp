@@ -764,20 +764,32 @@ void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }
 
-RunResult ReadRun(const In& in, const std::string& id) {
+// The run's status, measured values and specimen (a campaign's), and with
+// `everything` its settings, bars, curves, photos, calibrations and fits.
+RunResult ReadRun(const In& in, const std::string& id, bool everything) {
   const Hdf5File& f = in.f;
   const std::string g = RunPath(id);
   RunResult run;
   run.id = id;
-  run.settings = ReadSettings(in, g + "/settings");
+  if (everything) run.settings = ReadSettings(in, g + "/settings");
   const std::string status = f.ReadStringAttribute(g, "status");
   run.ok = status == "ok";
   if (!run.ok) run.reason = ReasonOf(status);
   RunMeasurement& m = run.measured;
   ReadFields(f, g, m);
   ReadFields(f, g, run);  // after the status and the maxima, which say what it holds
-  if (f.Exists(g + "/stage_seconds")) ReadFields(f, g + "/stage_seconds", run.seconds);
   if (f.Exists(g + "/specimen")) ReadFields(f, g + "/specimen", run.specimen);
+  // Before, a session's one contact time was written here as the run's, with
+  // the source "session"; the fit's "contact_time_used" holds it now.
+  const bool session_contact_time = m.contact_time_source == "session";
+  if (session_contact_time) {
+    m.contact_time.reset();
+    m.contact_time_sigma = 0.0;
+    m.contact_time_source.clear();
+    if (run.ok) run.fits.contact_time_source = "session";
+  }
+  if (!everything) return run;
+  if (f.Exists(g + "/stage_seconds")) ReadFields(f, g + "/stage_seconds", run.seconds);
   ReadRebounds(f, g, run);
   if (f.Exists(g + "/displacement/time")) {
     m.measured_displacement = {f.ReadVector(g + "/displacement/time"),
@@ -792,14 +804,6 @@ RunResult ReadRun(const In& in, const std::string& id) {
     for (const std::string& cell : f.Children(g + "/calibration")) {
       m.calibrations.push_back(ReadCalibration(in, g + "/calibration/" + cell, cell));
     }
-  }
-  // Before, a session's one contact time was written here as the run's, with
-  // the source "session"; the fit's "contact_time_used" holds it now.
-  if (m.contact_time_source == "session") {
-    m.contact_time.reset();
-    m.contact_time_sigma = 0.0;
-    m.contact_time_source.clear();
-    if (run.ok) run.fits.contact_time_source = "session";
   }
   for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
     const std::string g_fit = g + "/fit/" + model;
@@ -858,7 +862,8 @@ void WriteResults(const SessionResult& result, const std::filesystem::path& path
   WriteHdf5Atomically(path, [&](Hdf5File& file) { WriteAll(file, result); });
 }
 
-SessionResult ReadResults(const std::filesystem::path& path) {
+SessionResult ReadResults(const std::filesystem::path& path, ResultsReading reading) {
+  const bool everything = reading == ResultsReading::kEverything;
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
   const long long layout =
       f.HasAttribute("/", "layout") ? f.ReadIntegerAttribute("/", "layout") : 0;
@@ -870,18 +875,21 @@ SessionResult ReadResults(const std::filesystem::path& path) {
   SessionResult r;
   ReadSessionSettings(f, r);
   const In in{f, layout, r.settings};
-  for (const std::string& id : ChildrenIfPresent(f, "/runs")) r.runs.push_back(ReadRun(in, id));
+  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
+    r.runs.push_back(ReadRun(in, id, everything));
+  }
+  if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
+  for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
+    r.contact_laws.push_back(ReadContactLaw(f, law));
+  }
+  if (!everything) return r;
   for (const std::string& id : ChildrenIfPresent(f, "/calibrations")) {
     r.calibrations.push_back(ReadCalibration(in, JoinPath({"calibrations", id}), ""));
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
-  if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
   for (const std::string& id : ChildrenIfPresent(f, "/logs")) r.logs.push_back(ReadLog(in, id));
   for (const std::string& model : ChildrenIfPresent(f, "/session/joint_fits")) {
     r.joint_fits.push_back(ReadLeastSquares(in, "/session/joint_fits/" + model, model));
-  }
-  for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
-    r.contact_laws.push_back(ReadContactLaw(f, law));
   }
   for (const std::string& name : ChildrenIfPresent(f, "/predictions")) {
     r.predictions.push_back(ReadPrediction(f, name));
