@@ -2,7 +2,7 @@
 # campaign_workflow.sh IMPACTLAB [SESSIONS|ARCHIVE [CORES]]: the archive
 # workflow (workflow/Snakefile) on a generated campaign (default 100 sessions,
 # 2 cores), or on a copy of an archive folder of sessions, against the
-# sessions' own reduce times (docs/campaign-workflow.md).
+# sessions' own reduce times (docs/campaigns.md).
 # Prints, in wall time and in CPU time (user + system, the processes' own and
 # their children's):
 # - the sum of the sessions' reduce times, each reduced alone with -j 1;

@@ -11,7 +11,8 @@ namespace impactlab::cli {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitRunsFailed = 1,   // reduce: some runs could not be reduced (the others were)
+  kExitRunsFailed = 1,   // reduce: some runs could not be reduced (the others were); campaign:
+                         // some inputs could not be read (the others were combined)
   kExitUsage = 2,        // bad command line
   kExitInputError = 3,   // bad input file: manifest, results file, photo, log
   kExitModelDomain = 4,  // parameters outside the model's domain (e.g. zeta >= 1, kinematic)
@@ -31,5 +32,6 @@ void AddSynthCampaignCommand(CLI::App& app, Action& action);
 void AddSettingsCommand(CLI::App& app, Action& action);
 void AddSimulateCommand(CLI::App& app, Action& action);
 void AddFitCommand(CLI::App& app, Action& action);
+void AddCampaignCommand(CLI::App& app, Action& action);
 
 }  // namespace impactlab::cli

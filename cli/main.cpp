@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
   Action action;
   AddReduceCommand(app, action);
   AddReportCommand(app, action);
+  AddCampaignCommand(app, action);
   AddModelCommand(app, action);
   AddPendulCommand(app, action);
   AddDigitizeCommand(app, action);

@@ -12,44 +12,22 @@
 #include "cli/version.h"
 #include "io/atomic_file.h"
 #include "io/manifest.h"
+#include "pipeline/previous_results.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
-#include "pipeline/run_fingerprint.h"
 
 namespace impactlab::cli {
 namespace {
 
-// An earlier results file of the same session, if there is a readable one,
-// without the runs whose values must not be reused (a note for each: a
-// hand-edited or corrupted file is never trusted). Typed-in runs never reuse,
-// so their values there are not looked at.
-std::optional<SessionResult> PreviousResults(const std::filesystem::path& path, bool quiet,
-                                             const Session& session) {
-  // Only runs measured from traces can reuse; reading a file for none of
-  // them would cost more than the typed-in runs' whole reduce.
-  const auto measured_from_traces = [&](const std::string& id) {
-    return std::any_of(session.runs.begin(), session.runs.end(),
-                       [&](const Run& r) { return r.id == id && !r.HasTypedRebounds(); });
-  };
-  const bool any = std::any_of(session.runs.begin(), session.runs.end(),
-                               [](const Run& r) { return !r.HasTypedRebounds(); });
-  if (!any || !std::filesystem::exists(path)) return std::nullopt;
-  SessionResult previous;
-  try {
-    previous = ReadRunMeasurements(path, measured_from_traces);
-  } catch (const std::exception& e) {
-    if (!quiet) fmt::print(stderr, "note: not reusing {}: {}\n", path.string(), e.what());
-    return std::nullopt;
+// The earlier results file at `path` to reuse unchanged runs from, its notes
+// said unless quiet.
+std::optional<SessionResult> EarlierResults(const std::filesystem::path& path, bool quiet,
+                                            const Session& session) {
+  std::vector<std::string> notes;
+  std::optional<SessionResult> previous = PreviousResults(path, session, &notes);
+  if (!quiet) {
+    for (const std::string& note : notes) fmt::print(stderr, "note: {}\n", note);
   }
-  std::erase_if(previous.runs, [&](const RunResult& run) {
-    if (run.measured.xmax.empty()) return false;  // nothing measured there: nothing to reuse
-    const std::string problem = ReuseProblem(run.measured);
-    if (problem.empty()) return false;
-    if (!quiet) {
-      fmt::print(stderr, "note: not reusing run {} from {}: {}\n", run.id, path.string(), problem);
-    }
-    return true;
-  });
   return previous;
 }
 
@@ -161,7 +139,7 @@ void AddReduceCommand(CLI::App& app, Action& action) {
       options.jobs = args->jobs;
       options.overrides = stage_flags->Given();
       const std::optional<SessionResult> previous =
-          args->fresh ? std::nullopt : PreviousResults(args->output, args->quiet, manifest.session);
+          args->fresh ? std::nullopt : EarlierResults(args->output, args->quiet, manifest.session);
       if (previous) options.previous = &*previous;
       // Measuring the runs is counted item by item; the fits across them and
       // writing the file come after, and the line says when they do.

@@ -10,7 +10,7 @@ namespace impactlab::cli {
 void AddSynthCampaignCommand(CLI::App& app, Action& action) {
   struct Args {
     std::filesystem::path out;
-    CampaignOptions options;
+    DrawnCampaignOptions options;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -39,10 +39,10 @@ void AddSynthCampaignCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
-      const Campaign campaign = DrawCampaign(args->options);
+      const DrawnCampaign campaign = DrawCampaign(args->options);
       WriteCampaign(args->out, campaign);
       std::size_t disagreeing = 0;
-      for (const CampaignSession& s : campaign.sessions) disagreeing += s.disagreement ? 1 : 0;
+      for (const DrawnCampaignSession& s : campaign.sessions) disagreeing += s.disagreement ? 1 : 0;
       fmt::print(stderr, "{} session(s), {} made to disagree, in {}; truth in {}\n",
                  campaign.sessions.size(), disagreeing, args->out.string(),
                  (args->out / "campaign.truth.json").string());

@@ -29,6 +29,7 @@
 // `identifiability` sentence.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -133,6 +134,14 @@ struct ContactLawFit {
   double loo_rms_length = 0.0;
   int loo_maxima = 0;
 
+  // The material constant k holds where the session's specimen makes it
+  // identifiable (fit/effective_modulus.h): E* from hertz_stiffness through
+  // the ends' sphere radius, the handbook's E* beside it where E and nu are
+  // given, and, for a specimen that does not make E* identifiable, why.
+  std::optional<Estimate> effective_modulus;
+  std::optional<double> handbook_effective_modulus;
+  std::string effective_modulus_unidentifiable;
+
   // What the results file keeps as fields (options/result_fields.h). The
   // parameters, their intervals and covariance, and the leave-one-out RMS
   // (only where it ran) are stored by the file's own layout.
@@ -161,6 +170,12 @@ struct ContactLawFit {
     visit("leave_one_out_maxima", self.loo_maxima, Quantity::kDimensionless,
           "maxima the left-out runs' predictions were compared with");
     visit("seconds", self.status.seconds, Quantity::kSeconds, "the fit's wall time");
+    visit("effective_modulus", self.effective_modulus, Quantity::kPressure,
+          "E* = 3 k / (8 sqrt(R)) where the ends are spheres of radius R");
+    visit("handbook_effective_modulus", self.handbook_effective_modulus, Quantity::kPressure,
+          "E / (2 (1 - nu^2)) from the specimen's handbook modulus and Poisson ratio");
+    visit("effective_modulus_unidentifiable", IfAny(self.effective_modulus_unidentifiable),
+          Quantity::kDimensionless, "why the specimen does not make E* identifiable");
   }
 };
 

@@ -1039,6 +1039,38 @@ void ReadTypedIn(const TableReader& table, UnitSystem units, Run& run) {
   run.fit_rebounds = {static_cast<int>((*fit)[0]), static_cast<int>((*fit)[1])};
 }
 
+// [specimen] and [run.specimen] (io/specimen.h): what the bars are. Every
+// key is optional (a run's table gives only what differs from the
+// session's); a number is positive, Poisson's ratio within (-1, 1/2), the
+// range in which the effective modulus E / (2 (1 - nu^2)) of an isotropic
+// material is positive and finite.
+Specimen ReadSpecimen(const TableReader& table) {
+  table.WarnUnknownKeys({"material", "end_shape", "edge_radius", "sphere_radius",
+                         "contact_stiffness", "bar_length", "bar_diameter", "modulus",
+                         "poisson_ratio"});
+  Specimen specimen;
+  specimen.material = table.String("material", "the material's name (a string)").value_or("");
+  specimen.end_shape =
+      table.Choice("end_shape", {"plane", "sphere", "given_stiffness"}).value_or("");
+  constexpr NumberRule kLength{Sign::kPositive, "a positive length"};
+  specimen.edge_radius = table.Number("edge_radius", kLength);
+  specimen.sphere_radius = table.Number("sphere_radius", kLength);
+  specimen.contact_stiffness = table.Number(
+      "contact_stiffness", {Sign::kPositive, "a positive Hertz stiffness k (force/length^1.5)"});
+  specimen.bar_length = table.Number("bar_length", kLength);
+  specimen.bar_diameter = table.Number("bar_diameter", kLength);
+  specimen.modulus =
+      table.Number("modulus", {Sign::kPositive, "a positive Young's modulus (force/length^2)"});
+  constexpr std::string_view kPoisson = "a Poisson ratio greater than -1 and less than 0.5";
+  specimen.poisson_ratio = table.Number("poisson_ratio", {Sign::kAny, kPoisson});
+  if (specimen.poisson_ratio &&
+      !(*specimen.poisson_ratio > -1.0 && *specimen.poisson_ratio < 0.5)) {
+    table.Fail("poisson_ratio", fmt::format("expected {}, found {}", kPoisson,
+                                            FormatNumber(*specimen.poisson_ratio)));
+  }
+  return specimen;
+}
+
 Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
             const std::optional<Apparatus>& apparatus, const Scope& scope,
             const std::vector<Calibration>& calibrations,
@@ -1046,7 +1078,7 @@ Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
   table.WarnUnknownKeys({"id", "initial_displacement", "photo", "graticule_corners", "calibration",
                          "first_rebound", "traces", "rebounds", "contact_time", "fit_rebounds",
                          "rebound_uncertainty", "contact_time_uncertainty", "digitize",
-                         "rebound_extraction"});
+                         "rebound_extraction", "specimen"});
   Run run;
   run.id = std::move(id);
   run.settings = ReadSettings(table, {"digitize", "rebound_extraction"});
@@ -1058,6 +1090,7 @@ Run ReadRun(const TableReader& table, std::string id, UnitSystem units,
       table.Integer("first_rebound", {0, kMaxInt, "a rebound number >= 0"}).value_or(1));
   run.traces = ReadRunTraces(table, scope, run.photo.has_value());
   ReadTypedIn(table, units, run);
+  if (auto specimen = table.Table("specimen")) run.specimen = ReadSpecimen(*specimen);
 
   const bool has_csv = std::any_of(run.traces.begin(), run.traces.end(),
                                    [](const auto& trace) { return trace.second.csv.has_value(); });
@@ -1235,8 +1268,9 @@ Session ReadSession(const TableReader& root) {
   session.format = static_cast<int>(*root.Integer("format", {1, 1, kFormatWhat}));
 
   root.WarnUnknownKeys({"format", "title", "units", "apparatus", "scope", "calibration", "run",
-                        "log", "reduction", "prediction", kStageTables[0], kStageTables[1],
-                        kStageTables[2], kStageTables[3], kStageTables[4], kStageTables[5]});
+                        "log", "reduction", "prediction", "specimen", kStageTables[0],
+                        kStageTables[1], kStageTables[2], kStageTables[3], kStageTables[4],
+                        kStageTables[5]});
   session.settings = ReadSettings(root, {kStageTables[0], kStageTables[1], kStageTables[2],
                                          kStageTables[3], kStageTables[4], kStageTables[5]});
   session.title = root.String("title", "a title (a string)").value_or("");
@@ -1279,6 +1313,7 @@ Session ReadSession(const TableReader& root) {
     session.logs.push_back(ReadLog(table, std::move(id)));
   });
   if (auto reduction = root.Table("reduction")) session.reduction = ReadReduction(*reduction);
+  if (auto specimen = root.Table("specimen")) session.specimen = ReadSpecimen(*specimen);
   const std::vector<TableReader> predictions = root.ArrayOfTables("prediction");
   for (std::size_t i = 0; i < predictions.size(); ++i) {
     try {

@@ -11,9 +11,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "io/errors.h"
+#include "io/specimen.h"
 #include "io/units.h"
 #include "options/result_fields.h"
 #include "options/settings.h"
@@ -107,6 +109,9 @@ struct Run {
   std::optional<double> rebound_uncertainty;       // length units, one standard deviation
   std::optional<double> contact_time_uncertainty;  // s, one standard deviation
   StageSettings settings;  // its own [run.digitize] and [run.rebound_extraction]
+  // impactlab extension: its own [run.specimen], the keys that differ from the
+  // session's [specimen] (empty: none); SpecimenOf gives the two merged.
+  Specimen specimen;
 
   bool HasTypedRebounds() const { return !rebounds.empty(); }
 };
@@ -176,6 +181,7 @@ struct Session {
   StageSettings settings;  // the stage tables: every run's, calibration's and log's
   std::vector<Prediction> predictions;
   std::vector<RejectedEntry> rejected;  // in manifest order within each kind
+  Specimen specimen;  // impactlab extension: [specimen], what the bars are (empty: not given)
 
   // The rejected entries of one kind ("run", "calibration", ...).
   std::vector<RejectedEntry> Rejected(std::string_view table) const {
@@ -186,5 +192,23 @@ struct Session {
     return out;
   }
 };
+
+// A run's specimen: the session's [specimen] with the run's own
+// [run.specimen] keys put in its place, key by key.
+inline Specimen SpecimenOf(const Specimen& session, const Specimen& run) {
+  Specimen merged = session;
+  if (!run.material.empty()) merged.material = run.material;
+  if (!run.end_shape.empty()) merged.end_shape = run.end_shape;
+  for (auto [own, field] : {std::pair{&run.edge_radius, &merged.edge_radius},
+                            std::pair{&run.sphere_radius, &merged.sphere_radius},
+                            std::pair{&run.contact_stiffness, &merged.contact_stiffness},
+                            std::pair{&run.bar_length, &merged.bar_length},
+                            std::pair{&run.bar_diameter, &merged.bar_diameter},
+                            std::pair{&run.modulus, &merged.modulus},
+                            std::pair{&run.poisson_ratio, &merged.poisson_ratio}}) {
+    if (*own) *field = *own;
+  }
+  return merged;
+}
 
 }  // namespace impactlab

@@ -17,6 +17,7 @@
 #include "io/errors.h"
 #include "pipeline/least_squares_runs.h"
 #include "pipeline/log_results.h"
+#include "pipeline/material_constants.h"
 #include "pipeline/run_fingerprint.h"
 #include "pipeline/trace_run.h"
 #include "rebounds/rebound_anomalies.h"
@@ -135,6 +136,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
   out.id = run.id;
   out.initial_displacement = run.initial_displacement;
   out.first_rebound = run.first_rebound;
+  out.specimen = run.specimen;
   const bool from_photo = run.photo && std::any_of(run.traces.begin(), run.traces.end(),
                                                    [](const auto& t) { return !t.second.csv; });
   out.settings = run.HasTypedRebounds() ? SettingsOfStages(run_options, {"fit"})
@@ -202,6 +204,7 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
     failed.id = run.id;
     failed.initial_displacement = run.initial_displacement;
     failed.first_rebound = run.first_rebound;
+    failed.specimen = run.specimen;
     failed.reason = RunFailureReason(error, session, run);
     // What was measured before the failure (the photo's overlay, the
     // calibrations), for the report.
@@ -544,6 +547,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.convention = options.convention.value_or(ParseConvention(session.reduction.convention));
   result.separation = options.separation.value_or(ParseSeparation(session.reduction.separation));
   result.session_contact_time = session.reduction.contact_time;
+  result.specimen = session.specimen;
   if (options.jobs < 1) throw std::invalid_argument("jobs must be at least 1");
   // The settings are checked before any work; an entry's own with the entry.
   const StageOptions session_options =
@@ -647,6 +651,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   const LawInputs law_inputs{pendulum, session.apparatus->mass, result.separation,
                              ContactRebounds(session), options.jobs};
   MakeSessionFits(law_inputs, session_options.fit, session_options.products, result);
+  AddMaterialConstants(session.specimen, result.runs, session_options.fit.contact_laws.exponent,
+                       result.contact_laws);
   RecordThumbnails(session_options.products, result);
   result.kelvin_voigt =
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);

@@ -626,6 +626,7 @@ void WriteRun(Out& out, const RunResult& run) {
   if (run.initial_displacement > 0.0)
     WriteFields(f, out.x, g + "/stage_seconds", run.seconds, out.u);
   WriteSettings(out, g + "/settings", run.settings);
+  if (!run.specimen.empty()) WriteFields(f, out.x, g + "/specimen", run.specimen, out.u);
   if (!m.xmax.empty()) WriteRebounds(out, run);
   if (!m.measured_displacement.time_s.empty()) {
     WriteCurve(out, g + "/displacement/time", m.measured_displacement.time_s, "s",
@@ -700,6 +701,7 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     f.SetAttribute("/", "separation", SeparationName(r.separation));
     WriteFields(f, extras, "/apparatus", r.apparatus, out.u);
   }
+  if (!r.specimen.empty()) WriteFields(f, extras, "/specimen", r.specimen, out.u);
   if (!r.products.empty()) {
     f.CreateGroup("/session/products");
     for (const ProductRecord& p : r.products)
@@ -762,21 +764,35 @@ void ReadRebounds(const Hdf5File& f, const std::string& g, RunResult& run) {
   if (f.Exists(g + "/rebounds/left")) m.left = ReadBar(f, g + "/rebounds/left");
 }
 
-// `measurement_only`: what a later reduce reuses (the run's status,
-// fingerprint and measurement), without its fits.
-RunResult ReadRun(const In& in, const std::string& id, bool measurement_only = false) {
+// The run's status, measured values and specimen (a campaign's), and with
+// `everything` its settings, bars, curves, photos, calibrations and fits.
+RunResult ReadRun(const In& in, const std::string& id, ResultsReading reading) {
+  const bool everything = reading == ResultsReading::kEverything;
   const Hdf5File& f = in.f;
   const std::string g = RunPath(id);
   RunResult run;
   run.id = id;
-  run.settings = ReadSettings(in, g + "/settings");
+  if (everything) run.settings = ReadSettings(in, g + "/settings");
   const std::string status = f.ReadStringAttribute(g, "status");
   run.ok = status == "ok";
   if (!run.ok) run.reason = ReasonOf(status);
   RunMeasurement& m = run.measured;
   ReadFields(f, g, m);
   ReadFields(f, g, run);  // after the status and the maxima, which say what it holds
-  if (f.Exists(g + "/stage_seconds")) ReadFields(f, g + "/stage_seconds", run.seconds);
+  if (f.Exists(g + "/specimen")) ReadFields(f, g + "/specimen", run.specimen);
+  // Before, a session's one contact time was written here as the run's, with
+  // the source "session"; the fit's "contact_time_used" holds it now.
+  const bool session_contact_time = m.contact_time_source == "session";
+  if (session_contact_time) {
+    m.contact_time.reset();
+    m.contact_time_sigma = 0.0;
+    m.contact_time_source.clear();
+    if (run.ok) run.fits.contact_time_source = "session";
+  }
+  if (reading == ResultsReading::kEstimates) return run;
+  if (everything && f.Exists(g + "/stage_seconds")) {
+    ReadFields(f, g + "/stage_seconds", run.seconds);
+  }
   ReadRebounds(f, g, run);
   if (f.Exists(g + "/displacement/time")) {
     m.measured_displacement = {f.ReadVector(g + "/displacement/time"),
@@ -792,15 +808,7 @@ RunResult ReadRun(const In& in, const std::string& id, bool measurement_only = f
       m.calibrations.push_back(ReadCalibration(in, g + "/calibration/" + cell, cell));
     }
   }
-  // Before, a session's one contact time was written here as the run's, with
-  // the source "session"; the fit's "contact_time_used" holds it now.
-  if (m.contact_time_source == "session") {
-    m.contact_time.reset();
-    m.contact_time_sigma = 0.0;
-    m.contact_time_source.clear();
-    if (run.ok) run.fits.contact_time_source = "session";
-  }
-  if (measurement_only) return run;
+  if (reading == ResultsReading::kRunMeasurements) return run;
   for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
     const std::string g_fit = g + "/fit/" + model;
     if (f.Exists(g_fit)) run.fits.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
@@ -837,6 +845,7 @@ void ReadSessionSettings(const Hdf5File& f, SessionResult& r) {
     r.separation = ParseSeparation(f.ReadStringAttribute("/", "separation"));
   }
   if (f.Exists("/apparatus")) ReadFields(f, "/apparatus", r.apparatus);
+  if (f.Exists("/specimen")) ReadFields(f, "/specimen", r.specimen);
   if (f.Exists("/session/products")) {
     for (const std::string& name : f.AttributeNames("/session/products")) {
       const std::string status = f.ReadStringAttribute("/session/products", name);
@@ -880,29 +889,33 @@ SessionResult ReadRunMeasurements(const std::filesystem::path& path,
   ReadSessionSettings(f, r);
   const In in{f, layout, r.settings};
   for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
-    if (wanted(id)) r.runs.push_back(ReadRun(in, id, /*measurement_only=*/true));
+    if (wanted(id)) r.runs.push_back(ReadRun(in, id, ResultsReading::kRunMeasurements));
   }
   return r;
 }
 
-SessionResult ReadResults(const std::filesystem::path& path) {
+SessionResult ReadResults(const std::filesystem::path& path, ResultsReading reading) {
+  const bool everything = reading == ResultsReading::kEverything;
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
   const long long layout = CheckedLayout(f);
   SessionResult r;
   ReadSessionSettings(f, r);
   const In in{f, layout, r.settings};
-  for (const std::string& id : ChildrenIfPresent(f, "/runs")) r.runs.push_back(ReadRun(in, id));
+  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
+    r.runs.push_back(ReadRun(in, id, reading));
+  }
+  if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
+  for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
+    r.contact_laws.push_back(ReadContactLaw(f, law));
+  }
+  if (!everything) return r;
   for (const std::string& id : ChildrenIfPresent(f, "/calibrations")) {
     r.calibrations.push_back(ReadCalibration(in, JoinPath({"calibrations", id}), ""));
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
-  if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
   for (const std::string& id : ChildrenIfPresent(f, "/logs")) r.logs.push_back(ReadLog(in, id));
   for (const std::string& model : ChildrenIfPresent(f, "/session/joint_fits")) {
     r.joint_fits.push_back(ReadLeastSquares(in, "/session/joint_fits/" + model, model));
-  }
-  for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
-    r.contact_laws.push_back(ReadContactLaw(f, law));
   }
   for (const std::string& name : ChildrenIfPresent(f, "/predictions")) {
     r.predictions.push_back(ReadPrediction(f, name));

@@ -302,6 +302,9 @@ struct RunResult {
   // The stage settings its measurement and fits used, of the stages that
   // apply to it (pipeline/stage_options.h), by key.
   SettingValues settings;
+  // Its own [run.specimen]: the keys in which its bars differ from the
+  // session's (empty: none; SpecimenOf in io/session.h merges them).
+  Specimen specimen;
 
   std::string Status() const { return ok ? "ok" : "failed: " + reason; }
 
@@ -533,6 +536,7 @@ struct SessionResult {
   std::string created;   // ISO 8601
   std::string session_folder;
   Apparatus apparatus;
+  Specimen specimen;  // the manifest's [specimen] (empty: not given)
   PendulumConvention convention = PendulumConvention::kExact;
   Separation separation = Separation::kKinematic;
   std::optional<double> session_contact_time;  // [reduction] contact_time, s

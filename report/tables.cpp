@@ -369,6 +369,7 @@ Table ContactLawParameterTable(const std::vector<ContactLawFit>& laws, const Uni
       "Law",  "Parameter", "Value", "Scaled std error", "Profile 68 % low", "Profile 68 % high",
       "Units"};
   bool at_bound = false;
+  std::vector<std::string> unidentifiable;
   for (const ContactLawFit& fit : laws) {
     if (!fit.ok && fit.maxima == 0) continue;
     for (std::size_t i = 0; i < fit.parameters.size(); ++i) {
@@ -385,11 +386,28 @@ Table ContactLawParameterTable(const std::vector<ContactLawFit>& laws, const Uni
            in != nullptr ? Sig(in->lower, 4) : Cell("-"),
            in != nullptr ? Sig(in->upper, 4) : Cell("-"), Cell::Unit(UnitOfKind(p.units, u))});
     }
+    // The material constant k holds where the specimen's ends make it identifiable.
+    if (fit.effective_modulus) {
+      t.rows.push_back({fit.law, "effective_modulus (E* = 3k/(8 sqrt(R)))",
+                        WithSigma(*fit.effective_modulus, 0),
+                        ScaledSigma(*fit.effective_modulus, fit.scatter.Scale()), "-", "-",
+                        Cell::Unit(u.pressure)});
+    }
+    if (fit.handbook_effective_modulus) {
+      t.rows.push_back({fit.law, "handbook_effective_modulus (E/(2(1 - nu^2)))",
+                        Sig(*fit.handbook_effective_modulus, 4), "-", "-", "-",
+                        Cell::Unit(u.pressure)});
+    }
+    if (!fit.effective_modulus_unidentifiable.empty()) {
+      unidentifiable.push_back(fmt::format("{}: E* not identifiable: {}.", fit.law,
+                                           fit.effective_modulus_unidentifiable));
+    }
   }
   t.notes = {
       "± the stated standard error; \"scaled\": times the Birge ratio where chi2 is "
       "significantly high (p < 0.001). \"Profile 68 %\": where chi2 is not quadratic over "
       "±1 sigma, the interval from the chi2 profile."};
+  t.notes.insert(t.notes.end(), unidentifiable.begin(), unidentifiable.end());
   if (at_bound) t.notes.push_back("At a bound: an end of the interval stopped at n's bound.");
   return t;
 }

@@ -30,7 +30,7 @@ packages=(
   libjs-dygraphs chromium
 )
 [ "$tex" -eq 1 ] && packages+=(texlive-latex-recommended texlive-science)
-# Snakemake runs the archive workflow (workflow/Snakefile, docs/campaign-workflow.md); the
+# Snakemake runs the archive workflow (workflow/Snakefile, docs/campaigns.md); the
 # command alone does not need it, the workflow's test and benchmark do.
 [ "$mode" != --cli ] && packages+=(snakemake)
 

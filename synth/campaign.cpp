@@ -1,5 +1,7 @@
 #include "synth/campaign.h"
 
+#include "fit/effective_modulus.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -44,7 +46,7 @@ std::vector<double> DrawInitialDisplacements(std::mt19937_64& rng, int runs, dou
 // Which sessions disagree, and in what: a shuffled choice of
 // round(fraction x sessions), chi then E* in turn.
 std::vector<std::optional<CampaignDisagreement>> DrawDisagreements(std::mt19937_64& rng,
-                                                                   const CampaignOptions& options) {
+                                                                   const DrawnCampaignOptions& options) {
   std::vector<std::optional<CampaignDisagreement>> out(static_cast<std::size_t>(options.sessions));
   std::vector<std::size_t> order(out.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -58,9 +60,9 @@ std::vector<std::optional<CampaignDisagreement>> DrawDisagreements(std::mt19937_
   return out;
 }
 
-CampaignSession DrawCampaignSession(std::mt19937_64& rng, const CampaignOptions& options, int index,
+DrawnCampaignSession DrawCampaignSession(std::mt19937_64& rng, const DrawnCampaignOptions& options, int index,
                                     const std::optional<CampaignDisagreement>& disagreement) {
-  CampaignSession s;
+  DrawnCampaignSession s;
   // Materials in turn, so every one is in a campaign of as many sessions.
   s.material = static_cast<std::size_t>(index) % options.materials.size();
   const CampaignMaterial& material = options.materials[s.material];
@@ -147,11 +149,7 @@ double EffectiveModulus(double modulus, double poisson_ratio) {
   return modulus / (2.0 * (1.0 - poisson_ratio * poisson_ratio));
 }
 
-double HertzStiffnessOfSpheres(double effective_modulus, double sphere_radius) {
-  return 4.0 / 3.0 * effective_modulus * std::sqrt(sphere_radius / 2.0);
-}
-
-Campaign DrawCampaign(const CampaignOptions& options) {
+DrawnCampaign DrawCampaign(const DrawnCampaignOptions& options) {
   if (options.materials.empty()) throw std::invalid_argument("a campaign needs a material");
   if (options.sessions < 1 || options.runs < 1) {
     throw std::invalid_argument("a campaign needs at least one session of one run");
@@ -162,7 +160,7 @@ Campaign DrawCampaign(const CampaignOptions& options) {
   if (!(options.disagreement_factor > 0.0)) {
     throw std::invalid_argument("the disagreement factor must be positive");
   }
-  Campaign campaign{options, {}};
+  DrawnCampaign campaign{options, {}};
   // One stream: the disagreements first, then each session's draws in turn.
   std::mt19937_64 rng(options.seed);
   const auto disagreements = DrawDisagreements(rng, options);
@@ -173,7 +171,7 @@ Campaign DrawCampaign(const CampaignOptions& options) {
   return campaign;
 }
 
-SessionManifest CampaignSessionManifest(const CampaignSession& session) {
+SessionManifest CampaignSessionManifest(const DrawnCampaignSession& session) {
   SessionManifest manifest;
   manifest.comment = {"A generated campaign's session (impactlab synth-campaign): typed-in maxima",
                       "and contact times drawn under Hunt-Crossley; truth in campaign.truth.json."};
@@ -194,8 +192,8 @@ SessionManifest CampaignSessionManifest(const CampaignSession& session) {
   return manifest;
 }
 
-nlohmann::json CampaignTruth(const Campaign& campaign) {
-  const CampaignOptions& options = campaign.options;
+nlohmann::json CampaignTruth(const DrawnCampaign& campaign) {
+  const DrawnCampaignOptions& options = campaign.options;
   nlohmann::json truth{{"schema", "impactlab-campaign-truth"},
                        {"version", 1},
                        {"seed", options.seed},
@@ -221,7 +219,7 @@ nlohmann::json CampaignTruth(const Campaign& campaign) {
                          {"weight_density", m.weight_density}});
   }
   nlohmann::json& sessions = truth["sessions"] = nlohmann::json::array();
-  for (const CampaignSession& s : campaign.sessions) {
+  for (const DrawnCampaignSession& s : campaign.sessions) {
     const CampaignMaterial& m = options.materials[s.material];
     nlohmann::json entry{{"name", s.name},
                          {"material", m.name},
@@ -260,13 +258,13 @@ nlohmann::json CampaignTruth(const Campaign& campaign) {
   return truth;
 }
 
-void WriteCampaign(const std::filesystem::path& dir, const Campaign& campaign) {
+void WriteCampaign(const std::filesystem::path& dir, const DrawnCampaign& campaign) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(dir) && !fs::is_empty(dir, ec)) {
     throw InputError({dir, "", std::nullopt}, "the output folder exists and is not empty");
   }
-  for (const CampaignSession& session : campaign.sessions) {
+  for (const DrawnCampaignSession& session : campaign.sessions) {
     fs::create_directories(dir / session.name, ec);
     if (ec) throw InputError({dir / session.name, "", std::nullopt}, "cannot create the folder");
     WriteManifest(dir / session.name / "session.toml", CampaignSessionManifest(session));

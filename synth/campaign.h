@@ -41,10 +41,8 @@ std::vector<CampaignMaterial> DefaultCampaignMaterials();
 
 // 1/E* = 2 (1 - nu^2)/E: two bars of the same material.
 double EffectiveModulus(double modulus, double poisson_ratio);
-// k = (4/3) E* sqrt(R_eff) with R_eff = R/2: two identical spheres of radius R.
-double HertzStiffnessOfSpheres(double effective_modulus, double sphere_radius);
 
-struct CampaignOptions {
+struct DrawnCampaignOptions {
   int sessions = 12;
   int runs = 6;  // per session, X0s spread over the pendulum's range
   std::uint64_t seed = 1;
@@ -62,9 +60,9 @@ struct CampaignDisagreement {
   double factor = 1.0;
 };
 
-struct CampaignSession {
+struct DrawnCampaignSession {
   std::string name;          // its folder: "007-brass-sphere"
-  std::size_t material = 0;  // index into CampaignOptions::materials
+  std::size_t material = 0;  // index into DrawnCampaignOptions::materials
   Specimen specimen;         // what its manifest says (geometry, handbook E and nu)
   double pendulum_length = 0.0, weight = 0.0, gravity = 0.0;  // in, lbf, in/s^2
   // The spheres' radius; for given_stiffness ends, the radius behind the
@@ -78,25 +76,25 @@ struct CampaignSession {
   double Mass() const { return weight / gravity; }
 };
 
-struct Campaign {
-  CampaignOptions options;
-  std::vector<CampaignSession> sessions;
+struct DrawnCampaign {
+  DrawnCampaignOptions options;
+  std::vector<DrawnCampaignSession> sessions;
 };
 
 // Draws every session. Throws std::invalid_argument for options out of range
 // (no material, sessions or runs < 1, fraction outside [0, 1], factor <= 0).
-Campaign DrawCampaign(const CampaignOptions& options);
+DrawnCampaign DrawCampaign(const DrawnCampaignOptions& options);
 
 // A session's manifest: [apparatus], [specimen], a [[run]] per X0 with its
 // maxima and contact time typed in (6 significant digits) and their sigmas.
-SessionManifest CampaignSessionManifest(const CampaignSession& session);
+SessionManifest CampaignSessionManifest(const DrawnCampaignSession& session);
 
 // The truth (schema "impactlab-campaign-truth", docs/synth.md).
-nlohmann::json CampaignTruth(const Campaign& campaign);
+nlohmann::json CampaignTruth(const DrawnCampaign& campaign);
 
 // Writes DIR/<session>/session.toml for every session and
 // DIR/campaign.truth.json. DIR must not exist or be empty; throws
 // InputError otherwise or when a file cannot be written.
-void WriteCampaign(const std::filesystem::path& dir, const Campaign& campaign);
+void WriteCampaign(const std::filesystem::path& dir, const DrawnCampaign& campaign);
 
 }  // namespace impactlab

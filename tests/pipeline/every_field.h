@@ -15,6 +15,7 @@
 #include "fit/kelvin_voigt_session.h"
 #include "fit/kelvin_voigt_two_point.h"
 #include "io/session.h"
+#include "io/specimen.h"
 #include "model/estimate.h"
 #include "options/result_fields.h"
 #include "pipeline/session_result.h"
@@ -28,7 +29,7 @@ using ListedResults =
                PhotoOverlay, StageSeconds, RunMeasurement, RunFits, RunResult,
                KelvinVoigtTwoPointFit, SessionKelvinVoigt, DampingLine, ModelComparisonRow,
                ModelComparison, LogSourceResult, LogComparisonRow, LogResult, RunPrediction,
-               Apparatus, SessionResult>;
+               Apparatus, Specimen, SessionResult>;
 
 // Calls visit.template operator()<Result>() for every listed result type.
 template <typename Visit>

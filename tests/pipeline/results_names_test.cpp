@@ -19,8 +19,10 @@
 #include <nlohmann/json.hpp>
 
 #include "io/manifest.h"
+#include "model/power_law_contact.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
+#include "synth/law_session.h"
 #include "tests/support/sample_data.h"
 #include "tests/support/temp_dir.h"
 
@@ -266,6 +268,42 @@ rebound_uncertainty = 0.0005
   return dir;
 }
 
+// A session of spherical-ended bars with its every [specimen] key, typed in
+// from runs drawn under Hunt-Crossley with contact times (so that the laws
+// report E*); with `own_ends`, its last run has ends of its own
+// ([run.specimen]), so that E* is said to be unidentifiable.
+fs::path SpecimenSession(const fs::path& dir, bool own_ends) {
+  fs::create_directories(dir);
+  constexpr double kGravity = 385.644;
+  const HuntCrossley law{2.23 / kGravity, 6.0e7, 1.5, 1.5};
+  LawSessionOptions draw;
+  draw.initial_displacements = {0.2, 0.4, 0.6};
+  std::string text = fmt::format(
+      "format = 1\n[apparatus]\npendulum_length = 22.0\nweight = 2.23\n\n[products]\n"
+      "joint_fits = false\nintervals = false\nleave_one_out = false\nmodel_comparison = false\n"
+      "[products.contact_laws]\nkelvin_voigt = false\nhertz = false\nhunt_crossley_n = false\n"
+      "hertz_damper = false\n\n[specimen]\nmaterial = \"steel\"\nend_shape = \"sphere\"\n"
+      "sphere_radius = 2.0\nedge_radius = 0.01\ncontact_stiffness = 6e7\nbar_length = 10.1\n"
+      "bar_diameter = 1.0\nmodulus = 29e6\npoisson_ratio = 0.29\n");
+  for (const LawSessionRun& r :
+       DrawLawSession({22.0, kGravity}, HuntCrossleyContactLaw(law), draw)) {
+    std::string maxima;
+    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
+    text += fmt::format(
+        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
+        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
+        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
+  }
+  if (own_ends) {
+    text +=
+        "[run.specimen]\nmaterial = \"steel\"\nend_shape = \"sphere\"\nsphere_radius = 1.0\n"
+        "edge_radius = 0.02\ncontact_stiffness = 4e7\nbar_length = 10.0\nbar_diameter = 0.9\n"
+        "modulus = 30e6\npoisson_ratio = 0.3\n";
+  }
+  std::ofstream(dir / "session.toml") << text;
+  return dir;
+}
+
 // A copy of the photo session whose first run's left trace has three points
 // given by hand (from the truth), so its digitized photo records hints.
 fs::path HintedPhotoSession(const fs::path& dir) {
@@ -301,6 +339,8 @@ TEST_CASE("results_names: docs/results.md lists every name of the files, and no 
   };
   const fs::path typed_in = TypedInSession(dir.path() / "typed-in");
   const std::vector<Reduction> reductions = {
+      {SpecimenSession(dir.path() / "spheres", false), Products::kFit},
+      {SpecimenSession(dir.path() / "own-ends", true), Products::kFit},
       {typed_in, Products::kFit},
       {typed_in, Products::kFit, true},
       {photos, Products::kFit},

@@ -6,6 +6,7 @@
 // against each other, so a field added to a list is compared with nothing
 // added here.
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 #include <typeinfo>
@@ -19,6 +20,7 @@
 #include "synth/session_generator.h"
 #include "tests/pipeline/every_field.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/text_file.h"
 
 namespace impactlab {
 namespace {
@@ -49,6 +51,7 @@ struct SessionFields {
     const std::string g = "runs/" + run.id;
     Add(run, g);
     Add(run.seconds, g + "/stage_seconds");
+    if (!run.specimen.empty()) Add(run.specimen, g + "/specimen");
     Add(run.measured, g);
     if (run.measured.right) Add(*run.measured.right, g + "/rebounds/right");
     if (run.measured.left) Add(*run.measured.left, g + "/rebounds/left");
@@ -77,6 +80,7 @@ struct SessionFields {
   explicit SessionFields(const SessionResult& r) {
     Add(r, "");
     if (!r.runs.empty() || !r.calibrations.empty()) Add(r.apparatus, "apparatus");
+    if (!r.specimen.empty()) Add(r.specimen, "specimen");
     for (const RunResult& run : r.runs) AddRun(run);
     for (const CellCalibration& c : r.calibrations) AddCalibration(c, "calibrations");
     if (r.kelvin_voigt) {
@@ -133,6 +137,22 @@ TEST_CASE("results_round_trip: every listed field of every result survives the f
   for (const char* session : {"thesis-1969", "logs-two-link"}) {
     INFO(session);
     met.merge(CheckSessionRoundTrip(kSamples / session));
+  }
+  {
+    INFO("the thesis's session with its bars' [specimen], one run's own [run.specimen]");
+    testing::TempDir dir;
+    std::filesystem::create_directories(dir.path() / "s");
+    std::string manifest = testing::ReadText(kSamples / "thesis-1969" / "session.toml");
+    // [run.specimen] after the runs belongs to the last of them.
+    manifest +=
+        "\n[specimen]\nmaterial = \"steel\"\nend_shape = \"plane\"\nedge_radius = 0.01\n"
+        "bar_length = 10.1\nbar_diameter = 1.0\nmodulus = 30e6\npoisson_ratio = 0.29\n"
+        "\n[run.specimen]\nend_shape = \"sphere\"\nsphere_radius = 2.0\n";
+    std::ofstream(dir.path() / "s" / "session.toml") << manifest;
+    const Session session = ReadManifest(dir.path() / "s").session;
+    REQUIRE(session.specimen.modulus == 30e6);
+    REQUIRE(session.runs.back().specimen.sphere_radius == 2.0);
+    met.merge(CheckSessionRoundTrip(dir.path() / "s"));
   }
   {
     INFO("a generated session of photos, CSV traces and typed-in maxima");

@@ -31,7 +31,7 @@ const NamedEstimate& LawParameter(const SessionResult& result, const std::string
 }
 
 // The session reduced from the folder WriteCampaign wrote.
-SessionResult ReduceWritten(const std::filesystem::path& dir, const CampaignSession& session) {
+SessionResult ReduceWritten(const std::filesystem::path& dir, const DrawnCampaignSession& session) {
   const ManifestReadResult manifest = ReadManifest(dir / session.name);
   REQUIRE(manifest.session.runs.size() == session.runs.size());
   return ReduceSession(manifest.session, {});
@@ -40,19 +40,20 @@ SessionResult ReduceWritten(const std::filesystem::path& dir, const CampaignSess
 }  // namespace
 
 TEST_CASE("A campaign's sessions follow from their material and geometry", "[campaign]") {
-  CampaignOptions options;
+  DrawnCampaignOptions options;
   options.sessions = 30;
   options.seed = 5;
-  const Campaign campaign = DrawCampaign(options);
+  const DrawnCampaign campaign = DrawCampaign(options);
   REQUIRE(campaign.sessions.size() == 30);
   int disagreeing = 0, spheres = 0, given = 0;
-  for (const CampaignSession& s : campaign.sessions) {
+  for (const DrawnCampaignSession& s : campaign.sessions) {
     INFO(s.name);
     const CampaignMaterial& m = options.materials[s.material];
     CHECK(s.specimen.material == m.name);
-    // 1/E* = 2 (1 - nu^2)/E, R_eff = R/2, k = (4/3) E* sqrt(R_eff).
+    // 1/E* = 2 (1 - nu^2)/E, R_eff = R/2, F = (4/3) E* sqrt(R_eff) (2x)^(3/2)
+    // in one bar's compression x: k = (8/3) E* sqrt(R).
     const double e_star = m.modulus / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
-    const double k = 4.0 / 3.0 * e_star * std::sqrt(s.sphere_radius / 2.0);
+    const double k = 8.0 / 3.0 * e_star * std::sqrt(s.sphere_radius);
     CHECK(s.stiffness_of_material == Approx(k).epsilon(1e-3));  // given k: 4 digits
     if (s.specimen.end_shape == "sphere") {
       ++spheres;
@@ -84,10 +85,10 @@ TEST_CASE("A campaign's sessions follow from their material and geometry", "[cam
 }
 
 TEST_CASE("A written campaign has a session folder per session and its truth", "[campaign]") {
-  CampaignOptions options;
+  DrawnCampaignOptions options;
   options.sessions = 4;
   options.seed = 2;
-  const Campaign campaign = DrawCampaign(options);
+  const DrawnCampaign campaign = DrawCampaign(options);
   testing::TempDir dir;
   WriteCampaign(dir.path(), campaign);
   std::ifstream in(dir.path() / "campaign.truth.json");
@@ -95,7 +96,7 @@ TEST_CASE("A written campaign has a session folder per session and its truth", "
   CHECK(truth["schema"] == "impactlab-campaign-truth");
   REQUIRE(truth["sessions"].size() == 4);
   CHECK(truth["materials"].size() == options.materials.size());
-  for (const CampaignSession& s : campaign.sessions) {
+  for (const DrawnCampaignSession& s : campaign.sessions) {
     INFO(s.name);
     std::ifstream manifest(dir.path() / s.name / "session.toml");
     std::stringstream text;
@@ -108,14 +109,14 @@ TEST_CASE("A written campaign has a session folder per session and its truth", "
 }
 
 TEST_CASE("A campaign session reduces to its truth's Hunt-Crossley k and chi", "[campaign]") {
-  CampaignOptions options;
+  DrawnCampaignOptions options;
   options.sessions = 6;
   options.seed = 11;
   options.disagreeing_fraction = 0.0;
-  const Campaign campaign = DrawCampaign(options);
+  const DrawnCampaign campaign = DrawCampaign(options);
   testing::TempDir dir;
   WriteCampaign(dir.path(), campaign);
-  for (const CampaignSession& s : campaign.sessions) {
+  for (const DrawnCampaignSession& s : campaign.sessions) {
     INFO(s.name);
     const SessionResult result = ReduceWritten(dir.path(), s);
     const NamedEstimate& chi = LawParameter(result, "damping_factor");
@@ -127,19 +128,19 @@ TEST_CASE("A campaign session reduces to its truth's Hunt-Crossley k and chi", "
 
 TEST_CASE("A disagreeing session's fit is shifted from its material by the recorded factor",
           "[campaign]") {
-  CampaignOptions options;
+  DrawnCampaignOptions options;
   options.sessions = 4;
   options.seed = 7;
   options.disagreeing_fraction = 0.5;  // chi in one session, E* in the other
   options.disagreement_factor = 1.6;
-  const Campaign campaign = DrawCampaign(options);
+  const DrawnCampaign campaign = DrawCampaign(options);
   testing::TempDir dir;
   WriteCampaign(dir.path(), campaign);
   std::ifstream in(dir.path() / "campaign.truth.json");
   const nlohmann::json truth = nlohmann::json::parse(in);
   int checked = 0;
   for (std::size_t i = 0; i < campaign.sessions.size(); ++i) {
-    const CampaignSession& s = campaign.sessions[i];
+    const DrawnCampaignSession& s = campaign.sessions[i];
     if (!s.disagreement) continue;
     INFO(s.name);
     const nlohmann::json& recorded = truth["sessions"][i]["disagreement"];

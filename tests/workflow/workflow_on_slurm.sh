@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # workflow_on_slurm.sh IMPACTLAB SNAKEFILE PROFILE WORKDIR: the archive workflow
 # through Snakemake's Slurm support (--profile workflow/profiles/slurm), as
-# docs/campaign-workflow.md shows it, on a machine without Slurm: stand-ins
+# docs/campaigns.md shows it, on a machine without Slurm: stand-ins
 # for sbatch, sacct, sinfo and srun run each submitted job at once on this
 # machine and report it COMPLETED. Checks that every session is submitted as
 # a job of its own with the rule's resources (-t 10 --mem 1000

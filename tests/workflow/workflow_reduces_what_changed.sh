@@ -54,6 +54,9 @@ edited=$(basename "$(ls -d "$dir"/archive/*/ | sed -n 2p)")
 sed -i 's/^title = "/title = "edited: /' "$dir/archive/$edited/session.toml"
 run
 [ "$(reduced)" = "$edited" ] || fail "editing $edited reduced: $(reduced)"
-changed=$(diff <(printf '%s\n' "$before") <(stamps) | sed -n 's/^> \([^ ]*\) .*/\1/p')
+# Of the sessions' results, only the edited one's is rewritten (the campaign,
+# built from all of them, is rebuilt).
+changed=$(diff <(printf '%s\n' "$before") <(stamps) | sed -n 's/^> \([^ ]*\) .*/\1/p' |
+  grep -v "/campaign\.h5$")
 [ "$changed" = "$results/$edited.h5" ] || fail "editing $edited changed: $changed"
 echo "4 sessions reduced; again: none; touched: none; $edited edited: $edited alone"
