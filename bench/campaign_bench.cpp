@@ -58,14 +58,7 @@ std::string Manifest(const std::string& title, const Material& m, double radius,
       "hertz_damper = false\n\n[specimen]\nmaterial = \"{}\"\nend_shape = \"sphere\"\n"
       "sphere_radius = {}\n",
       title, weight, kGravity, m.name, radius);
-  for (const LawSessionRun& r : DrawLawSession(pendulum, HuntCrossleyContactLaw(law), draw)) {
-    std::string maxima;
-    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
-    text += fmt::format(
-        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
-        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
-        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
-  }
+  text += LawSessionRunsToml(DrawLawSession(pendulum, HuntCrossleyContactLaw(law), draw));
   return text;
 }
 

@@ -1,5 +1,7 @@
 #include "synth/law_session.h"
 
+#include <fmt/format.h>
+
 #include <random>
 
 #include "model/rebound_history.h"
@@ -34,6 +36,19 @@ std::vector<LawSessionRun> DrawLawSession(const Pendulum& pendulum, const Contac
     runs.push_back(std::move(run));
   }
   return runs;
+}
+
+std::string LawSessionRunsToml(const std::vector<LawSessionRun>& runs) {
+  std::string text;
+  for (const LawSessionRun& r : runs) {
+    std::string maxima;
+    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
+    text += fmt::format(
+        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
+        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
+        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
+  }
+  return text;
 }
 
 }  // namespace impactlab

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "model/contact.h"
@@ -39,5 +40,10 @@ struct LawSessionRun {
 // NoSeparationError from the law.
 std::vector<LawSessionRun> DrawLawSession(const Pendulum& pendulum, const ContactLaw& law,
                                           const LawSessionOptions& options);
+
+// The drawn runs as a manifest's [[run]] tables (typed-in maxima and contact
+// times with their uncertainties), for a test or bench to append to its own
+// manifest text.
+std::string LawSessionRunsToml(const std::vector<LawSessionRun>& runs);
 
 }  // namespace impactlab

@@ -60,14 +60,7 @@ std::string Manifest(const Drawn& d, std::uint64_t seed) {
         "modulus = 29e6\npoisson_ratio = 0.29\n",
         d.material, d.sphere_radius);
   }
-  for (const LawSessionRun& r : DrawLawSession(pendulum, HuntCrossleyContactLaw(law), draw)) {
-    std::string maxima;
-    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
-    text += fmt::format(
-        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
-        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
-        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
-  }
+  text += LawSessionRunsToml(DrawLawSession(pendulum, HuntCrossleyContactLaw(law), draw));
   return text;
 }
 

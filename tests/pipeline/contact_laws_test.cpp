@@ -26,14 +26,7 @@ std::string Manifest(const std::vector<LawSessionRun>& runs) {
       "format = 1\ntitle = \"Hunt-Crossley, drawn\"\nunits = \"in-lbf-s\"\n\n[apparatus]\n"
       "pendulum_length = 22.0\nweight = {}\ngravity = {}\narrangement = \"pair\"\n",
       kWeight, kGravity);
-  for (const LawSessionRun& r : runs) {
-    std::string maxima;
-    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
-    text += fmt::format(
-        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
-        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
-        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
-  }
+  text += LawSessionRunsToml(runs);
   return text;
 }
 
