@@ -879,31 +879,32 @@ long long CheckedLayout(const Hdf5File& f) {
   return layout;
 }
 
+// The session's settings and the runs `wanted` names, read as `reading` says.
+SessionResult ReadSessionAndRuns(const Hdf5File& f, long long layout, ResultsReading reading,
+                                 const std::function<bool(const std::string&)>& wanted) {
+  SessionResult r;
+  ReadSessionSettings(f, r);
+  const In in{f, layout, r.settings};
+  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
+    if (wanted(id)) r.runs.push_back(ReadRun(in, id, reading));
+  }
+  return r;
+}
+
 }  // namespace
 
 SessionResult ReadRunMeasurements(const std::filesystem::path& path,
                                   const std::function<bool(const std::string&)>& wanted) {
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
-  const long long layout = CheckedLayout(f);
-  SessionResult r;
-  ReadSessionSettings(f, r);
-  const In in{f, layout, r.settings};
-  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
-    if (wanted(id)) r.runs.push_back(ReadRun(in, id, ResultsReading::kRunMeasurements));
-  }
-  return r;
+  return ReadSessionAndRuns(f, CheckedLayout(f), ResultsReading::kRunMeasurements, wanted);
 }
 
 SessionResult ReadResults(const std::filesystem::path& path, ResultsReading reading) {
   const bool everything = reading == ResultsReading::kEverything;
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
   const long long layout = CheckedLayout(f);
-  SessionResult r;
-  ReadSessionSettings(f, r);
+  SessionResult r = ReadSessionAndRuns(f, layout, reading, [](const std::string&) { return true; });
   const In in{f, layout, r.settings};
-  for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
-    r.runs.push_back(ReadRun(in, id, reading));
-  }
   if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
   for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
     r.contact_laws.push_back(ReadContactLaw(f, law));

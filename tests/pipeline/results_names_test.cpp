@@ -285,15 +285,7 @@ fs::path SpecimenSession(const fs::path& dir, bool own_ends) {
       "hertz_damper = false\n\n[specimen]\nmaterial = \"steel\"\nend_shape = \"sphere\"\n"
       "sphere_radius = 2.0\nedge_radius = 0.01\ncontact_stiffness = 6e7\nbar_length = 10.1\n"
       "bar_diameter = 1.0\nmodulus = 29e6\npoisson_ratio = 0.29\n");
-  for (const LawSessionRun& r :
-       DrawLawSession({22.0, kGravity}, HuntCrossleyContactLaw(law), draw)) {
-    std::string maxima;
-    for (double x : r.xmax) maxima += fmt::format("{}{:.9g}", maxima.empty() ? "" : ", ", x);
-    text += fmt::format(
-        "\n[[run]]\nid = \"{0}\"\ninitial_displacement = {0}\nrebounds = [{1}]\n"
-        "rebound_uncertainty = {2}\ncontact_time = {3:.9g}\ncontact_time_uncertainty = {4}\n",
-        r.initial_displacement, maxima, r.xmax_sigma.front(), r.contact_time, r.contact_time_sigma);
-  }
+  text += LawSessionRunsToml(DrawLawSession({22.0, kGravity}, HuntCrossleyContactLaw(law), draw));
   if (own_ends) {
     text +=
         "[run.specimen]\nmaterial = \"steel\"\nend_shape = \"sphere\"\nsphere_radius = 1.0\n"
