@@ -371,6 +371,7 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
       row.ok = m.ok;
       row.reason = m.reason;
       row.parameters = m.parameters;
+      row.covariance = m.covariance;
       row.maxima = m.maxima;
       row.parameter_count = m.parameter_count;
       row.dof = m.dof;

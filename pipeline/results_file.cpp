@@ -1,5 +1,6 @@
 #include "pipeline/results_file.h"
 
+#include <algorithm>
 #include <set>
 #include <sstream>
 
@@ -353,7 +354,43 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
     WriteFields(f, out.x, h, m, out.u);
     WriteNamedEstimates(out, h, m.parameters);
     f.WriteScalar(h + "/birge_ratio", CheckScatter(m.chi2, m.dof).birge_ratio, "1");
+    // The covariance as the correlation (dimensionless, where a and b of
+    // linear-in-speed are not): times the parameters' standard errors.
+    if (const std::size_t n = m.covariance.names.size();
+        n > 0 && m.covariance.correlation.size() == n * n) {
+      out.x.WriteMatrix(h + "/correlation", n, n, m.covariance.correlation, "1");
+      out.x.SetStringsAttribute(h + "/correlation", "parameter_names", m.covariance.names);
+    }
   }
+}
+
+// The covariance from the correlation and the parameters' standard errors.
+ParameterCovariance ReadModelCovariance(const Hdf5File& f, const std::string& h,
+                                        const std::vector<NamedEstimate>& parameters) {
+  ParameterCovariance c;
+  c.names = ReadStringsAttribute(f.path(), h + "/correlation", "parameter_names");
+  c.correlation = f.ReadVector(h + "/correlation");
+  const std::size_t n = c.names.size();
+  if (c.correlation.size() != n * n) {
+    throw InputError({f.path(), h + "/correlation", std::nullopt},
+                     fmt::format("not {} x {}", n, n));
+  }
+  std::vector<double> sigma;
+  for (const std::string& name : c.names) {
+    const auto it = std::find_if(parameters.begin(), parameters.end(),
+                                 [&](const NamedEstimate& p) { return p.name == name; });
+    if (it == parameters.end()) {
+      throw InputError({f.path(), h + "/correlation", std::nullopt},
+                       fmt::format("names '{}', not a parameter of the model", name));
+    }
+    sigma.push_back(it->estimate.sigma);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      c.matrix.push_back(c.correlation[i * n + j] * sigma[i] * sigma[j]);
+    }
+  }
+  return c;
 }
 
 ModelComparison ReadModelComparison(const Hdf5File& f) {
@@ -370,6 +407,7 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     if (!m.ok) m.reason = ReasonOf(status);
     ReadFields(f, h, m);
     if (f.Exists(h + "/parameter_names")) m.parameters = ReadNamedEstimates(f, h);
+    if (f.Exists(h + "/correlation")) m.covariance = ReadModelCovariance(f, h, m.parameters);
     c.models.push_back(std::move(m));
   }
   return c;

@@ -472,6 +472,9 @@ struct ModelComparisonRow {
   bool ok = false;
   std::string reason;                     // why, when !ok
   std::vector<NamedEstimate> parameters;  // per-run speeds excluded
+  // Of `parameters`, in their own units (the restitution models'; the
+  // contact laws' rows have theirs under /session/contact_laws).
+  ParameterCovariance covariance;
   int maxima = 0, parameter_count = 0, dof = 0;
   double chi2 = 0.0, aic = 0.0, bic = 0.0;
   double log_restitution_spread = 0.0;  // weighted std of the runs' ln e

@@ -173,5 +173,33 @@ TEST_CASE("results_round_trip: every listed field of every result survives the f
   });
 }
 
+TEST_CASE("results_round_trip: the restitution models' covariance survives the file") {
+  testing::TempDir dir;
+  const SessionResult reduced = ReduceSession(ReadManifest(kSamples / "thesis-1969").session, {});
+  REQUIRE(reduced.model_comparison);
+  WriteResults(reduced, dir.path() / "first.h5");
+  const SessionResult first = ReadResults(dir.path() / "first.h5");
+  REQUIRE(first.model_comparison);
+  REQUIRE(first.model_comparison->models.size() == reduced.model_comparison->models.size());
+  int compared = 0;
+  for (std::size_t i = 0; i < reduced.model_comparison->models.size(); ++i) {
+    const ModelComparisonRow &a = reduced.model_comparison->models[i],
+                             &b = first.model_comparison->models[i];
+    INFO(a.model);
+    CHECK(b.covariance.names == a.covariance.names);
+    REQUIRE(b.covariance.matrix.size() == a.covariance.matrix.size());
+    for (std::size_t k = 0; k < a.covariance.matrix.size(); ++k) {
+      CHECK(b.covariance.matrix[k] == Approx(a.covariance.matrix[k]).epsilon(1e-12).margin(1e-300));
+    }
+    if (a.model == "linear-in-speed") {
+      // a and b are correlated: u_ref is the runs' mean speed, not the fit's centre.
+      REQUIRE(a.covariance.names == std::vector<std::string>{"a", "b"});
+      CHECK(a.covariance.matrix[1] != 0.0);
+      ++compared;
+    }
+  }
+  CHECK(compared == 1);
+}
+
 }  // namespace
 }  // namespace impactlab
