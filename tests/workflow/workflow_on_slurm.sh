@@ -6,9 +6,11 @@
 # machine and report it COMPLETED. Checks that every session is submitted as
 # a job of its own with the rule's resources (-t 10 --mem 1000
 # --cpus-per-task=1), that each job reduces its session, and that a second
-# run submits nothing. Skipped (77) when snakemake is not installed. Takes
-# about a minute: Snakemake's Slurm executor waits between its rounds of
-# asking for the jobs' states.
+# run submits nothing. Skipped (77) when snakemake is not installed.
+# --max-status-checks-per-second 1: the Slurm executor sleeps 1/rate between
+# its rounds of asking sacct for the jobs' states, and takes any rate above 1
+# as its default, one round per 33 s (Snakemake 7.21's scheduler.py), which
+# made this test take 100 s; at 1 it takes a few seconds.
 set -u
 exe=$1 snakefile=$2 profile=$3 work=$4
 command -v snakemake >/dev/null || { echo "snakemake not installed: skipped"; exit 77; }
@@ -50,7 +52,7 @@ chmod +x "$dir"/bin/*
 fail() { echo "$1"; printf '%s\n' "$output"; exit 1; }
 run() {
   output=$(cd "$dir" && PATH="$dir/bin:$PATH" USER=${USER:-$(id -un)} snakemake -s "$snakefile" \
-    --profile "$profile" --max-status-checks-per-second 10 reduced \
+    --profile "$profile" --max-status-checks-per-second 1 reduced \
     --config root="$dir/archive" output="$dir/results" impactlab="$exe" 2>&1) ||
     fail "snakemake failed"
 }
