@@ -32,8 +32,26 @@ struct SessionEstimate {
 // One impact of a run: the speed it met and the fraction of it kept.
 struct ImpactRestitution {
   std::string run;
+  int rebound = 0;  // n: the impact between the maxima X_n and X_{n+1}
   double speed = 0.0;
   double restitution = 0.0, restitution_sigma = 0.0;
+  // The relative errors of v(X_n) and v(X_{n+1}); the second is the next
+  // impact's first, which correlates the two.
+  double speed_relative_sigma = 0.0, rebound_speed_relative_sigma = 0.0;
+};
+
+// A session's restitution speed law e(u) = E(eps_ref (u/u_ref)^beta), fitted
+// to its impacts (campaign/restitution_law.h).
+struct SessionRestitutionLaw {
+  bool ok = false;
+  std::string reason;              // why not, when !ok
+  double reference_speed = 0.0;    // u_ref: the geometric mean of its impacts' speeds
+  double log_eps = 0.0;            // ln eps_ref
+  double exponent = 0.0;           // beta
+  std::vector<double> covariance;  // of (ln eps_ref, beta), 2 x 2 row-major
+  double chi2 = 0.0;
+  int dof = 0;
+  int impacts = 0;
 };
 
 // A run's own contact time, at the speed of its impact (the one after
@@ -66,22 +84,23 @@ struct CampaignSession {
   std::vector<ImpactRestitution> restitution;
   std::vector<ContactTimeAtSpeed> contact_times;
   std::vector<SessionContactLaw> laws;
-  double reference_speed = 0.0;  // u_ref of its linear-in-speed restitution model (0: none)
+  SessionRestitutionLaw restitution_law;
+  double reference_speed = 0.0;  // u_ref of its restitution law (0: none fitted)
 };
 
 // The constants one material's sessions share, fitted together.
 struct MaterialFit {
   std::string material;
   std::string fit;                     // "hunt-crossley", "hertz" or "restitution"
-  std::vector<std::string> constants;  // "effective_modulus", "damping_factor"; "a", "b"
+  std::vector<std::string> constants;  // "effective_modulus", "damping_factor", "speed_exponent"
   std::vector<std::string> units;
   bool ok = false;
   std::string reason;
   std::vector<double> values, sigma;    // the constants (fitted as logarithms where positive)
   std::vector<double> sigma_scaled;     // times the Birge ratio where it exceeds 1
   std::vector<double> covariance;       // of the fitted parameters (logs for the positive ones)
-  std::vector<std::string> parameters;  // what the covariance is of: "log effective_modulus", "a"
-  double reference_speed = 0.0;         // restitution: u0 of ln e = a + b (u - u0)
+  std::vector<std::string> parameters;  // what the covariance is of: "log effective_modulus", ...
+  double reference_speed = 0.0;         // restitution: u0 of e = E(chi u0 (u/u0)^beta)
   std::vector<std::string> sessions;    // the sessions fitted
   double chi2 = 0.0;
   int dof = 0;

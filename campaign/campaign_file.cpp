@@ -56,8 +56,20 @@ void WriteSession(Hdf5File& f, const Hdf5Extras& x, const std::string& g, const 
   f.WriteVector(g + "/contact_times/impact_speed", speed, units.speed);
   f.WriteVector(g + "/contact_times/contact_time", tau, "s");
   f.WriteVector(g + "/contact_times/contact_time_std_error", tau_sigma, "s");
-  if (s.reference_speed > 0.0) {
+  // Its restitution speed law: the estimates hold chi and beta; here the
+  // covariance the material's fit takes, and how well the law fits.
+  const SessionRestitutionLaw& law = s.restitution_law;
+  const std::string h = g + "/restitution_law";
+  f.CreateGroup(h);
+  f.SetAttribute(h, "status", law.ok ? std::string("ok") : "failed: " + law.reason);
+  f.SetAttribute(h, "impacts", static_cast<long long>(law.impacts));
+  if (law.ok) {
     f.WriteScalar(g + "/restitution_reference_speed", s.reference_speed, units.speed);
+    x.WriteMatrix(h + "/covariance", 2, 2, law.covariance, "1");
+    x.SetStringsAttribute(h + "/covariance", "parameter_names",
+                          {"log damping_factor", "speed_exponent"});
+    f.WriteScalar(h + "/chi2", law.chi2, "1");
+    f.SetAttribute(h, "dof", static_cast<long long>(law.dof));
   }
 }
 

@@ -177,41 +177,40 @@ std::optional<MaterialFit> FitHertz(const std::string& material,
   return Summarise(material, "hertz", {{"effective_modulus", unit}}, statements, false_alarm);
 }
 
-// Restitution's speed law ln e = a + b (u - u0), from each session's
-// linear-in-speed model: its a is ln e at its own reference speed u_i, so
-// it states a + b (u_i - u0), and its b states b. u0 is the sessions' mean u_i.
+// Restitution's speed law e(u) = E(chi u0 (u/u0)^beta) (campaign/
+// restitution_law.h), from each session's own fit of it to its impacts: its
+// ln eps at its own reference speed u_i states ln chi + ln u0 + beta ln(u_i/u0),
+// and its beta states beta, with their covariance. u0 is the geometric mean
+// of the sessions' u_i. The law holds across speeds, so sessions at different
+// speeds state the same constants (a line in u, the sessions' linear-in-speed
+// model, would not: its slope is the curve's local one).
 std::optional<MaterialFit> FitRestitution(const std::string& material,
                                           const std::vector<const CampaignSession*>& sessions,
                                           double false_alarm) {
-  const std::string source = "restitution linear-in-speed";
   std::vector<const CampaignSession*> with;
-  double u0 = 0.0;
+  double log_u0 = 0.0;
   for (const CampaignSession* s : sessions) {
-    const SessionEstimate* a = EstimateOf(*s, source, "a");
-    const SessionEstimate* b = EstimateOf(*s, source, "b");
-    if (a == nullptr || b == nullptr || s->reference_speed <= 0.0 || !(a->sigma > 0.0) ||
-        !(b->sigma > 0.0)) {
-      continue;
-    }
+    if (!s->restitution_law.ok) continue;
     with.push_back(s);
-    u0 += s->reference_speed;
+    log_u0 += std::log(s->restitution_law.reference_speed);
   }
   if (with.empty()) return std::nullopt;
-  u0 /= static_cast<double>(with.size());
+  log_u0 /= static_cast<double>(with.size());
   std::vector<SessionStatement> statements;
   for (const CampaignSession* s : with) {
-    const SessionEstimate& a = *EstimateOf(*s, source, "a");
-    const SessionEstimate& b = *EstimateOf(*s, source, "b");
+    const SessionRestitutionLaw& law = s->restitution_law;
     statements.push_back({s->name,
-                          {a.value, b.value},
-                          {a.sigma * a.sigma, 0.0, 0.0, b.sigma * b.sigma},
-                          {1.0, s->reference_speed - u0, 0.0, 1.0},
+                          {law.log_eps - log_u0, law.exponent},
+                          law.covariance,
+                          {1.0, std::log(law.reference_speed) - log_u0, 0.0, 1.0},
                           {0, 1}});
   }
-  const std::string b_unit = EstimateOf(*with.front(), source, "b")->unit;
-  MaterialFit fit = Summarise(material, "restitution", {{"a", "1", false}, {"b", b_unit, false}},
+  const std::string chi_unit =
+      EstimateUnit(*with.front(), "restitution speed law", "damping_factor");
+  MaterialFit fit = Summarise(material, "restitution",
+                              {{"damping_factor", chi_unit, true}, {"speed_exponent", "1", false}},
                               statements, false_alarm);
-  fit.reference_speed = u0;
+  fit.reference_speed = std::exp(log_u0);
   return fit;
 }
 

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "campaign/campaign_internal.h"
+#include "campaign/restitution_law.h"
 #include "fit/effective_modulus.h"
 #include "model/pendulum.h"
 #include "pipeline/material_constants.h"
@@ -169,15 +170,19 @@ CampaignSession TabulateSession(const SessionResult& source, const std::string& 
   }
 
   const Pendulum pendulum{r.apparatus.pendulum_length, r.apparatus.gravity, r.convention};
-  std::vector<double> reference_speeds;
+  // A maximum's relative error as its speed's: times d ln v / d ln X (1 to
+  // first order; less where the pendulum swings far).
+  const auto speed_relative_sigma = [&](double x, double sigma) {
+    const double h = 1e-4;
+    const double slope = std::log(SpeedFromAmplitude(pendulum, x * (1 + h)) /
+                                  SpeedFromAmplitude(pendulum, x * (1 - h))) /
+                         std::log((1 + h) / (1 - h));
+    return slope * sigma / x;
+  };
   for (const RunResult& run : r.runs) {
     if (!run.ok || run.measured.xmax.empty() || pendulum.length <= 0.0) continue;
     const std::vector<double>& x = run.measured.xmax;
     const std::vector<double>& sx = run.measured.xmax_sigma;
-    if (r.model_comparison && std::count(r.model_comparison->run_ids.begin(),
-                                         r.model_comparison->run_ids.end(), run.id) > 0) {
-      reference_speeds.push_back(SpeedFromAmplitude(pendulum, run.initial_displacement));
-    }
     for (std::size_t n = 0; n + 1 < x.size(); ++n) {
       if (!(x[n] > 0.0) || !(x[n + 1] > 0.0)) continue;
       const double v = SpeedFromAmplitude(pendulum, x[n]);
@@ -186,17 +191,30 @@ CampaignSession TabulateSession(const SessionResult& source, const std::string& 
       // maxima's combined.
       const double a = n < sx.size() ? sx[n] / x[n] : 0.0;
       const double b = n + 1 < sx.size() ? sx[n + 1] / x[n + 1] : 0.0;
-      s.restitution.push_back({run.id, v * factor("speed"), e, e * std::hypot(a, b)});
+      ImpactRestitution impact{run.id, static_cast<int>(n), v * factor("speed"), e,
+                               e * std::hypot(a, b)};
+      if (n + 1 < sx.size()) {
+        impact.speed_relative_sigma = speed_relative_sigma(x[n], sx[n]);
+        impact.rebound_speed_relative_sigma = speed_relative_sigma(x[n + 1], sx[n + 1]);
+      }
+      s.restitution.push_back(std::move(impact));
     }
     if (run.measured.contact_time && x.front() > 0.0) {
       s.contact_times.push_back({run.id, SpeedFromAmplitude(pendulum, x.front()) * factor("speed"),
                                  *run.measured.contact_time, run.measured.contact_time_sigma});
     }
   }
-  if (!reference_speeds.empty()) {
-    double sum = 0.0;
-    for (double u : reference_speeds) sum += u;
-    s.reference_speed = sum / static_cast<double>(reference_speeds.size()) * factor("speed");
+  // The session's restitution speed law, in the campaign's units.
+  s.restitution_law = FitRestitutionLaw(s.restitution);
+  if (const SessionRestitutionLaw& law = s.restitution_law; law.ok) {
+    s.reference_speed = law.reference_speed;
+    // Already in the campaign's units: chi = eps_ref/u_ref, Hunt-Crossley's
+    // where beta = 1.
+    const double chi = std::exp(law.log_eps) / law.reference_speed;
+    s.estimates.push_back({"restitution speed law", "damping_factor", chi,
+                           chi * std::sqrt(law.covariance[0]), UnitLabel("inverse_speed", to)});
+    s.estimates.push_back({"restitution speed law", "speed_exponent", law.exponent,
+                           std::sqrt(law.covariance[3]), "1"});
   }
   return s;
 }

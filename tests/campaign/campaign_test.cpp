@@ -3,7 +3,8 @@
 // its own radius and its own pendulum; two sessions are drawn with a shifted
 // constant. Each is typed in, reduced and written like any results file;
 // the campaign recovers the material's constants and names exactly the
-// shifted sessions as pulling away. Inputs it cannot read fail alone, and
+// shifted sessions as pulling away (restitution's speed law: the one whose
+// chi, so whose e, is shifted). Inputs it cannot read fail alone, and
 // the file holds no NaN.
 #include <catch2/catch.hpp>
 
@@ -133,6 +134,20 @@ TEST_CASE("campaign: a material's constants are recovered and the shifted sessio
       }
     }
   }
+
+  // Restitution's speed law: Hunt-Crossley's e(chi u) (beta = 1) across the
+  // sessions' speeds; only the session drawn with another chi restitutes
+  // differently (E* leaves e alone).
+  const MaterialFit* law = FitOf(campaign, "steel", "restitution");
+  REQUIRE(law != nullptr);
+  REQUIRE(law->ok);
+  REQUIRE(law->constants == std::vector<std::string>{"damping_factor", "speed_exponent"});
+  CHECK(law->pulling_away == std::vector<std::string>{"chi_off"});
+  INFO("chi " << law->values[0] << " +- " << law->sigma[0] << ", beta " << law->values[1] << " +- "
+              << law->sigma[1] << ", Birge " << law->birge_ratio);
+  CHECK(std::abs(law->values[0] - kChi) < 4.0 * law->sigma_scaled[0]);
+  CHECK(std::abs(law->values[1] - 1.0) < 4.0 * law->sigma_scaled[1]);
+  CHECK(law->birge_ratio < 2.0);
 
   WriteCampaign(campaign, dir.path() / "campaign.h5");
   const Hdf5File f = Hdf5File::OpenReadOnly(dir.path() / "campaign.h5");
