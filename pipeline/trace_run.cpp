@@ -211,16 +211,15 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
     throw InputError({session_.manifest, key + ".trace", std::nullopt},
                      "the trace has neither a csv nor a photo");
   }
-  try {
-    cell->calibration = Timed(seconds.calibrate, [&] {
-      return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
-                                options.photocell);
-    });
-  } catch (const std::exception& e) {
+  cell->calibration = Timed(seconds.calibrate, [&] {
+    return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
+                              options.photocell);
+  });
+  if (!cell->calibration.ok) {
     throw InputError(
         {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
          std::nullopt},
-        e.what());
+        cell->calibration.reason);
   }
   return cell;
 }
