@@ -181,10 +181,10 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   }
   const int n = static_cast<int>(out.volts.size());
   if (n < 8) {
-    throw std::invalid_argument(fmt::format(
-        "the calibration trace has {} samples in the first swing (0 .. {:.4g} s); at least 8 "
-        "are needed",
-        n, quarter_period));
+    return {.ok = false,
+            .reason = fmt::format("the calibration trace has {} samples in the first swing "
+                                  "(0 .. {:.4g} s); at least 8 are needed",
+                                  n, quarter_period)};
   }
 
   const int max_order = std::min(options.max_order, n / 4);
@@ -252,7 +252,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       found = true;
       break;
     }
-    if (!found) throw std::domain_error(*problem);
+    if (!found) return {.ok = false, .reason = std::move(*problem)};
   }
 
   double sum_v = 0.0, sum_x = 0.0;
@@ -266,6 +266,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   out.samples_used = n;
   out.residual_rms_volts = std::sqrt(sum_v / n);
   out.residual_rms_length = std::sqrt(sum_x / n);
+  out.ok = true;
   return out;
 }
 

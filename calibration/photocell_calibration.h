@@ -76,6 +76,11 @@ class PhotocellCurve {
 };
 
 struct CalibrationResult {
+  // Whether a curve was fitted; otherwise `reason` says why (too few samples
+  // in the first swing, a cell that is not monotone, with where) and the
+  // rest is unset.
+  bool ok = false;
+  std::string reason;
   PhotocellCurve curve;
   // The pairs the fit used (Figure 14's points) and their residuals.
   std::vector<double> time_s, ideal_displacement, volts, residual_volts;
@@ -89,8 +94,9 @@ struct CalibrationResult {
   double correlation_inflation = 1.0;
 };
 
-// Throws std::invalid_argument for bad options or too few samples in the
-// swing, and std::domain_error when the curve is not monotone (with where).
+// A trace that cannot be calibrated is a result with `ok` false and the
+// reason. Throws std::invalid_argument only for options that fail their
+// Check (a caller's mistake).
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
                                      const CalibrationOptions& options);
 

@@ -153,6 +153,12 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     MeasuredTraceRun measured = MeasureTraceRun(run, session, pendulum, run_options, calibrations);
     out.measured = std::move(measured.measured);
     out.seconds = measured.seconds;
+    if (!measured.ok) {
+      // What was measured before the failure (the photo's overlay, the
+      // calibrations) stays, for the report.
+      out.reason = std::move(measured.reason);
+      return out;
+    }
   }
   if (options.products == Products::kFit) {
     // The fit's model figures simulate every rebound from the release: a
@@ -172,9 +178,9 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     const auto start = std::chrono::steady_clock::now();
     try {
       out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
-    } catch (const std::logic_error& error) {  // invalid_argument, domain_error
+    } catch (const std::logic_error&) {  // invalid_argument, domain_error
       // The run was measured: its measurement stays, with why it cannot be fitted.
-      out.reason = RunFailureReason(error, session, run);
+      out.reason = RunFailureReason(std::current_exception(), session, run);
       return out;
     }
     out.seconds.fit =
@@ -199,18 +205,13 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
   try {
     return ReduceRun(run, session, pendulum, separation, calibrations, options, session_options,
                      fingerprint);
-  } catch (const std::exception& error) {
+  } catch (const std::exception&) {
     RunResult failed;
     failed.id = run.id;
     failed.initial_displacement = run.initial_displacement;
     failed.first_rebound = run.first_rebound;
     failed.specimen = run.specimen;
-    failed.reason = RunFailureReason(error, session, run);
-    // What was measured before the failure (the photo's overlay, the
-    // calibrations), for the report.
-    if (const auto* incomplete = dynamic_cast<const IncompleteMeasurement*>(&error)) {
-      failed.measured = incomplete->partial();
-    }
+    failed.reason = RunFailureReason(std::current_exception(), session, run);
     return failed;
   }
 }
@@ -577,8 +578,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   }
   if (session.runs.empty() && options.products != Products::kCalibration) return result;
   if (!session.apparatus) {
-    throw std::invalid_argument(fmt::format("{}: [apparatus] is required when the session has runs",
-                                            session.manifest.string()));
+    throw InputError({session.manifest, "apparatus", std::nullopt},
+                     "[apparatus] is required when the session has runs");
   }
   result.apparatus = *session.apparatus;
   const Pendulum pendulum{session.apparatus->pendulum_length, session.apparatus->gravity,

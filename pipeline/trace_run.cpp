@@ -211,16 +211,15 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
     throw InputError({session_.manifest, key + ".trace", std::nullopt},
                      "the trace has neither a csv nor a photo");
   }
-  try {
-    cell->calibration = Timed(seconds.calibrate, [&] {
-      return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
-                                options.photocell);
-    });
-  } catch (const std::exception& e) {
+  cell->calibration = Timed(seconds.calibrate, [&] {
+    return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
+                              options.photocell);
+  });
+  if (!cell->calibration.ok) {
     throw InputError(
         {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
          std::nullopt},
-        e.what());
+        cell->calibration.reason);
   }
   return cell;
 }
@@ -307,8 +306,12 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
 
   const auto extract = [&](const DisplacementHistory& h) {
     return Timed(seconds.extract, [&] {
-      return InSessionNumbering(ExtractRebounds(h, pendulum, options.rebound_extraction),
-                                run.first_rebound);
+      const ReboundExtraction extracted = ExtractRebounds(h, pendulum, options.rebound_extraction);
+      if (!extracted.ok) {
+        throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
+                         extracted.reason);
+      }
+      return InSessionNumbering(extracted, run.first_rebound);
     });
   };
   const auto curve_sigma = [&](const char* cell) {
@@ -366,45 +369,46 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   out.release = both.release;
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
-    const std::string key = RunKey(run) + ".traces.contact";
-    try {
-      // On a photo the edges are measured on the image itself; a CSV step by
-      // its samples.
-      const ContactPulse pulse = !contact->second.csv && photo && photo->pulse
-                                     ? *photo->pulse
-                                     : MeasureContactPulse(trace_of("contact", contact->second));
-      out.contact_time = pulse.width_s.value;
-      out.contact_time_sigma = pulse.width_s.sigma;
-      out.contact_time_source = "contact trace";
-    } catch (const std::invalid_argument& e) {
-      throw InputError(
-          {contact->second.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
-          e.what());
+    // On a photo the edges are measured on the image itself; a CSV step by
+    // its samples.
+    const ContactPulseMeasurement pulse =
+        !contact->second.csv && photo && photo->pulse
+            ? ContactPulseMeasurement{true, "", *photo->pulse}
+            : MeasureContactPulse(trace_of("contact", contact->second));
+    if (!pulse.ok) {
+      throw InputError({contact->second.csv.value_or(run.photo.value_or(session.manifest)),
+                        RunKey(run) + ".traces.contact", std::nullopt},
+                       pulse.reason);
     }
+    out.contact_time = pulse.pulse.width_s.value;
+    out.contact_time_sigma = pulse.pulse.width_s.sigma;
+    out.contact_time_source = "contact trace";
   }
 }
 
 }  // namespace
 
-std::string RunFailureReason(const std::exception& error, const Session& session, const Run& run) {
-  const bool said = dynamic_cast<const InputError*>(&error) != nullptr ||
-                    dynamic_cast<const IncompleteMeasurement*>(&error) != nullptr;
-  return said ? error.what()
-              : fmt::format("{}: {}: {}", session.manifest.string(), RunKey(run), error.what());
+std::string RunFailureReason(const std::exception_ptr& error, const Session& session,
+                             const Run& run) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return fmt::format("{}: {}: {}", session.manifest.string(), RunKey(run), e.what());
+  }
 }
-
-IncompleteMeasurement::IncompleteMeasurement(std::string reason, RunMeasurement partial)
-    : std::runtime_error(std::move(reason)), partial_(std::move(partial)) {}
 
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations) {
   MeasuredTraceRun result;
+  // The steps below stop at the first failure, each saying it with its file
+  // and key; what they measured before it stays in `result`.
   try {
     MeasureInto(run, session, pendulum, options, calibrations, result);
-  } catch (const std::exception& error) {
-    const RunMeasurement& partial = result.measured;
-    if (partial.overlays.empty() && partial.calibrations.empty()) throw;
-    throw IncompleteMeasurement(RunFailureReason(error, session, run), result.measured);
+    result.ok = true;
+  } catch (const std::exception&) {
+    result.reason = RunFailureReason(std::current_exception(), session, run);
   }
   return result;
 }

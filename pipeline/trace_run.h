@@ -3,6 +3,7 @@
 // the rebounds, and measure the contact pulse.
 #pragma once
 
+#include <exception>
 #include <functional>
 #include <future>
 #include <map>
@@ -60,33 +61,28 @@ class CalibrationCache {
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
                                      double release_x, const CalibratedCell& calibrated);
 
-// A run measured from its traces, and the time each stage took.
+// A run measured from its traces, and the time each stage took. When the
+// measurement fails part way, `ok` is false, `reason` says why (file and
+// key), and `measured` keeps what was measured before (the digitized photo's
+// overlay, the calibrations), which the results file and the report show
+// beside the reason.
 struct MeasuredTraceRun {
+  bool ok = false;
+  std::string reason;
   RunMeasurement measured;
   StageSeconds seconds;
 };
 
-// Why a run failed, as its results say it: an InputError (and an
-// IncompleteMeasurement) names its own file and key; anything else is said
-// with the manifest and the run's key.
-std::string RunFailureReason(const std::exception& error, const Session& session, const Run& run);
-
-// A run whose measurement failed part way: its reason (file, key), and what
-// was measured before (the digitized photo's overlay, the calibrations),
-// which the results file and the report keep beside the reason.
-class IncompleteMeasurement : public std::runtime_error {
- public:
-  IncompleteMeasurement(std::string reason, RunMeasurement partial);
-  const RunMeasurement& partial() const { return partial_; }
-
- private:
-  RunMeasurement partial_;
-};
+// Why a run failed, as its results say it, from the exception `error` holds:
+// an InputError names its own file and key; anything else is said with the
+// manifest and the run's key.
+std::string RunFailureReason(const std::exception_ptr& error, const Session& session,
+                             const Run& run);
 
 // The run's calibrations, rebounds and contact pulse, measured with the
-// run's `options`. Throws IncompleteMeasurement when the run fails after its
-// photo was digitized or a calibration was used, else InputError or
-// std::exception with the reason.
+// run's `options`. A run that cannot be measured (a bad input file, a photo
+// that cannot be read, traces without enough rebounds) is a result with `ok`
+// false; nothing is thrown but a caller's mistake.
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations);
 

@@ -2,7 +2,8 @@
 // (a CSV trace; photos measure the edges on the image itself, digitize/).
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -10,9 +11,12 @@
 
 namespace impactlab {
 
-ContactPulse MeasureContactPulse(const Trace& trace) {
+ContactPulseMeasurement MeasureContactPulse(const Trace& trace) {
+  const auto refused = [](std::string reason) {
+    return ContactPulseMeasurement{false, std::move(reason), {}};
+  };
   const std::size_t n = trace.volts.size();
-  if (n < 8) throw std::invalid_argument("a contact trace needs at least 8 samples");
+  if (n < 8) return refused("a contact trace needs at least 8 samples");
   std::vector<double> sorted = trace.volts;
   std::sort(sorted.begin(), sorted.end());
   ContactPulse pulse;
@@ -27,7 +31,7 @@ ContactPulse MeasureContactPulse(const Trace& trace) {
   std::nth_element(low_state.begin(), low_state.begin() + low_state.size() / 2, low_state.end());
   const double noise = 1.4826 * low_state[low_state.size() / 2];
   if (!(pulse.high_volts - pulse.low_volts > 6.0 * noise) || pulse.high_volts == pulse.low_volts) {
-    throw std::invalid_argument("the contact trace shows no step above its noise");
+    return refused("the contact trace shows no step above its noise");
   }
 
   // Crossing of `mid` between samples i and i + 1, with its uncertainty: the
@@ -45,11 +49,11 @@ ContactPulse MeasureContactPulse(const Trace& trace) {
   };
   std::size_t i = 0;
   while (i + 1 < n && !(trace.volts[i] < mid && trace.volts[i + 1] >= mid)) ++i;
-  if (i + 1 >= n) throw std::invalid_argument("the contact trace has no rising edge");
+  if (i + 1 >= n) return refused("the contact trace has no rising edge");
   pulse.rise_s = edge(i);
   std::size_t j = i + 1;
   while (j + 1 < n && !(trace.volts[j] >= mid && trace.volts[j + 1] < mid)) ++j;
-  if (j + 1 >= n) throw std::invalid_argument("the contact pulse does not end within the trace");
+  if (j + 1 >= n) return refused("the contact pulse does not end within the trace");
   // The bars touch once in a sweep: the first pulse must hold most of the
   // samples at the pulse's level, or what it times is something else (a
   // label across the trace read as a pulse of its own, a trace misread).
@@ -59,7 +63,7 @@ ContactPulse MeasureContactPulse(const Trace& trace) {
                                       trace.volts.begin() + static_cast<std::ptrdiff_t>(j + 1),
                                       [&](double v) { return v >= mid; });
   if (2 * in_pulse < high) {
-    throw std::invalid_argument(
+    return refused(
         fmt::format("the contact trace is at its pulse level in more than one stretch: the "
                     "first pulse holds {} of its {} samples there",
                     in_pulse, high));
@@ -67,7 +71,7 @@ ContactPulse MeasureContactPulse(const Trace& trace) {
   pulse.fall_s = edge(j);
   pulse.width_s = {pulse.fall_s.value - pulse.rise_s.value,
                    std::hypot(pulse.rise_s.sigma, pulse.fall_s.sigma)};
-  return pulse;
+  return {true, "", pulse};
 }
 
 }  // namespace impactlab

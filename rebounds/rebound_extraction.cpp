@@ -375,20 +375,25 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
                                   const ReboundExtractionOptions& options) {
   std::string error;
   if (!options.Check(&error)) throw std::invalid_argument(error);
+  ReboundExtraction out;
+  const auto refused = [&](std::string reason) {
+    out.reason = std::move(reason);
+    return out;
+  };
   if (h.time_s.size() != h.displacement.size() || h.time_s.size() < kMinHistorySamples) {
-    throw std::invalid_argument(
+    return refused(
         fmt::format("a displacement history needs at least {} samples", kMinHistorySamples));
   }
   const double largest = *std::max_element(h.displacement.begin(), h.displacement.end());
-  if (!(largest > 0.0)) throw std::invalid_argument("the displacement history never leaves 0");
+  if (!(largest > 0.0)) return refused("the displacement history never leaves 0");
   const double threshold = options.threshold_fraction * largest;
   // The walk below takes a step of at least a part of a half swing per
   // rebound: the span, bounded here, bounds its steps and the impacts kept.
   const double span = h.time_s.back() - h.time_s.front();
-  if (const std::string problem = TraceSpanProblem(
-          span, MedianSpacing(h.time_s, 0, h.time_s.size()), 0, pendulum, options.limits);
+  if (std::string problem = TraceSpanProblem(span, MedianSpacing(h.time_s, 0, h.time_s.size()), 0,
+                                             pendulum, options.limits);
       !problem.empty()) {
-    throw std::invalid_argument(problem);
+    return refused(std::move(problem));
   }
   // A step is a half swing or a measured rebound, whose peak lies at least
   // 0.05 of a half swing past its impact: the walk ends within span /
@@ -403,7 +408,6 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   // falling flank, keeps the numbering right where a digitized trace has gaps
   // at a peak, at an impact or over a whole rebound: a gap can neither merge
   // two rebounds nor split one.
-  ReboundExtraction out;
   const auto crossing = [&](std::size_t top, double t_peak, int step, double amplitude,
                             double offset, double half, double sample_sigma = 0.0,
                             double amplitude_sigma = 0.0) {
@@ -428,7 +432,9 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
     // Times so large that a half swing no longer moves them (1e300 s), or a
     // walk that no longer advances: stop rather than loop.
     if (number > max_steps || !(impact + half_period > impact)) {
-      throw std::invalid_argument(
+      out.rebounds.clear();
+      out.impact_times.clear();
+      return refused(
           fmt::format("the rebounds' walk stopped advancing at t = {:.6g} s after {} step(s)",
                       impact, number - 1));
     }
@@ -496,6 +502,7 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
     impact = rebound.end_s;
     out.impact_times.push_back(impact);
   }
+  out.ok = true;
   return out;
 }
 

@@ -98,6 +98,10 @@ struct ExtractedRebound {
 };
 
 struct ReboundExtraction {
+  // Whether the history could be walked; otherwise `reason` says why (too few
+  // samples, never leaving 0, a span the limits refuse) and nothing else is set.
+  bool ok = false;
+  std::string reason;
   // Complete rebounds after the first impact (rebound 1, 2, ...), in order; a
   // rebound with too few samples near its peak is left out (its number is
   // skipped, the later ones keep theirs).
@@ -110,9 +114,11 @@ struct ReboundExtraction {
   Estimate release;
 };
 
-// Throws std::invalid_argument for bad options, a history with fewer than two
-// rebounds' worth of samples, or one whose span breaks `options.limits`
-// (memory and time stay bounded by the number of samples).
+// A history with too few samples, one that never leaves 0 or whose span
+// breaks `options.limits` (memory and time stay bounded by the number of
+// samples) is a result with `ok` false and the reason. Throws
+// std::invalid_argument only for options that fail their Check (a caller's
+// mistake).
 ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pendulum& pendulum,
                                   const ReboundExtractionOptions& options);
 
@@ -124,10 +130,16 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& history, const Pend
 DisplacementHistory AverageHistories(const DisplacementHistory& a, const DisplacementHistory& b,
                                      double max_bridge_s = 0.0);
 
+// The contact pulse a trace shows, or why it shows none.
+struct ContactPulseMeasurement {
+  bool ok = false;
+  std::string reason;  // when not ok: too few samples, no step, no complete pulse
+  ContactPulse pulse;  // when ok
+};
+
 // Finds the first complete pulse. Edges are located where the trace crosses
 // the level halfway between its low and high states, by linear interpolation
-// between the samples that straddle it. Throws std::invalid_argument when the
-// trace shows no complete pulse.
-ContactPulse MeasureContactPulse(const Trace& trace);
+// between the samples that straddle it.
+ContactPulseMeasurement MeasureContactPulse(const Trace& trace);
 
 }  // namespace impactlab

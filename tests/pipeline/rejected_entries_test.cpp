@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "io/errors.h"
 #include "io/manifest.h"
 #include "pipeline/reduce.h"
 #include "pipeline/results_file.h"
@@ -91,6 +92,22 @@ TEST_CASE("rejected entries: a bad log fails alone beside a good one") {
   CHECK_FALSE(result.logs[1].ok);
   CHECK(result.logs[1].id == "broken");
   CHECK_THAT(result.logs[1].reason, Contains("found both"));
+}
+
+// A session built in memory (not from a manifest, which refuses it first)
+// with runs and no apparatus is bad input, named by its manifest and table:
+// the CLI's exit 3, not a bad command line.
+TEST_CASE("rejected entries: a session with runs but no apparatus is an input error") {
+  Session session = ReadManifest(kThesis).session;
+  session.apparatus.reset();
+  try {
+    ReduceSession(session, {});
+    FAIL("the session was reduced without an apparatus");
+  } catch (const InputError& e) {
+    CHECK(e.where().file == session.manifest);
+    CHECK(e.where().key == "apparatus");
+    CHECK_THAT(e.what(), Contains("[apparatus] is required"));
+  }
 }
 
 }  // namespace
