@@ -109,6 +109,9 @@ struct MaterialFit {
   std::vector<std::string> pull_session, pull_constant;
   std::vector<double> pull;
   std::vector<std::string> pulling_away;  // sessions with a |pull| beyond the threshold
+  // Constants that only two sessions state and on which they disagree beyond
+  // the threshold: neither is named, as which one is off cannot be told.
+  std::vector<std::string> disagreeing_pairs;
 };
 
 struct CampaignFailure {

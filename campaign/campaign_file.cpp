@@ -100,6 +100,7 @@ void WriteFit(Hdf5File& f, const Hdf5Extras& x, const std::string& g, const Mate
   f.WriteStrings(g + "/pulls/constant", m.pull_constant);
   f.WriteVector(g + "/pulls/pull", m.pull, "1");
   f.WriteStrings(g + "/pulling_away", m.pulling_away);
+  f.WriteStrings(g + "/disagreeing_pairs", m.disagreeing_pairs);
 }
 
 }  // namespace

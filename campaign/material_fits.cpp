@@ -73,16 +73,31 @@ MaterialFit Summarise(const std::string& material, const std::string& fit_name,
   out.dof = fit.dof;
   out.birge_ratio = fit.birge_ratio;
   out.p_value = fit.p_value;
+  // A pull names its session only where at least two others state the same
+  // constant: measured against one other session alone, two that disagree
+  // pull equally far apart, and which of them is off cannot be told.
+  std::vector<int> stating(specs.size(), 0);
+  for (const SessionStatement& s : statements) {
+    for (int c : std::set<int>(s.constants.begin(), s.constants.end())) ++stating[c];
+  }
   std::set<std::string> away(fit.set_aside.begin(), fit.set_aside.end());
+  std::set<std::string> undecided;
   for (std::size_t i = 0; i < fit.pull.size(); ++i) {
+    const auto constant = static_cast<std::size_t>(fit.pull_constant[i]);
     out.pull_session.push_back(fit.pull_session[i]);
-    out.pull_constant.push_back(specs[static_cast<std::size_t>(fit.pull_constant[i])].name);
+    out.pull_constant.push_back(specs[constant].name);
     out.pull.push_back(fit.pull[i]);
-    if (std::abs(fit.pull[i]) > out.pull_threshold) away.insert(fit.pull_session[i]);
+    if (std::abs(fit.pull[i]) <= out.pull_threshold) continue;
+    if (stating[constant] >= 3) {
+      away.insert(fit.pull_session[i]);
+    } else {
+      undecided.insert(specs[constant].name);
+    }
   }
   for (const std::string& s : out.sessions) {
     if (away.contains(s)) out.pulling_away.push_back(s);
   }
+  out.disagreeing_pairs.assign(undecided.begin(), undecided.end());
   return out;
 }
 

@@ -84,13 +84,16 @@ void AddCampaignCommand(CLI::App& app, Action& action) {
         }
       }
       if (!args->quiet) {
-        std::size_t away = 0;
-        for (const MaterialFit& m : campaign.fits) away += m.pulling_away.size();
+        std::size_t away = 0, pairs = 0;
+        for (const MaterialFit& m : campaign.fits) {
+          away += m.pulling_away.size();
+          pairs += m.disagreeing_pairs.size();
+        }
         fmt::print(stderr,
-                   "{} of {} inputs read, {} shared-constant fits, {} session pulls "
-                   "beyond the threshold; campaign in {}\n",
+                   "{} of {} inputs read, {} shared-constant fits, {} session(s) pulling away, "
+                   "{} disagreement(s) between two sessions alone; campaign in {}\n",
                    campaign.sessions.size(), campaign.inputs.size(), campaign.fits.size(), away,
-                   args->output.string());
+                   pairs, args->output.string());
       }
       return campaign.failures.empty() ? kExitOk : kExitRunsFailed;
     };

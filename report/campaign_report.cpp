@@ -63,6 +63,18 @@ Table ContactTimesTable(const Campaign& c) {
   return t;
 }
 
+// The sessions a fit names as pulling away, and the constants on which two
+// sessions alone disagree (neither can be named).
+std::string PullingAway(const MaterialFit& m) {
+  std::vector<std::string> said;
+  if (!m.pulling_away.empty()) said.push_back(fmt::format("{}", fmt::join(m.pulling_away, ", ")));
+  for (const std::string& c : m.disagreeing_pairs) {
+    said.push_back(
+        fmt::format("the two sessions stating {} disagree (which is off cannot be told)", c));
+  }
+  return said.empty() ? std::string("none") : fmt::format("{}", fmt::join(said, "; "));
+}
+
 Table SharedTable(const Campaign& c) {
   Table t;
   t.name = "campaign_shared_constants";
@@ -85,15 +97,13 @@ Table SharedTable(const Campaign& c) {
                              static_cast<double>(m.sessions.size()), std::nullopt, 0},
                         Number(m.chi2, 4),
                         Cell{fmt::format("{}", m.dof), static_cast<double>(m.dof), std::nullopt, 0},
-                        Number(m.birge_ratio, 3), Number(m.p_value, 2),
-                        m.pulling_away.empty()
-                            ? std::string("none")
-                            : fmt::format("{}", fmt::join(m.pulling_away, ", "))});
+                        Number(m.birge_ratio, 3), Number(m.p_value, 2), PullingAway(m)});
     }
   }
   t.notes.push_back(
       "Generalised least squares on the sessions' estimates and covariances; hunt-crossley and "
-      "hertz fit ln E* and ln chi, restitution ln e = a + b (u - u0). sigma scaled: times the "
+      "hertz fit ln E* and ln chi, restitution ln chi and beta of e(u) = E(chi u0 (u/u0)^beta). "
+      "sigma scaled: times the "
       "Birge ratio where it exceeds 1.");
   return t;
 }
@@ -105,7 +115,9 @@ Table PullsTable(const Campaign& c) {
   t.columns = {"Material", "Fit", "Session", "Constant", "Pull", "Threshold", "Pulls away"};
   for (const MaterialFit& m : c.fits) {
     for (std::size_t i = 0; i < m.pull.size(); ++i) {
-      const bool away = std::abs(m.pull[i]) > m.pull_threshold;
+      const bool away = std::find(m.pulling_away.begin(), m.pulling_away.end(),
+                                  m.pull_session[i]) != m.pulling_away.end() &&
+                        std::abs(m.pull[i]) > m.pull_threshold;
       t.rows.push_back({m.material, m.fit, m.pull_session[i], m.pull_constant[i],
                         Cell{fmt::format("{:+.2f}", m.pull[i]), m.pull[i], std::nullopt, 2},
                         Number(m.pull_threshold, 3), away ? "yes" : "no"});
@@ -218,7 +230,7 @@ Plot ConstantFigure(const Campaign& c, const MaterialFit& m, std::size_t i) {
   PlotSeries sessions;
   sessions.name = "each session";
   sessions.style = PlotSeries::Style::kMarkers;
-  const std::string source = m.fit == "restitution" ? "restitution linear-in-speed" : m.fit;
+  const std::string source = m.fit == "restitution" ? "restitution speed law" : m.fit;
   for (std::size_t k = 0; k < m.sessions.size(); ++k) {
     const auto s = std::find_if(c.sessions.begin(), c.sessions.end(),
                                 [&](const CampaignSession& x) { return x.name == m.sessions[k]; });
@@ -226,13 +238,18 @@ Plot ConstantFigure(const Campaign& c, const MaterialFit& m, std::size_t i) {
     for (const SessionEstimate& e : s->estimates) {
       if (e.source != source || e.name != m.constants[i]) continue;
       double value = e.value;
-      // A session's a is ln e at its own reference speed: moved to u0 along the joint b.
-      if (m.fit == "restitution" && e.name == "a" && m.values.size() == 2) {
-        value += m.values[1] * (m.reference_speed - s->reference_speed);
+      double sigma = e.sigma;
+      // A session's chi is eps/u at its own reference speed: moved to u0
+      // along the joint beta (eps grows as u^beta, so eps/u as u^(beta-1)).
+      if (m.fit == "restitution" && e.name == "damping_factor" && m.values.size() == 2 &&
+          s->reference_speed > 0.0 && m.reference_speed > 0.0) {
+        const double factor = std::pow(m.reference_speed / s->reference_speed, m.values[1] - 1.0);
+        value *= factor;
+        sigma *= factor;
       }
       sessions.x.push_back(static_cast<double>(k + 1));
       sessions.y.push_back(value);
-      sessions.sigma.push_back(e.sigma);
+      sessions.sigma.push_back(sigma);
     }
   }
   plot.series.push_back(sessions);
