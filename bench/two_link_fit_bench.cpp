@@ -6,9 +6,15 @@
 // 10.96 Hz, fitted with all three free.
 //
 //   bench_two_link_fit [--seeds 1] [--duration 3] [--spread 1] [--skip-five]
-//                      [--skip-explanations]
+//                      [--skip-explanations] [--record logged|exact] [--from-truth]
+//                      [--shift-grid]
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -41,22 +47,91 @@ double* Value(TwoLinkParameters& p, const std::string& name) {
   return nullptr;
 }
 
+// What the fit is given: the logger's record (whole counts, noise, ADC
+// steps), or the simulation itself, exact (the fit's sigmas then mean
+// nothing; its values say whether it reaches the truth).
+enum class RecordKind { kLogged, kExact };
+
+TwoLinkMeasurement Logged(const TwoLinkParameters& truth, const TwoLinkRecord& record,
+                          std::uint64_t seed, RecordKind kind) {
+  TwoLinkMeasurement m = LoggedMeasurement(truth, record, seed);
+  if (kind == RecordKind::kExact) {
+    // The fit reads an encoder at its count's centre, half a step up: the
+    // exact angle is given half a step down.
+    m.q1_rad = record.gearbox_a_rad;
+    m.q4_rad = record.gearbox_b_rad;
+    for (double& v : *m.q1_rad) v -= 0.5 * m.encoder_a_step_rad;
+    for (double& v : *m.q4_rad) v -= 0.5 * m.encoder_b_step_rad;
+    for (int a = 0; a < 4; ++a) m.acceleration_m_s2[a] = record.acceleration_m_s2[a];
+  }
+  return m;
+}
+
+// The logger's encoders count on a grid fixed to the angle, so every seed's
+// counts are the same and so is their quantisation error: seeds then differ
+// only by the accelerometers' noise. With `shift_grid` each seed's grid is
+// shifted by its own random fraction u of a count (counts floor(theta / step
+// + u), read back as (count - u) step), as if the arm came to rest at another
+// sub-count angle: the quantisation error is then drawn anew with each seed.
+TwoLinkMeasurement Record(const TwoLinkParameters& truth, const TwoLinkRecord& record,
+                          std::uint64_t seed, RecordKind kind, bool shift_grid) {
+  TwoLinkMeasurement m = Logged(truth, record, seed, kind);
+  if (shift_grid && kind != RecordKind::kExact) {
+    std::mt19937_64 rng(seed * 7919 + 1);
+    std::uniform_real_distribution<double> fraction(0.0, 1.0);
+    const auto shift = [&](std::vector<double>& angles, const std::vector<double>& exact,
+                           double step) {
+      const double u = fraction(rng);
+      for (std::size_t i = 0; i < angles.size(); ++i)
+        angles[i] = (std::floor(exact[i] / step + u) - u) * step;
+    };
+    shift(*m.q1_rad, record.gearbox_a_rad, m.encoder_a_step_rad);
+    shift(*m.q4_rad, record.gearbox_b_rad, m.encoder_b_step_rad);
+  }
+  return m;
+}
+
+double CpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+struct RunOptions {
+  int starts = 1;
+  RecordKind record = RecordKind::kLogged;
+  bool from_truth = false;
+  bool shift_grid = false;
+};
+
 TwoLinkFitResult Run(const TwoLinkParameters& nominal, const std::vector<Hidden>& hidden,
-                     const std::vector<std::string>& free, std::uint64_t seed, int starts,
-                     TwoLinkParameters* truth) {
+                     const std::vector<std::string>& free, std::uint64_t seed,
+                     const RunOptions& run, TwoLinkParameters* truth) {
   *truth = nominal;
   for (const Hidden& h : hidden) *Value(*truth, h.name) *= h.factor;
   const TwoLinkRecord record = SimulateTwoLink(TwoLinkModel(*truth), truth->cases[0]);
   TwoLinkFitOptions options;
   options.free = free;
-  options.starts = starts;
-  return FitTwoLinkSimulation(nominal, LoggedMeasurement(*truth, record, seed), options);
+  options.starts = run.starts;
+  return FitTwoLinkSimulation(run.from_truth ? *truth : nominal,
+                              Record(*truth, record, seed, run.record, run.shift_grid), options);
 }
 
-void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in) {
+// Each parameter's pulls over the seeds, and its errors (fitted - truth).
+struct Pulls {
+  std::vector<double> pulls, errors;
+};
+
+void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in, double cpu_s,
+           std::map<std::string, Pulls>* pulls) {
   TwoLinkParameters truth = truth_in;
   for (const FittedParameter& p : fit.parameters) {
     const double t = *Value(truth, p.name);
+    if (pulls) {
+      (*pulls)[p.name].errors.push_back(p.value.value - t);
+      if (p.value.sigma > 0) (*pulls)[p.name].pulls.push_back((p.value.value - t) / p.value.sigma);
+    }
     fmt::print("| {} | {:.9g} | {:.9g} | {:.3g} | {} |\n", p.name, t, p.value.value, p.value.sigma,
                p.value.sigma > 0 ? fmt::format("{:+.2f}", (p.value.value - t) / p.value.sigma)
                                  : std::string("-"));
@@ -68,10 +143,39 @@ void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in) {
   fmt::print(
       "\nchi2 per start:{}; Birge ratio {:.3f}; singular values / largest:{}; {} iterations, {} "
       "simulations, "
-      "{:.1f} s; a1 {:.4f} Hz measured, {:.4f} Hz fitted, {:.4f} Hz at the start\n\n",
-      costs, fit.birge_ratio, ratios, fit.iterations, fit.simulations, fit.seconds,
+      "{:.1f} s ({:.1f} s of CPU); a1 {:.4f} Hz measured, {:.4f} Hz fitted, {:.4f} Hz at the "
+      "start\n\n",
+      costs, fit.birge_ratio, ratios, fit.iterations, fit.simulations, fit.seconds, cpu_s,
       fit.measured_frequency_hz ? fit.measured_frequency_hz->value : 0.0, fit.fitted_frequency_hz,
       fit.start_frequency_hz);
+  std::fflush(stdout);  // each fit as it ends, also into a file
+}
+
+// Over the seeds: each parameter's mean pull and RMS pull, and its errors'
+// mean and scatter (a mean far beyond scatter / sqrt(seeds) is an error all
+// seeds share).
+void PrintPulls(const std::map<std::string, Pulls>& pulls) {
+  fmt::print(
+      "## Pulls over the seeds\n\n| parameter | seeds | mean pull | RMS pull | mean error | "
+      "error scatter |\n|---|---|---|---|---|---|\n");
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const auto& [name, p] : pulls) {
+    double mean = 0.0, square = 0.0, error = 0.0, error_square = 0.0;
+    for (double v : p.pulls) mean += v / static_cast<double>(p.pulls.size());
+    for (double v : p.pulls) square += v * v / static_cast<double>(p.pulls.size());
+    for (double v : p.errors) error += v / static_cast<double>(p.errors.size());
+    for (double v : p.errors) error_square += (v - error) * (v - error);
+    const double scatter = p.errors.size() > 1
+                               ? std::sqrt(error_square / static_cast<double>(p.errors.size() - 1))
+                               : 0.0;
+    fmt::print("| {} | {} | {:+.2f} | {:.2f} | {:+.3g} | {:.3g} |\n", name, p.pulls.size(), mean,
+               std::sqrt(square), error, scatter);
+    for (double v : p.pulls) sum += v * v;
+    count += p.pulls.size();
+  }
+  fmt::print("\nall parameters: RMS pull {:.2f} over {} pulls\n\n",
+             count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0, count);
 }
 
 }  // namespace
@@ -82,15 +186,26 @@ int main(int argc, char** argv) {
   double duration = 3.0;
   bool skip_five = false, skip_explanations = false;
   double spread = 1.0;
-  int starts = 1;
+  RunOptions run;
+  std::string record = "logged";
   app.add_option("--seeds", seeds, "Noise seeds for the five-parameter fit")->capture_default_str();
   app.add_option("--duration", duration, "Log length, s")->capture_default_str();
   app.add_flag("--skip-five", skip_five, "Leave out the five-parameter fit");
-  app.add_option("--starts", starts, "Fit starts (docs/two-link-fit.md)")->capture_default_str();
+  app.add_option("--starts", run.starts, "Fit starts (docs/two-link-fit.md)")
+      ->capture_default_str();
+  app.add_option("--record", record,
+                 "What the fit is given: logged (counts, noise, ADC steps) or exact (the "
+                 "simulation)")
+      ->check(CLI::IsMember({"logged", "exact"}))
+      ->capture_default_str();
+  app.add_flag("--from-truth", run.from_truth, "Start the fit at the hidden values");
+  app.add_flag("--shift-grid", run.shift_grid,
+               "Shift each seed's encoder count grid by a random fraction of a count");
   app.add_option("--spread", spread, "Scales the hidden changes (factor - 1)")
       ->capture_default_str();
   app.add_flag("--skip-explanations", skip_explanations, "Leave out the three explanations");
   CLI11_PARSE(app, argc, argv);
+  run.record = record == "exact" ? RecordKind::kExact : RecordKind::kLogged;
 
   TwoLinkParameters nominal = TwoLinkParameters::Nominal();
   nominal.cases[0].duration_s = duration;
@@ -106,15 +221,18 @@ int main(int argc, char** argv) {
     for (Hidden& h : scaled) h.factor = 1.0 + spread * (h.factor - 1.0);
     std::vector<std::string> free;
     for (const Hidden& h : hidden) free.push_back(h.name);
+    std::map<std::string, Pulls> pulls;
     for (int seed = 1; seed <= seeds; ++seed) {
       fmt::print("## Five parameters, seed {}\n\n{}", seed, header);
       // Fitted before printing: as Print's two arguments, `truth` could be
       // copied before Run sets it (their order is unspecified).
       TwoLinkParameters truth;
+      const double cpu = CpuSeconds();
       const TwoLinkFitResult fit =
-          Run(nominal, scaled, free, static_cast<std::uint64_t>(seed), starts, &truth);
-      Print(fit, truth);
+          Run(nominal, scaled, free, static_cast<std::uint64_t>(seed), run, &truth);
+      Print(fit, truth, CpuSeconds() - cpu, &pulls);
     }
+    if (seeds > 1) PrintPulls(pulls);
   }
   if (!skip_explanations) {
     const std::vector<std::string> free = {"tool.inertia_kg_m2", "beam2.flexural_rigidity_n_m2",
@@ -127,8 +245,9 @@ int main(int argc, char** argv) {
     for (const Hidden& h : explanations) {
       fmt::print("## Hidden: {} x {}, three explanations free\n\n{}", h.name, h.factor, header);
       TwoLinkParameters truth;
-      const TwoLinkFitResult fit = Run(nominal, {h}, free, 11, starts, &truth);
-      Print(fit, truth);
+      const double cpu = CpuSeconds();
+      const TwoLinkFitResult fit = Run(nominal, {h}, free, 11, run, &truth);
+      Print(fit, truth, CpuSeconds() - cpu, nullptr);
     }
   }
   return 0;

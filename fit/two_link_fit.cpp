@@ -242,6 +242,11 @@ class Problem {
       options.absolute_tolerance = options_.tolerance * 1e-3;
       options.keep_state = false;
       options.max_steps = max_steps_;
+      // The step budget bounds a trial's work; the simulator's wall-clock
+      // guard would make the fit depend on the machine's load (a trial that
+      // a busy machine runs past it becomes an infeasible point, and the fit
+      // ends elsewhere).
+      options.max_wall_seconds = std::numeric_limits<double>::infinity();
       // A stage that looks at the record's start simulates no further.
       if (stage_.until_s >= 0.0)
         options.duration_s = std::min(measurement_.time_s.back(), stage_.until_s + 2.0 / rate_);
