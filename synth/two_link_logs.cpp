@@ -291,7 +291,6 @@ TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOpti
     summary.rows.push_back(static_cast<int>(experiment.time_s.size()));
   }
   WriteManifest(folder / "session.toml", manifest);
-  summary.manifest = std::move(manifest);
   return summary;
 }
 

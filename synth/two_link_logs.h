@@ -23,7 +23,6 @@
 #include "fit/two_link_fit.h"
 #include "multibody/two_link_parameters.h"
 #include "multibody/two_link_simulation.h"
-#include "synth/manifest_writer.h"
 
 namespace impactlab {
 
@@ -58,7 +57,6 @@ struct TwoLinkLogSummary {
   nlohmann::json truth;               // per case: impact times, events, the parameters
   std::vector<int> rows;              // per case, in each of its files
   std::vector<std::string> warnings;  // "case N source: ..." where the model was stretched
-  SessionManifest manifest;           // what session.toml says
 };
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
