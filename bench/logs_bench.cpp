@@ -3,7 +3,8 @@
 //      and of the FFT peak's frequency, against the Cramér-Rao bound, versus
 //      SNR, record length and sampling rate;
 //   2. noise-free bias of both, in bins;
-//   3. the impact instant's error on generated flexible-arm logs, in samples;
+//   3. the impact instant's error on `synth-logs` sessions (the two-link arm),
+//      in samples;
 //   4. throughput: reading (rows and values per second), spectra (samples per
 //      second), and a whole AnalyseLog on a long log with its peak memory.
 //
@@ -31,7 +32,7 @@
 #include "signal/damped_modes.h"
 #include "signal/log_analysis.h"
 #include "signal/spectrum.h"
-#include "synth/beam_logs.h"
+#include "synth/arm_logs.h"
 
 namespace {
 
@@ -164,7 +165,7 @@ void BiasTable() {
 }
 
 void ImpactTable(int seeds) {
-  fmt::print("\n## 3. Impact instant on generated flexible-arm logs (1 kHz)\n\n");
+  fmt::print("\n## 3. Impact instant on synth-logs sessions of the two-link arm (1 kHz)\n\n");
   fmt::print(
       "| noise x | logs | RMS error, samples | worst, samples | method "
       "|\n|---:|---:|---:|---:|---|\n");
@@ -175,20 +176,20 @@ void ImpactTable(int seeds) {
     double sum2 = 0.0, worst = 0.0;
     std::string method;
     for (int seed = 0; seed < seeds; ++seed) {
-      BeamLogOptions options;
+      ArmLogOptions options;
       options.seed = static_cast<std::uint64_t>(seed + 1);
       options.noise_factor = noise;
       options.duration_s = 3.0;
-      options.experiment_start_delay_s = delay(engine);  // the impact anywhere in a sample
+      options.experiment_start_delay_s += delay(engine);  // the impact anywhere in a sample
       const fs::path folder = root / fmt::format("n{}-s{}", noise, seed);
-      const BeamLogSummary summary = GenerateBeamLogs(folder, options);
+      const double impact_s = WriteTwoLinkSession(folder, ArmLogSession(options))
+                                  .truth[options.log_id]["experiment"]["impact_time_s"];
       Log log = ReadManifest(folder).session.logs.at(0);
       log.simulation.reset();
       const LogAnalysis analysis = AnalyseLog(log, LogFileRecords(log, {}), {});
-      const double error =
-          analysis.experiment.impact.found
-              ? (analysis.experiment.impact.time_s.value - summary.experiment_impact_s) * 1000.0
-              : 1e9;
+      const double error = analysis.experiment.impact.found
+                               ? (analysis.experiment.impact.time_s.value - impact_s) * 1000.0
+                               : 1e9;
       sum2 += error * error;
       worst = std::max(worst, std::abs(error));
       method = analysis.experiment.impact.method;

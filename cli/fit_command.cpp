@@ -3,7 +3,9 @@
 // (docs/two-link-fit.md). DIR gets fitted.toml (the parameter file with the
 // fitted values), fit.txt (what was determined, with uncertainties, and what
 // was not) and a session whose log pairs the experiment with the fitted
-// simulation, so `impactlab reduce DIR` shows fitted against measured.
+// simulation, so `impactlab reduce DIR` shows fitted against measured. The
+// fit itself is pipeline/two_link_fit_run.h; here are the flags, the reading
+// and the writing.
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -15,49 +17,18 @@
 #include "cli/commands.h"
 #include "cli/progress_line.h"
 #include "cli/two_link_parameter_file.h"
-#include "fit/two_link_fit.h"
 #include "io/atomic_file.h"
 #include "io/errors.h"
 #include "io/log_reader.h"
 #include "io/manifest.h"
-#include "multibody/two_link_simulation.h"
 #include "multibody/two_link_toml.h"
+#include "pipeline/two_link_fit_run.h"
 #include "synth/manifest_writer.h"
 #include "synth/two_link_logs.h"
 
 namespace impactlab::cli {
-namespace {
 
 namespace fs = std::filesystem;
-
-// The experiment's channels by the simulator's names (q1, q4, a1..a4), in SI.
-TwoLinkMeasurement Measurement(const Log& log) {
-  const LogSeries series =
-      ReadLogSeries(log.experiment, log.time_column, log.channels, LogSource::kExperiment);
-  TwoLinkMeasurement m;
-  m.time_s = series.time_s;
-  const double t0 = m.time_s.empty() ? 0.0 : m.time_s.front();
-  for (double& t : m.time_s) t -= t0;
-  for (std::size_t c = 0; c < log.channels.size(); ++c) {
-    const LogChannel& channel = log.channels[c];
-    const std::vector<double>& values = series.values[c];
-    const double step =
-        channel.counts_per_rev ? 2.0 * M_PI / (*channel.counts_per_rev * channel.gear_ratio) : 0.0;
-    if (channel.name == "q1") {
-      m.q1_rad = values;
-      m.encoder_a_step_rad = step;
-    } else if (channel.name == "q4") {
-      m.q4_rad = values;
-      m.encoder_b_step_rad = step;
-    } else if (channel.name.size() == 2 && channel.name[0] == 'a' && channel.name[1] >= '1' &&
-               channel.name[1] <= '4') {
-      m.acceleration_m_s2[channel.name[1] - '1'] = values;
-    }
-  }
-  return m;
-}
-
-}  // namespace
 
 void AddFitCommand(CLI::App& app, Action& action) {
   struct Args {
@@ -115,9 +86,10 @@ void AddFitCommand(CLI::App& app, Action& action) {
       }
       TwoLinkFitOptions options = args->options;
       options.free = args->free;
-      const TwoLinkMeasurement measurement = Measurement(*log);
+      const LogSeries experiment =
+          ReadLogSeries(log->experiment, log->time_column, log->channels, LogSource::kExperiment);
       fmt::print(stderr, "fitting {} parameter(s) to log {} ({} samples)...\n", options.free.size(),
-                 log->id, measurement.time_s.size());
+                 log->id, experiment.time_s.size());
       ProgressLine line;
       if (line.Shown()) {
         options.on_progress = [&line](const TwoLinkFitProgress& p) {
@@ -135,7 +107,8 @@ void AddFitCommand(CLI::App& app, Action& action) {
                           p.simulations, p.seconds));
         };
       }
-      const TwoLinkFitResult result = FitTwoLinkSimulation(start, measurement, options);
+      const TwoLinkFitRun run = FitTwoLinkToLog(start, *log, experiment, options);
+      const TwoLinkFitResult& result = run.fit;
       line.Clear();
 
       fs::create_directories(args->out / "logs", ec);
@@ -150,11 +123,7 @@ void AddFitCommand(CLI::App& app, Action& action) {
       pair.simulation = fs::path("logs") / (log->id + "-fitted.csv");
       fs::copy_file(log->experiment, args->out / pair.experiment, ec);
       if (ec) throw InputError({log->experiment, "", std::nullopt}, ec.message());
-      TwoLinkParameters fitted = result.fitted;
-      const TwoLinkModel model(fitted);
-      const TwoLinkRecord record =
-          SimulateTwoLink(model, fitted.cases[options.case_number - 1], {});
-      WriteTwoLinkSimulationCsv(args->out / *pair.simulation, record);
+      WriteTwoLinkSimulationCsv(args->out / *pair.simulation, run.fitted_simulation);
       SessionManifest out;
       out.comment = {"The experiment of " + args->session.string() + " against the fitted",
                      "two-link simulation (impactlab fit two-link; see fit.txt)."};

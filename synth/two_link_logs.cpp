@@ -15,6 +15,7 @@
 
 #include "io/errors.h"
 #include "io/log_reader.h"  // kStandardGravity
+#include "multibody/two_link_channels.h"
 #include "multibody/two_link_toml.h"
 #include "synth/gaussian.h"
 #include "synth/log_file_internal.h"
@@ -27,7 +28,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kAccelerometerColumns[kTwoLinkAccelerometers] = {"acc1", "acc2", "acc3",
                                                                        "acc4"};
-constexpr const char* kAccelerometerChannels[kTwoLinkAccelerometers] = {"a1", "a2", "a3", "a4"};
 
 double CountsPerRad(const TwoLinkSensors& sensors, const TwoLinkDrive& drive) {
   return sensors.counts_per_rev * drive.gear_ratio / (2.0 * std::numbers::pi);
@@ -76,17 +76,44 @@ LoggedRecord RecordWithLogger(const TwoLinkRecord& r, const TwoLinkParameters& p
   return logged;
 }
 
-void WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r, const LoggedRecord& logged) {
+// The experiment's rows; with `inject_defects`, the row a fifth of the way in
+// has NaN for acc1, the row two fifths in is written twice and the row three
+// fifths in is left out. Returns the defects as written ({"kind", "line",
+// "column"}, {"kind", "line"} or {"kind", "time_s"}).
+nlohmann::json WriteExperimentCsv(const fs::path& file, const TwoLinkRecord& r,
+                                  const LoggedRecord& logged, bool inject_defects) {
   std::ofstream out = OpenCsv(file, LogHeader());
-  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+  nlohmann::json defects = nlohmann::json::array();
+  const std::size_t rows = r.time_s.size();
+  const std::size_t nan_row = rows / 5, duplicate_row = 2 * rows / 5, missing_row = 3 * rows / 5;
+  long long line = 1;  // the header
+  for (std::size_t i = 0; i < rows; ++i) {
+    if (inject_defects && i == missing_row) {
+      defects.push_back({{"kind", "missing sample"}, {"time_s", r.time_s[i]}});
+      continue;
+    }
     std::string row =
         fmt::format("{:.6f},{},{}", r.time_s[i], logged.counts_a[i], logged.counts_b[i]);
     for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
+      if (inject_defects && i == nan_row && a == 0) {
+        row += ",nan";
+        defects.push_back(
+            {{"kind", "NaN"}, {"line", line + 1}, {"column", kAccelerometerColumns[a]}});
+        continue;
+      }
       row += fmt::format(",{:.6f}", logged.volts[a][i]);
     }
-    out << row << "\n";
+    row += "\n";
+    out << row;
+    ++line;
+    if (inject_defects && i == duplicate_row) {
+      out << row;
+      ++line;
+      defects.push_back({{"kind", "duplicated time"}, {"line", line}});
+    }
   }
   synth_detail::CloseLog(out, file);
+  return defects;
 }
 
 void WriteStateCsv(const fs::path& file, const TwoLinkRecord& r) {
@@ -132,11 +159,11 @@ nlohmann::json RecordJson(const TwoLinkRecord& r, const std::string& parameters_
           {"parameters_toml", parameters_text}};
 }
 
-Log CaseLog(int number, const TwoLinkParameters& p) {
+Log CaseLog(const std::string& id, const TwoLinkParameters& p) {
   Log log;
-  log.id = fmt::format("case{}", number);
-  log.experiment = fmt::format("logs/case{}-experiment.csv", number);
-  log.simulation = fmt::format("logs/case{}-simulation.csv", number);
+  log.id = id;
+  log.experiment = fmt::format("logs/{}-experiment.csv", id);
+  log.simulation = fmt::format("logs/{}-simulation.csv", id);
   log.time_column = "t";
   auto encoder = [&](const char* name, const char* column, const TwoLinkDrive& drive) {
     LogChannel c;
@@ -146,10 +173,11 @@ Log CaseLog(int number, const TwoLinkParameters& p) {
     c.gear_ratio = drive.gear_ratio;
     return c;
   };
-  log.channels = {encoder("q1", "enc1", p.drive_a), encoder("q4", "enc2", p.drive_b)};
+  log.channels = {encoder(kTwoLinkEncoderAChannel, "enc1", p.drive_a),
+                  encoder(kTwoLinkEncoderBChannel, "enc2", p.drive_b)};
   for (int a = 0; a < kTwoLinkAccelerometers; ++a) {
     LogChannel c;
-    c.name = kAccelerometerChannels[a];
+    c.name = kTwoLinkAccelerometerChannels[a];
     c.column = kAccelerometerColumns[a];
     c.sensitivity = Sensitivity(p.sensors, a);
     log.channels.push_back(c);
@@ -203,10 +231,13 @@ TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOpti
   const TwoLinkModel simulation_model(options.simulation);
   const TwoLinkModel experiment_model(options.experiment);
   SessionManifest manifest;
-  manifest.comment = {"Encoder and accelerometer logs of the two-link flexible manipulator",
-                      "(impactlab simulate two-link; docs/two-link.md). The experiment is the",
-                      "simulator with the experiment's parameters and the logger's noise; the",
-                      "simulation is the simulation's parameters, clean, in SI."};
+  manifest.comment = options.comment;
+  if (manifest.comment.empty()) {
+    manifest.comment = {"Encoder and accelerometer logs of the two-link flexible manipulator",
+                        "(impactlab simulate two-link; docs/two-link.md). The experiment is the",
+                        "simulator with the experiment's parameters and the logger's noise; the",
+                        "simulation is the simulation's parameters, clean, in SI."};
+  }
   manifest.title =
       options.title.empty() ? "Two-link flexible manipulator (simulated logs)" : options.title;
   manifest.units = UnitSystem::kSI;
@@ -242,18 +273,21 @@ TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOpti
       }
       if (same) break;
     }
-    const Log log = CaseLog(number, options.experiment);
-    WriteExperimentCsv(
+    const Log log = CaseLog(options.log_id.empty() ? fmt::format("case{}", number) : options.log_id,
+                            options.experiment);
+    const nlohmann::json defects = WriteExperimentCsv(
         folder / log.experiment, experiment,
-        RecordWithLogger(experiment, options.experiment, CaseSeed(options.seed, number)));
+        RecordWithLogger(experiment, options.experiment, CaseSeed(options.seed, number)),
+        options.inject_defects);
     WriteTwoLinkSimulationCsv(folder / *log.simulation, simulation);
     if (options.write_state) {
-      WriteStateCsv(folder / "state" / fmt::format("case{}-experiment.csv", number), experiment);
-      WriteStateCsv(folder / "state" / fmt::format("case{}-simulation.csv", number), simulation);
+      WriteStateCsv(folder / "state" / fmt::format("{}-experiment.csv", log.id), experiment);
+      WriteStateCsv(folder / "state" / fmt::format("{}-simulation.csv", log.id), simulation);
     }
     manifest.logs.push_back(log);
     summary.truth[log.id] = {{"experiment", RecordJson(experiment, experiment_text)},
                              {"simulation", RecordJson(simulation, simulation_text)}};
+    if (options.inject_defects) summary.truth[log.id]["defects"] = defects;
     summary.rows.push_back(static_cast<int>(experiment.time_s.size()));
   }
   WriteManifest(folder / "session.toml", manifest);
@@ -264,6 +298,9 @@ TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOpti
 
 TwoLinkLogSummary WriteTwoLinkSession(const fs::path& folder, const TwoLinkLogOptions& options) {
   if (options.cases.empty()) throw std::invalid_argument("simulate two-link: no case chosen");
+  if (!options.log_id.empty() && options.cases.size() > 1) {
+    throw std::invalid_argument("simulate two-link: a log id names one case's log, not several");
+  }
   for (std::size_t i = 0; i < options.cases.size(); ++i) {
     const int number = options.cases[i];
     if (number < 1 || number > 3) {

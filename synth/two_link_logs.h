@@ -2,7 +2,8 @@
 // logs from the two-link manipulator's simulator (multibody/, docs/two-link.md),
 // in the format `reduce` reads (docs/session-format.md, "Logs").
 //
-// Per case N: logs/caseN-experiment.csv, the logger's view (encoder counts on
+// Per case N (a log id of its own, where given, replaces caseN):
+// logs/caseN-experiment.csv, the logger's view (encoder counts on
 // the motors, accelerometer volts with Gaussian noise in 16-bit steps) of the
 // `experiment` parameters; logs/caseN-simulation.csv, the `simulation`
 // parameters' clean record in SI; and, unless left out, state/caseN-*.csv,
@@ -39,7 +40,15 @@ struct TwoLinkLogOptions {
   std::uint64_t seed = 1;
   bool write_state = true;
   TwoLinkSimulationOptions integration;
-  std::string title;  // the manifest's; empty: a default
+  std::string title;                 // the manifest's; empty: a default
+  std::vector<std::string> comment;  // the manifest's opening comment; empty: a default
+  // With one case: its log's id, which names its files and its truth (empty:
+  // "caseN").
+  std::string log_id;
+  // A NaN (acc1), a duplicated row and a missing row in each experiment log,
+  // a fifth, two fifths and three fifths of the way in; the truth lists them
+  // under the log's "defects".
+  bool inject_defects = false;
   // Called after each simulation (seconds each: the command shows it on a terminal).
   std::function<void(const TwoLinkLogProgress&)> on_progress;
 };
@@ -51,8 +60,9 @@ struct TwoLinkLogSummary {
 };
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
-// or be empty; a run that fails removes what it wrote. Throws std::invalid_argument for bad options, InputError for a
-// folder that cannot be written, std::runtime_error when a simulation fails.
+// or be empty; a run that fails removes what it wrote. Throws std::invalid_argument for bad
+// options, InputError for a folder that cannot be written, std::runtime_error when a simulation
+// fails.
 TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
                                       const TwoLinkLogOptions& options);
 
