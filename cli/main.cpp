@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <glog/logging.h>
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utility.hpp>
 
@@ -83,6 +84,11 @@ int main(int argc, char** argv) {
   impactlab::KeepFreedMemoryForReuse();
   // A temporary output file being written is removed on Ctrl-C and kill.
   impactlab::InstallTemporaryFileCleanup();
+  // Ceres logs a trial point whose residuals cannot be evaluated (a contact
+  // law outside its domain in a profile interval's search) through glog as
+  // an error; the fits say what failed in their own status, so stderr stays
+  // the command's own.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   CLI::App app{"impactlab: reduce impact experiments (pendulum rebounds, contact models, logs)"};
   app.name("impactlab");
   app.set_version_flag("-V,--version", VersionText());

@@ -22,6 +22,34 @@ namespace {
 
 namespace odeint = boost::numeric::odeint;
 using State = std::array<double, 2>;  // u, w
+
+// Ends an integration that cannot finish: more than `max_steps` steps tried,
+// a step size collapsed to nothing against the time, or a state no longer
+// finite (each of which would otherwise loop for ever).
+struct StepGuard {
+  long max_steps = 0;
+  long tried = 0;
+  template <typename Vector>
+  void Check(double t, double dt, const Vector& x) {
+    ++tried;
+    bool finite = std::isfinite(t) && std::isfinite(dt);
+    for (double v : x) finite = finite && std::isfinite(v);
+    if (!finite) {
+      throw NoSeparationError(
+          fmt::format("the contact's motion is no longer finite at scaled time {:.6g}", t));
+    }
+    if (!(t + dt > t)) {
+      throw NoSeparationError(
+          fmt::format("the contact's step size collapsed to {:.3g} at scaled time {:.6g}", dt, t));
+    }
+    if (tried > max_steps) {
+      throw NoSeparationError(fmt::format(
+          "the contact had not ended after {} steps (scaled time {:.6g}): too stiff for this "
+          "integration, e.g. a damping far beyond critical",
+          max_steps, t));
+    }
+  }
+};
 using Stepper = odeint::runge_kutta_fehlberg78<State>;
 
 struct System {
@@ -72,10 +100,13 @@ ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separati
   // Under force separation the force may start at 0 (a law with no damping
   // at zero compression): the event is armed once the force is positive.
   bool armed = separation == Separation::kKinematic || ended(x) > 0.0;
+  StepGuard guard{options.max_steps};
   while (t < options.max_time) {
     const State before = x;
     const double t_before = t;
-    if (controlled.try_step(system, x, t, dt) != odeint::success) continue;
+    const bool accepted = controlled.try_step(system, x, t, dt) == odeint::success;
+    guard.Check(t, dt, x);
+    if (!accepted) continue;
     ++out.steps;
     const double step = t - t_before;
     if (!past_peak && x[1] <= 0.0) {
@@ -152,10 +183,13 @@ ScaledImpactSensitivity IntegrateScaledImpactWithSensitivity(
   ScaledImpactSensitivity out;
   bool past_peak = false;
   bool armed = kinematic || ended(x) > 0.0;
+  StepGuard guard{options.max_steps};
   while (t < options.max_time) {
     const Augmented before = x;
     const double t_before = t;
-    if (controlled.try_step(system, x, t, dt) != odeint::success) continue;
+    const bool accepted = controlled.try_step(system, x, t, dt) == odeint::success;
+    guard.Check(t, dt, x);
+    if (!accepted) continue;
     ++out.impact.steps;
     const double step = t - t_before;
     if (!past_peak && x[1] <= 0.0) {

@@ -37,9 +37,16 @@ struct ScaledImpact {
 struct ScaledIntegrationOptions {
   double tolerance = 1e-13;  // absolute and relative, per step
   double max_time = 1e4;     // scaled; beyond it the contact is said not to end
+  // Steps tried (accepted or not) before the contact is said not to end. A
+  // strongly overdamped law is stiff: this explicit stepper then needs steps
+  // of the fast time scale over the slow one's whole span (at a damping of
+  // 1e6, some 1e10 of them), and a state gone non-finite shrinks the step for
+  // ever. A real impact takes hundreds.
+  long max_steps = 200'000;
 };
 
-// Throws NoSeparationError when the contact has not ended by max_time.
+// Throws NoSeparationError when the contact has not ended by max_time or
+// within max_steps, or when the step or the state can no longer be computed.
 ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separation,
                                    const ScaledIntegrationOptions& options = {});
 
