@@ -155,8 +155,10 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     out.seconds = measured.seconds;
     if (!measured.ok) {
       // What was measured before the failure (the photo's overlay, the
-      // calibrations) stays, for the report.
+      // calibrations) stays, for the report; without a fingerprint, so that
+      // a later reduce measures the run again rather than reuse a part.
       out.reason = std::move(measured.reason);
+      out.fingerprint.clear();
       return out;
     }
   }

@@ -28,6 +28,9 @@ ContactPulseMeasurement MeasureContactPulse(const Trace& trace) {
   for (double v : trace.volts) {
     if (v < mid) low_state.push_back(std::abs(v - pulse.low_volts));
   }
+  // A flat trace (or one at two levels only in its extreme tenths) has no
+  // low state below the midpoint to measure the noise on.
+  if (low_state.empty()) return refused("the contact trace shows no step above its noise");
   std::nth_element(low_state.begin(), low_state.begin() + low_state.size() / 2, low_state.end());
   const double noise = 1.4826 * low_state[low_state.size() / 2];
   if (!(pulse.high_volts - pulse.low_volts > 6.0 * noise) || pulse.high_volts == pulse.low_volts) {

@@ -448,6 +448,17 @@ TEST_CASE("contact_pulse: a trace without a complete pulse is refused") {
   CHECK_THAT(measured.reason, Catch::Contains("does not end"));
 }
 
+TEST_CASE("contact_pulse: a flat trace is refused, saying it shows no step") {
+  Trace flat;
+  for (int i = 0; i < 100; ++i) {
+    flat.time_s.push_back(i * 1e-6);
+    flat.volts.push_back(0.1);
+  }
+  const ContactPulseMeasurement measured = MeasureContactPulse(flat);
+  CHECK_FALSE(measured.ok);
+  CHECK_THAT(measured.reason, Catch::Contains("no step"));
+}
+
 TEST_CASE("contact_pulse: a short stretch at the pulse's level before the pulse is refused") {
   // A label written across the rest level reads as 15 us at the pulse's
   // level, 50 us before the 353 us pulse: timing the first would say 15 us.
