@@ -103,8 +103,7 @@ Table SharedTable(const Campaign& c) {
   t.notes.push_back(
       "Generalised least squares on the sessions' estimates and covariances; hunt-crossley and "
       "hertz fit ln E* and ln chi, restitution ln chi and beta of e(u) = E(chi u0 (u/u0)^beta). "
-      "sigma scaled: times the "
-      "Birge ratio where it exceeds 1.");
+      "sigma scaled: times the Birge ratio where it exceeds 1.");
   return t;
 }
 
