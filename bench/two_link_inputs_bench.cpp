@@ -101,14 +101,20 @@ int main(int argc, char** argv) {
       try {
         const TwoLinkModel model(p);
         const TwoLinkRecord record = SimulateTwoLink(model, p.cases[0]);
-        ++results;
-        warned += !record.warnings.empty();
         if (!AllFinite(record)) {
           ++with_nan;
           fmt::print("NaN in the record: {}\n", changed);
         }
-        outcome = "result";
-      } catch (const std::exception& e) {
+        if (record.ok) {
+          ++results;
+          warned += !record.warnings.empty();
+          outcome = "result";
+        } else {
+          ++refused_simulation;
+          ++kinds["simulation: " + KindOf(record.reason)];
+          outcome = record.reason;
+        }
+      } catch (const std::exception& e) {  // the model's own checks of its parameters
         ++refused_simulation;
         ++kinds["simulation: " + KindOf(e.what())];
         outcome = e.what();

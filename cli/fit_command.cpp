@@ -117,6 +117,14 @@ void AddFitCommand(CLI::App& app, Action& action) {
       const std::string summary = fmt::format("# Two-link simulation fitted to log {} of {}\n\n{}",
                                               log->id, args->session.string(), result.Summary());
       WriteFileAtomically(args->out / "fit.txt", summary);
+      if (!run.fitted_simulation.ok) {
+        // The fit stands (fitted.toml, fit.txt); its case cannot be simulated whole.
+        fmt::print("{}", summary);
+        fmt::print(stderr,
+                   "error: the fitted parameters' case {}: {}\nwritten: {}/fitted.toml, fit.txt\n",
+                   options.case_number, run.fitted_simulation.reason, args->out.string());
+        return kExitModelDomain;
+      }
       // The session: the experiment as recorded beside the fitted simulation.
       Log pair = *log;
       pair.experiment = fs::path("logs") / (log->id + "-experiment.csv");

@@ -251,9 +251,10 @@ class Problem {
       if (stage_.until_s >= 0.0)
         options.duration_s = std::min(measurement_.time_s.back(), stage_.until_s + 2.0 / rate_);
       record = SimulateTwoLink(model, p.cases[options_.case_number - 1], options);
-    } catch (const std::exception&) {
+    } catch (const std::exception&) {  // parameters the model does not take
       return e;
     }
+    if (!record.ok) return e;  // a motion the model refuses: an infeasible point
     ++simulations_;
     e.steps = record.steps;
     const std::size_t n = measurement_.time_s.size();

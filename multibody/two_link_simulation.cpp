@@ -96,9 +96,16 @@ class Simulation {
                                                       : 2.0 + 0.5 * end_),
         started_(std::chrono::steady_clock::now()) {}
 
+  // The motion to its end, or to where the model refuses it: a refusal
+  // deep in the stepping (a budget, a non-finite state, a jam in an impact,
+  // a mass matrix that loses its definiteness inside the integrator's
+  // right-hand side) unwinds to here as std::domain_error and becomes the
+  // record's reason, the samples kept up to the last whole one.
   TwoLinkRecord Run();
 
  private:
+  TwoLinkRecord Simulate();
+  TwoLinkRecord Refused(const std::string& reason);
   DriveVoltages Voltages(double t, const TwoLinkVector& q) const {
     return CaseVoltages(model_, case_, t, q(kGearboxAAngle), q(kGearboxBAngle));
   }
@@ -307,6 +314,40 @@ void Simulation::Emit(double up_to_s, const Regime& regime) {
 }
 
 TwoLinkRecord Simulation::Run() {
+  try {
+    return Simulate();
+  } catch (const std::domain_error& e) {
+    return Refused(e.what());
+  }
+}
+
+TwoLinkRecord Simulation::Refused(const std::string& reason) {
+  record_.ok = false;
+  record_.reason = reason;
+  // A refusal inside a sample leaves its channels unequal: keep whole samples.
+  std::size_t n = record_.time_s.size();
+  const auto shortest = [&n](const auto& channel) { n = std::min(n, channel.size()); };
+  shortest(record_.gearbox_a_rad), shortest(record_.gearbox_b_rad);
+  for (const std::vector<double>& a : record_.acceleration_m_s2) shortest(a);
+  if (options_.keep_state) {
+    shortest(record_.position), shortest(record_.velocity), shortest(record_.in_contact);
+    shortest(record_.normal_force_n), shortest(record_.friction_force_n);
+    shortest(record_.tip_x_m), shortest(record_.tip_y_m);
+    shortest(record_.voltage_a_v), shortest(record_.voltage_b_v);
+  }
+  const auto trim = [n](auto& channel) {
+    if (channel.size() > n) channel.resize(n);
+  };
+  trim(record_.time_s), trim(record_.gearbox_a_rad), trim(record_.gearbox_b_rad);
+  for (std::vector<double>& a : record_.acceleration_m_s2) trim(a);
+  trim(record_.position), trim(record_.velocity), trim(record_.in_contact);
+  trim(record_.normal_force_n), trim(record_.friction_force_n);
+  trim(record_.tip_x_m), trim(record_.tip_y_m);
+  trim(record_.voltage_a_v), trim(record_.voltage_b_v);
+  return std::move(record_);
+}
+
+TwoLinkRecord Simulation::Simulate() {
   TwoLinkVector q = TwoLinkVector::Zero(), v = TwoLinkVector::Zero();
   q(kLink1Angle) = q(kGearboxAAngle) = case_.q1_rad;
   q(kLink2Angle) = q(kGearboxBAngle) = case_.q4_rad;
@@ -460,7 +501,7 @@ TwoLinkRecord SimulateTwoLink(const TwoLinkModel& model, const TwoLinkCase& expe
                               const TwoLinkSimulationOptions& options) {
   if (!(options.relative_tolerance > 0.0) || !(options.absolute_tolerance > 0.0) ||
       !(options.max_step_s > 0.0) || options.sample_rate_hz < 0.0 || options.duration_s < 0.0) {
-    throw std::domain_error("two-link simulation: tolerances and steps must be positive");
+    throw std::invalid_argument("two-link simulation: tolerances and steps must be positive");
   }
   const double rate = options.sample_rate_hz > 0.0 ? options.sample_rate_hz
                                                    : model.parameters().sensors.sample_rate_hz;

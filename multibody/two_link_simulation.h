@@ -77,6 +77,11 @@ struct TwoLinkEnergy {
 };
 
 struct TwoLinkRecord {
+  // false: the motion was refused part way (or before it started); `reason`
+  // says why, with the time and the cause; the samples and events are what
+  // was simulated up to there (the energy's ledger is whole only when ok).
+  bool ok = true;
+  std::string reason;
   std::vector<double> time_s;
   std::vector<double> gearbox_a_rad, gearbox_b_rad;  // what the encoders read (output side)
   std::array<std::vector<double>, kTwoLinkAccelerometers> acceleration_m_s2;
@@ -95,11 +100,12 @@ struct TwoLinkRecord {
   double FirstImpact() const;  // s; NaN-free: -1 when there was none
 };
 
-// Throws std::invalid_argument for bad options; std::domain_error for a tip
-// that starts inside the surface or a motion the model cannot integrate (step
-// collapse, a state that leaves the finite numbers, a step or time budget
-// spent, a beam deflected beyond the small-deflection model, chatter, loop
-// closure), with the time and the cause.
+// Throws std::invalid_argument for bad options. A tip that starts inside the
+// surface, or a motion the model cannot integrate (step collapse, a state
+// that leaves the finite numbers, a step or time budget spent, a beam
+// deflected beyond the small-deflection model, chatter, loop closure, a
+// frictional jam), is a record with !ok, the reason naming the time and the
+// cause, and what was simulated before it.
 TwoLinkRecord SimulateTwoLink(const TwoLinkModel& model, const TwoLinkCase& experiment,
                               const TwoLinkSimulationOptions& options = {});
 

@@ -24,7 +24,8 @@ struct TwoLinkFitRun {
 TwoLinkMeasurement TwoLinkMeasurementOfLog(const Log& log, const LogSeries& experiment);
 
 // Fits `start` to the log's experiment (FitTwoLinkSimulation) and simulates
-// the fitted case. Throws what FitTwoLinkSimulation and SimulateTwoLink throw.
+// the fitted case (a record with !ok where the model refuses it). Throws what
+// FitTwoLinkSimulation throws.
 TwoLinkFitRun FitTwoLinkToLog(const TwoLinkParameters& start, const Log& log,
                               const LogSeries& experiment, const TwoLinkFitOptions& options);
 

@@ -257,13 +257,22 @@ TwoLinkLogSummary WriteTwoLinkCases(const fs::path& folder, const TwoLinkLogOpti
     const auto simulated = [&, total = 2 * options.cases.size()](const char* source) {
       if (options.on_progress) options.on_progress({number, source, ++simulations, total});
     };
+    // A case the model refuses writes no session: its reason, as a refusal.
+    const auto refuse_unless_ok = [&](const TwoLinkRecord& record, const char* source) {
+      if (!record.ok)
+        throw std::domain_error(fmt::format("case {} {}: {}", number, source, record.reason));
+    };
     const TwoLinkRecord experiment =
         SimulateTwoLink(experiment_model, experiment_case, integration);
+    refuse_unless_ok(experiment, "experiment");
     simulated("experiment");
     // The same parameters give the same record: simulated once.
     const bool same = experiment_text == simulation_text;
     std::optional<TwoLinkRecord> simulated_apart;
-    if (!same) simulated_apart = SimulateTwoLink(simulation_model, simulation_case, integration);
+    if (!same) {
+      simulated_apart = SimulateTwoLink(simulation_model, simulation_case, integration);
+      refuse_unless_ok(*simulated_apart, "simulation");
+    }
     const TwoLinkRecord& simulation = same ? experiment : *simulated_apart;
     simulated("simulation");
     for (const auto& [source, record] :

@@ -61,8 +61,8 @@ struct TwoLinkLogSummary {
 
 // Writes `folder`/session.toml, logs/ and state/. The folder must not exist
 // or be empty; a run that fails removes what it wrote. Throws std::invalid_argument for bad
-// options, InputError for a folder that cannot be written, std::runtime_error when a simulation
-// fails.
+// options, InputError for a folder that cannot be written, std::domain_error when the model
+// refuses a case's motion (its record's reason).
 TwoLinkLogSummary WriteTwoLinkSession(const std::filesystem::path& folder,
                                       const TwoLinkLogOptions& options);
 
