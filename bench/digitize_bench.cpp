@@ -88,9 +88,8 @@ void Measure(const testing::RunScene& run, const Case& c, const DigitizeOptions&
     }
     const double decoded = CpuMilliseconds();
     tally.decode_ms.push_back(decoded - start);
-    try {
-      result = DigitizePhoto(photo, {10, 8}, run.requests, options);
-    } catch (const std::exception&) {
+    result = DigitizePhoto(photo, {10, 8}, run.requests, options);
+    if (!result.ok) {
       ++tally.failures;
       return;
     }

@@ -129,11 +129,13 @@ void AddDigitizeCommand(CLI::App& app, Action& action) {
       const DigitizeResult result =
           DigitizePhoto(photo, session.divisions, target.requests, options);
 
+      // A photo not read still gets its overlay: what was found, and why not.
+      if (!args->overlay.empty()) WriteImage(args->overlay, DrawOverlay(photo, result));
+      if (!result.ok) throw InputError(result.failed_at, result.reason);
       std::filesystem::create_directories(args->out_dir);
       for (const DigitizedTrace& trace : result.traces) {
         WriteDigitizedCsv(args->out_dir / fmt::format("{}-{}.csv", target.id, trace.name), trace);
       }
-      if (!args->overlay.empty()) WriteImage(args->overlay, DrawOverlay(photo, result));
       if (!args->quiet) {
         const GraticuleFit& g = result.graticule;
         fmt::print(

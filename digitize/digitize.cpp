@@ -108,25 +108,51 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
     throw std::invalid_argument("digitize options: " + error);
   }
   DigitizeResult result;
-  const PreparedPhoto prepared = PreparePhoto(photo, options.graticule);
-  result.prepare_ms = prepared.prepare_ms;
-
+  // Each stage refuses a photo it cannot read with an InputError (its file,
+  // the key to fix, why); here that ends the run as a result, which keeps
+  // what the stages before it found.
+  const auto refused = [&result](const InputError& e) {
+    result.ok = false;
+    result.failed_at = e.where();
+    result.reason = e.problem();
+    result.traces.clear();
+    result.mark_outlines_px.clear();
+    return result;
+  };
   auto start = std::chrono::steady_clock::now();
-  result.graticule = FindGraticule(prepared, divisions, options.graticule);
+  std::optional<PreparedPhoto> prepared;
+  try {
+    prepared.emplace(PreparePhoto(photo, options.graticule));
+    result.prepare_ms = prepared->prepare_ms;
+    start = std::chrono::steady_clock::now();
+    result.graticule = FindGraticule(*prepared, divisions, options.graticule);
+    result.graticule_found = true;
+  } catch (const InputError& e) {
+    return refused(e);
+  }
   result.graticule_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  result.traces =
-      ExtractTracesThinOrBold(prepared, result.graticule, requests, options.traces, result);
+  try {
+    result.traces =
+        ExtractTracesThinOrBold(*prepared, result.graticule, requests, options.traces, result);
+  } catch (const InputError& e) {
+    result.traces_ms = MillisecondsSince(start);
+    return refused(e);
+  }
   result.traces_ms = MillisecondsSince(start);
 
   start = std::chrono::steady_clock::now();
   for (const DigitizedTrace& trace : result.traces) {
-    result.pulses.push_back(trace.settings.impact ? MeasurePulse(prepared, result.graticule, trace)
+    result.pulses.push_back(trace.settings.impact ? MeasurePulse(*prepared, result.graticule, trace)
                                                   : std::nullopt);
   }
   result.pulse_ms = MillisecondsSince(start);
   return result;
+}
+
+std::string DigitizeResult::Failure() const {
+  return ok ? std::string() : InputError(failed_at, reason).what();
 }
 
 std::string HintsUsed(const DigitizeResult& result) {

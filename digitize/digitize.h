@@ -12,9 +12,11 @@
 //                    centre line measured across the trace in the full photo
 //   MeasurePulse     the contact trace's edges from the photo, sub-pixel
 //   DrawOverlay      the photo with what was found drawn on it
-// DigitizePhoto runs them all. Problems with the photo (unreadable, no
-// graticule, a trace missing from its band) throw InputError naming the photo
-// and what was not found; no sample is ever made up where the trace is not seen.
+// DigitizePhoto runs them all. A photo that cannot be read to the end (no
+// graticule, a trace missing from its band, a photo too small) is a result
+// with !ok naming the photo, the key to fix and what was not found, keeping
+// what was found before (the graticule); no sample is ever made up where the
+// trace is not seen. The stages run alone throw InputError instead.
 //
 // Conventions as in session-format.md and render/oscillograph.h: screen
 // positions in graticule divisions, x from the graticule's left edge, y from its
@@ -32,6 +34,7 @@
 #include <opencv2/core.hpp>
 
 #include "digitize/options.h"
+#include "io/errors.h"
 #include "io/session.h"
 #include "io/trace.h"
 #include "model/contact_pulse.h"
@@ -210,6 +213,14 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
 // All stages
 
 struct DigitizeResult {
+  // false: the photo was not read to the end. `failed_at` (the photo, and the
+  // manifest key a user can fix where there is one) and `reason` say why; the
+  // graticule stays when it was found (`graticule_found`), the traces and
+  // pulses are then empty.
+  bool ok = true;
+  InputLocation failed_at;
+  std::string reason;
+  bool graticule_found = false;
   GraticuleFit graticule;
   std::vector<DigitizedTrace> traces;                  // in the order requested
   std::vector<std::optional<ContactPulseFit>> pulses;  // one per trace; set for contact traces
@@ -219,10 +230,14 @@ struct DigitizeResult {
   double prepare_ms = 0.0, graticule_ms = 0.0, traces_ms = 0.0, pulse_ms = 0.0;
 
   double ProcessingMs() const { return prepare_ms + graticule_ms + traces_ms + pulse_ms; }
+  // "FILE: KEY: reason", as an InputError names it; empty when ok.
+  std::string Failure() const;
 };
 
 // Runs PreparePhoto, FindGraticule, ExtractTraces and, for traces with an
-// `impact` (contact traces), MeasurePulse.
+// `impact` (contact traces), MeasurePulse; a stage's refusal of the photo
+// ends the run as a result with !ok. Throws std::invalid_argument for bad
+// options.
 DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
                              const std::vector<TraceRequest>& requests,
                              const DigitizeOptions& options);

@@ -30,6 +30,29 @@ const cv::Scalar kTraceColours[] = {{60, 60, 255}, {255, 120, 40}, {0, 200, 255}
 const cv::Scalar kGridColour(255, 255, 0);
 const cv::Scalar kEdgeColour(0, 255, 255);
 const cv::Scalar kWhite(255, 255, 255);
+const cv::Scalar kFailureColour(80, 80, 255);
+constexpr std::size_t kFailureLineChars = 90;
+
+// `text` broken at spaces into lines of at most `width` characters (a longer
+// word stands alone).
+std::vector<std::string> WrappedWords(const std::string& text, std::size_t width) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t space = text.find(' ', at);
+    const std::string word = text.substr(at, space == std::string::npos ? space : space - at);
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    if (space == std::string::npos) break;
+    at = space + 1;
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
 
 // The 8-bit BGR pixels of `image` in a Mat of their own: they are drawn on,
 // and must never be the photo's.
@@ -226,11 +249,19 @@ void DrawLegend(Canvas& canvas, const DigitizeResult& result, double text_scale)
   const GraticuleFit& g = result.graticule;
   const double scale = 0.5 * text_scale;
   std::vector<std::pair<std::string, cv::Scalar>> lines;
-  lines.emplace_back(
-      fmt::format("graticule {}x{}: residual {:.3f} px RMS ({} line samples), {:.1f} px/div{}",
-                  g.divisions[0], g.divisions[1], g.residual_px, g.samples_used, g.px_per_div,
-                  g.radial_fitted ? fmt::format(", k1 {:.4f}", g.mapping.radial_k1) : ""),
-      kGridColour);
+  if (result.graticule_found) {
+    lines.emplace_back(
+        fmt::format("graticule {}x{}: residual {:.3f} px RMS ({} line samples), {:.1f} px/div{}",
+                    g.divisions[0], g.divisions[1], g.residual_px, g.samples_used, g.px_per_div,
+                    g.radial_fitted ? fmt::format(", k1 {:.4f}", g.mapping.radial_k1) : ""),
+        kGridColour);
+  }
+  if (!result.ok) {
+    // Why the photo was not read, in lines a photo's width can hold.
+    for (const std::string& line : WrappedWords("not read: " + result.reason, kFailureLineChars)) {
+      lines.emplace_back(line, kFailureColour);
+    }
+  }
   for (std::size_t t = 0; t < result.traces.size(); ++t) {
     const DigitizedTrace& trace = result.traces[t];
     lines.emplace_back(
@@ -336,7 +367,7 @@ cv::Mat DrawOverlay(const Photo& photo, const DigitizeResult& result,
   // Text is sized for the photo (larger on a large one), then shrunk with it.
   const double text_scale = std::max(1.0, photo.image.cols / 1600.0) * canvas.scale_x;
   const GraticuleFit& g = result.graticule;
-  DrawGraticule(canvas, g);
+  if (result.graticule_found) DrawGraticule(canvas, g);
 
   // The insets show the photo itself with only the centre lines and the
   // pulse edges' ticks.

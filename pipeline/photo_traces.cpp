@@ -78,6 +78,9 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   const DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
 
   DigitizedPhoto out;
+  out.ok = result.ok;
+  out.failed_at = result.failed_at;
+  out.reason = result.reason;
   out.overlay.photo = std::filesystem::relative(path, session.folder).string();
   DrawOverlays(photo, result, thumbnail, out.overlay);
   out.overlay.graticule_residual_px = result.graticule.residual_px;

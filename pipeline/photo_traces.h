@@ -19,13 +19,19 @@
 namespace impactlab {
 
 struct DigitizedPhoto {
+  // false: the photo was not read to the end (DigitizeResult): no traces,
+  // the overlay shows what was found and why not.
+  bool ok = true;
+  InputLocation failed_at;
+  std::string reason;
   std::map<std::string, Trace> traces;  // by trace name ("right", "left", "contact", ...)
   std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
   PhotoOverlay overlay;                 // what was found, drawn on the photo
 };
 
-// Throws InputError naming the photo and what was not found (no graticule, a
-// trace missing from its band, an unreadable file).
+// A photo not read to the end (no graticule, a trace missing from its band)
+// is a result with !ok naming the photo and what was not found, its overlay
+// drawn; throws InputError for a file that cannot be read or decoded.
 // `options`: the photo's entry's; the manifest's corners hint, when it gives one, is added.
 // `thumbnail`: make the overlay's quarter-width pixels too (products.thumbnails).
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& photo, const Session& session,

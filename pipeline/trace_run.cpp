@@ -205,6 +205,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
       return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}},
                                   options.digitize, options.products.thumbnails);
     });
+    if (!digitized.ok) throw InputError(digitized.failed_at, digitized.reason);
     trace = std::move(digitized.traces.at("trace"));
     cell->overlay = std::move(digitized.overlay);
   } else {
@@ -255,7 +256,9 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
       return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize,
                                   options.products.thumbnails);
     });
+    // Kept when the photo was not read too: it shows what was found and why not.
     out.overlays.push_back(photo->overlay);
+    if (!photo->ok) throw InputError(photo->failed_at, photo->reason);
   }
   // Every trace checked as read: its span against the pendulum's swings, and
   // (right, left) that it resolves them.

@@ -92,9 +92,12 @@ TEST_CASE("digitize errors: a photo without the graticule says so") {
       {"circles.png", circles},
   };
   for (const auto& [name, image] : photos) {
-    const std::string message = InputErrorOf([&] {
-      DigitizePhoto({image, name}, {10, 8}, testing::StandardRunScene().requests, {});
-    });
+    const DigitizeResult result =
+        DigitizePhoto({image, name}, {10, 8}, testing::StandardRunScene().requests, {});
+    const std::string message = result.Failure();
+    CHECK_FALSE(result.ok);
+    CHECK_FALSE(result.graticule_found);
+    CHECK(result.traces.empty());
     INFO(name << ": " << message);
     CHECK(message.find(name) != std::string::npos);
     CHECK(message.find("graticule of 10 x 8 divisions not found") != std::string::npos);
@@ -126,12 +129,19 @@ TEST_CASE("digitize errors: a trace missing from its band is reported, not inven
     options.style = style;
     options.width_px = 1000;
     const cv::Mat image = RenderOscillograph(run.scene, options).image;
-    const std::string message = InputErrorOf([&] {
-      DigitizePhoto({image, "run-7.jpg"}, {10, 8}, requests, {});
-    });
+    const DigitizeResult result = DigitizePhoto({image, "run-7.jpg"}, {10, 8}, requests, {});
+    const std::string message = result.Failure();
+    CHECK_FALSE(result.ok);
+    // What was found before the trace was missed stays: the graticule.
+    CHECK(result.graticule_found);
+    CHECK(result.graticule.residual_px < 1.0);
+    CHECK(result.traces.empty());
     INFO(PhotoStyleName(style) << ": " << message);
     CHECK(message.find("run-7.jpg") != std::string::npos);
     CHECK(message.find("trace 'left' not found in its band [-2.4, 0] div") != std::string::npos);
+    // The overlay of a photo not read shows the graticule found and why.
+    const cv::Mat overlay = DrawOverlay({image, "run-7.jpg"}, result, {.max_width_px = 500});
+    CHECK(!overlay.empty());
   }
 }
 

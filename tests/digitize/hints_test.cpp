@@ -238,9 +238,7 @@ TEST_CASE(
   std::vector<TraceRequest> requests = {run.requests[1]};
   requests[0].settings.band_div = {3.0, 3.9};
   requests[0].settings.zero_div = 3.5;
-  std::string message = InputErrorOf([&] {
-    DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {});
-  });
+  std::string message = DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {}).Failure();
   CHECK_THAT(message, Catch::Contains("trace 'left' not found"));
   CHECK_THAT(message, Catch::Contains("points = [[x, y], ...]"));
 
@@ -249,7 +247,7 @@ TEST_CASE(
   const cv::Point2d off = photo.ImageFromScreen({5.0, 2.0});
   const cv::Point2d on = photo.ImageFromScreen(TruthAt(photo, "left", 5.0));
   requests[0].settings.points_px = {{on.x, on.y}, {off.x, off.y}};
-  message = InputErrorOf([&] { DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {}); });
+  message = DigitizePhoto({photo.image, "p.png"}, {10, 8}, requests, {}).Failure();
   CHECK_THAT(message, Catch::Contains("traces.left.points[1]"));
   CHECK_THAT(message, Catch::Contains("outside its band [-2.4, 0] div"));
 }
