@@ -107,6 +107,7 @@ RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& se
   if (fit.stiffness) {
     const SampledHistory response = ModelResponse(pendulum, mass, fitted_run, fit);
     out.model_response = {response.time, response.displacement};
+    out.model_residual = ResidualCurve(measured.measured_displacement, out.model_response);
   }
   out.kelvin_voigt = std::move(fit);
   out.least_squares = FitRunLeastSquares(pendulum, mass, separation, fit_options, run.id, out);

@@ -609,6 +609,10 @@ void WriteKelvinVoigt(Out& out, const RunResult& run) {
     WriteCurve(out, g + "/response/time", fits.model_response.time_s, "s",
                g + "/response/displacement", fits.model_response.value, out.u.length);
   }
+  if (!fits.model_residual.time_s.empty()) {
+    WriteCurve(out, g + "/residual/time", fits.model_residual.time_s, "s",
+               g + "/residual/displacement", fits.model_residual.value, out.u.length);
+  }
   const std::size_t n = fit.predicted_xmax.size();
   for (const std::string& a : SameLength(g, run.measured.xmax.size(),
                                          {{"predicted_xmax", n},
@@ -787,6 +791,10 @@ void ReadKelvinVoigt(const In& in, RunResult& run) {
   if (f.Exists(k + "/response/time")) {
     fits.model_response = {f.ReadVector(k + "/response/time"),
                            f.ReadVector(k + "/response/displacement")};
+  }
+  if (f.Exists(k + "/residual/time")) {
+    fits.model_residual = {f.ReadVector(k + "/residual/time"),
+                           f.ReadVector(k + "/residual/displacement")};
   }
   fits.kelvin_voigt = std::move(fit);
 }

@@ -5,6 +5,24 @@
 
 namespace impactlab {
 
+Curve ResidualCurve(const Curve& measured, const Curve& model) {
+  Curve residual;
+  const std::vector<double>& x = model.time_s;
+  if (x.size() < 2) return residual;
+  for (std::size_t k = 0; k < measured.time_s.size(); ++k) {
+    const double t = measured.time_s[k];
+    if (t < x.front() || t > x.back()) continue;
+    const auto i = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), t) - x.begin());
+    const double at = i >= x.size()
+                          ? model.value.back()
+                          : model.value[i - 1] + (t - x[i - 1]) / (x[i] - x[i - 1]) *
+                                                     (model.value[i] - model.value[i - 1]);
+    residual.time_s.push_back(t);
+    residual.value.push_back(measured.value[k] - at);
+  }
+  return residual;
+}
+
 int SessionResult::FailedRuns() const {
   // A log that cannot be analysed counts as a failed run: the exit status says so.
   return static_cast<int>(

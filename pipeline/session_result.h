@@ -132,6 +132,10 @@ struct Curve {
   std::vector<double> value;
 };
 
+// `measured` less `model` (increasing times, linearly interpolated) at
+// `measured`'s times within `model`'s span: a fit's residual history.
+Curve ResidualCurve(const Curve& measured, const Curve& model);
+
 // A photocell calibration as used by a run (Figures 13-14).
 struct CellCalibration {
   std::string calibration_id;
@@ -261,8 +265,10 @@ struct RunFits {
   std::vector<double> deviation, deviation_pct_peak, deviation_pct_x0;
   // Typed-in runs: when the fitted model's maxima fall, s since release.
   std::vector<double> model_peak_times;
-  // Figures 16-18: the fitted Kelvin-Voigt model's response, length units.
+  // Figures 16-18: the fitted Kelvin-Voigt model's response, and the
+  // measured displacement less it at the measured times, length units.
   Curve model_response;
+  Curve model_residual;
   std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
 
   // What the results file keeps beside the two-point fit's fields, in its

@@ -108,16 +108,6 @@ class Figures {
   std::vector<std::pair<std::string, Plot>> plots_;
 };
 
-// `model` (increasing times) at time t, by linear interpolation; NaN outside it.
-double Interpolated(const Curve& model, double t) {
-  const auto& x = model.time_s;
-  if (x.size() < 2 || t < x.front() || t > x.back()) return std::nan("");
-  const auto i = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), t) - x.begin());
-  if (i >= x.size()) return model.value.back();
-  const double f = (t - x[i - 1]) / (x[i] - x[i - 1]);
-  return model.value[i - 1] + f * (model.value[i] - model.value[i - 1]);
-}
-
 // Thesis Figures 16-18: the fit, the measured history drawn over it, the
 // maxima with their errors; beneath, what the fit leaves.
 std::string RunFigure(const RunResult& run, const UnitLabels& u, Figures& figures) {
@@ -147,20 +137,18 @@ std::string RunFigure(const RunResult& run, const UnitLabels& u, Figures& figure
       plot, fmt::format("Measured and theoretical response of run {} (thesis Figures 16-18); "
                         "maxima from {}, times from the {}.",
                         run.id, run.measured.source, run.PeakTimesSource()));
-  if (!measured.time_s.empty() && model.time_s.size() >= 2) {
+  if (const Curve& left = run.fits.model_residual; !left.time_s.empty()) {
     Plot residual;
     residual.title = fmt::format("Run {}: measured − fitted", run.id);
     residual.x_label = plot.x_label;
     residual.y_label = fmt::format("residual ({})", u.length);
     residual.height_px = 220;
-    PlotSeries r{"measured − Kelvin–Voigt fit", {}, {}, {}, PlotSeries::Style::kLine, kBlue};
-    for (std::size_t k = 0; k < measured.time_s.size(); ++k) {
-      const double m = Interpolated(model, measured.time_s[k]);
-      if (!std::isfinite(m)) continue;
-      r.x.push_back(measured.time_s[k]);
-      r.y.push_back(measured.value[k] - m);
-    }
-    residual.series.push_back(std::move(r));
+    residual.series.push_back({"measured − Kelvin–Voigt fit",
+                               left.time_s,
+                               left.value,
+                               {},
+                               PlotSeries::Style::kLine,
+                               kBlue});
     out += figures.Add(residual, fmt::format("Run {}: the measured displacement less the fitted "
                                              "model's, at the measured times.",
                                              run.id));
