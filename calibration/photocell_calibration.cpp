@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <boost/math/tools/roots.hpp>
 
+#include "calibration/curve_band.h"
 #include "model/estimate.h"
 
 namespace impactlab {
@@ -164,7 +165,7 @@ double PhotocellCurve::DisplacementSigmaAt(double x_in) const {
 }
 
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
-                                     const CalibrationOptions& options) {
+                                     const CalibrationOptions& options, double shared_sigma_volts) {
   std::string error;
   if (!options.Check(&error)) throw std::invalid_argument(error);
   // The first swing: release to the equilibrium crossing, a quarter period.
@@ -220,12 +221,20 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
     return CorrelationInflation(
         {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
   };
+  // The band: least squares' (inflated), widened to cover how much the curve
+  // moves when each tenth of the trace is left out (curve_band.h), plus the
+  // error every sample shares (a constant in volts: T_0 = 1 everywhere).
+  constexpr int kJackknifeBlocks = 10;
   const auto curve_of = [&](int index, double inflation) {
     const OrderFit& fit = fits[index];
     std::vector<double> coefficients(fit.coefficients.data(),
                                      fit.coefficients.data() + fit.coefficients.size());
-    const Eigen::MatrixXd inflated = fit.covariance * inflation;
-    std::vector<double> covariance(inflated.data(), inflated.data() + inflated.size());
+    const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
+    Eigen::MatrixXd band = curve_band::Covering(
+        fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
+                                        weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
+    band(0, 0) += shared_sigma_volts * shared_sigma_volts;
+    std::vector<double> covariance(band.data(), band.data() + band.size());
     return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
                           options.range_margin);
   };

@@ -51,7 +51,7 @@ class PhotocellCurve {
   // The displacement at which the cell reads `volts`. Throws std::domain_error
   // outside the calibrated voltages (with the margin).
   double DisplacementFromVolts(double volts) const;
-  // One-sigma uncertainty of DisplacementFromVolts from the fit alone.
+  // One-sigma uncertainty of DisplacementFromVolts from the curve alone.
   double DisplacementSigma(double volts) const;
   // The same at displacement x (0 <= x <= x_max): the curve's error there,
   // shared by every sample that reads near x (a rebound's maximum carries it
@@ -97,7 +97,13 @@ struct CalibrationResult {
 // A trace that cannot be calibrated is a result with `ok` false and the
 // reason. Throws std::invalid_argument only for options that fail their
 // Check (a caller's mistake).
+// The curve's band (its covariance) is least squares' (inflated for the
+// residuals' correlation), widened where the curve depends on one stretch of
+// the trace more than that says (curve_band.h), plus `shared_sigma_volts`:
+// an error every sample of the trace shares, which no fit can see (a
+// digitized photo's mapping, half its graticule residual; 0 for a CSV).
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
-                                     const CalibrationOptions& options);
+                                     const CalibrationOptions& options,
+                                     double shared_sigma_volts = 0.0);
 
 }  // namespace impactlab
