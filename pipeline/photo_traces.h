@@ -22,6 +22,10 @@ struct DigitizedPhoto {
   std::map<std::string, Trace> traces;  // by trace name ("right", "left", "contact", ...)
   std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
   PhotoOverlay overlay;                 // what was found, drawn on the photo
+  // Per trace, the error in volts its samples share through the photo's
+  // mapping: half the graticule's residual (its misfit at a point, which
+  // neighbouring samples share: a maximum's fit does not average it away).
+  std::map<std::string, double> mapping_sigma_volts;
 };
 
 // Throws InputError naming the photo and what was not found (no graticule, a
