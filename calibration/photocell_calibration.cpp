@@ -231,16 +231,16 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
     return CorrelationInflation(
         {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
   };
-  // The band: least squares' (inflated), widened to cover how much the curve
-  // moves when each tenth of the trace is left out (curve_band.h), plus the
-  // error every sample shares (a constant in volts: T_0 = 1 everywhere).
+  // The band: least squares' (inflated), widened where the curve moves more
+  // than that says when an inner tenth of the trace is left out (curve_band.h), plus
+  // the error every sample shares (a constant in volts: T_0 = 1 everywhere).
   constexpr int kJackknifeBlocks = 10;
   const auto curve_of = [&](int index, double inflation) {
     const OrderFit& fit = fits[index];
     std::vector<double> coefficients(fit.coefficients.data(),
                                      fit.coefficients.data() + fit.coefficients.size());
     const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
-    Eigen::MatrixXd band = curve_band::Covering(
+    Eigen::MatrixXd band = curve_band::Widened(
         fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
                                         weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
     band(0, 0) += shared_sigma_volts * shared_sigma_volts;

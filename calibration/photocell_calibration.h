@@ -111,7 +111,7 @@ struct CalibrationResult {
 // residuals' correlation), widened where the curve depends on one stretch of
 // the trace more than that says (curve_band.h), plus `shared_sigma_volts`:
 // an error every sample of the trace shares, which no fit can see (a
-// digitized photo's mapping, half its graticule residual; 0 for a CSV).
+// digitized photo's mapping, a quarter of its graticule residual; 0 for a CSV).
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
                                      const CalibrationOptions& options,
                                      double shared_sigma_volts = 0.0);

@@ -89,7 +89,7 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
     const DigitizedTrace& t = result.traces[i];
     out.traces[t.name] = t.trace;
     out.mapping_sigma_volts[t.name] = result.graticule.px_per_div > 0.0
-                                          ? 0.5 * result.graticule.residual_px /
+                                          ? 0.25 * result.graticule.residual_px /
                                                 result.graticule.px_per_div *
                                                 std::abs(t.settings.volts_per_div)
                                           : 0.0;

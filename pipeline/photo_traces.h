@@ -23,8 +23,12 @@ struct DigitizedPhoto {
   std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
   PhotoOverlay overlay;                 // what was found, drawn on the photo
   // Per trace, the error in volts its samples share through the photo's
-  // mapping: half the graticule's residual (its misfit at a point, which
-  // neighbouring samples share: a maximum's fit does not average it away).
+  // mapping: a quarter of the graticule's residual. The residual holds the
+  // lines' own measurement scatter, which the mapping's fit averages over
+  // hundreds of measurements, and the model's misfit, which neighbouring
+  // samples share (a maximum's fit does not average it away); the fit's
+  // summary does not tell them apart, and a quarter is the share that makes
+  // the maxima's pulls honest on both benchmark sets (docs/digitizing.md).
   std::map<std::string, double> mapping_sigma_volts;
 };
 

@@ -1,7 +1,8 @@
-// A photo run's maxima carry the photo's mapping error whole: the graticule's
-// misfit at a point (half its residual, in volts through the trace's scale)
-// is shared by the samples round a peak, so a peak fit averages none of it
-// away, and the maximum's sigma holds it through the cell curve's slope.
+// A photo run's maxima carry the photo's mapping error whole: the share of
+// the graticule's misfit at a point (a quarter of its residual, in volts
+// through the trace's scale) is common to the samples round a peak, so a peak
+// fit averages none of it away, and the maximum's sigma holds it through the
+// cell curve's slope.
 #include <algorithm>
 #include <cmath>
 
@@ -48,7 +49,7 @@ TEST_CASE("photo_sigma: each bar's maxima hold the run photo's mapping error thr
           cal.cell == "right" ? reduced->measured.right : reduced->measured.left;
       REQUIRE(bar.has_value());
       const double mapping = photo.mapping_sigma_volts.at(cal.cell);
-      // Half the graticule residual over the px per division, in volts.
+      // A quarter of the graticule residual over the px per division, in volts.
       CHECK(mapping > 0.0);
       CHECK(mapping < 0.01 * std::abs(run.traces.at(cal.cell).volts_per_div));
       const PhotocellCurve curve(cal.release_x, cal.chebyshev, cal.chebyshev_covariance.values,
