@@ -29,7 +29,7 @@ DisplacementHistory DisplacementFromVolts(const Trace& trace,
     const double slope = std::abs(curve.SlopeAt(std::clamp(x, 0.0, curve.x_max())));
     h.time_s.push_back(trace.time_s[i]);
     h.displacement.push_back(x);
-    h.sigma.push_back(std::hypot(curve.DisplacementSigma(v), sigma_v / slope));
+    h.sigma.push_back(std::hypot(curve.FitDisplacementSigma(v), sigma_v / slope));
   }
   if (dropped > trace.volts.size() / 50) {
     throw std::invalid_argument(fmt::format(

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <boost/math/tools/roots.hpp>
 
+#include "calibration/curve_band.h"
 #include "model/estimate.h"
 
 namespace impactlab {
@@ -91,8 +92,12 @@ bool CalibrationOptions::Check(std::string* error) const {
 }
 
 PhotocellCurve::PhotocellCurve(double x_max, std::vector<double> chebyshev,
-                               std::vector<double> covariance, double range_margin)
-    : x_max_(x_max), chebyshev_(std::move(chebyshev)), covariance_(std::move(covariance)) {
+                               std::vector<double> covariance, double range_margin,
+                               std::vector<double> fit_covariance)
+    : x_max_(x_max),
+      chebyshev_(std::move(chebyshev)),
+      covariance_(std::move(covariance)),
+      fit_covariance_(fit_covariance.empty() ? covariance_ : std::move(fit_covariance)) {
   const double v0 = VoltsAt(0.0), v1 = VoltsAt(x_max_);
   falling_ = v1 < v0;
   volts_min_ = std::min(v0, v1);
@@ -153,18 +158,24 @@ double PhotocellCurve::DisplacementSigma(double volts) const {
   return DisplacementSigmaAt(DisplacementFromVolts(volts));
 }
 
-double PhotocellCurve::DisplacementSigmaAt(double x_in) const {
+double PhotocellCurve::DisplacementSigmaAt(double x) const { return SigmaAt(covariance_, x); }
+
+double PhotocellCurve::FitDisplacementSigma(double volts) const {
+  return SigmaAt(fit_covariance_, DisplacementFromVolts(volts));
+}
+
+double PhotocellCurve::SigmaAt(const std::vector<double>& covariance, double x_in) const {
   const double x = std::clamp(x_in, 0.0, x_max_);
   const int n = order();
   Eigen::VectorXd t(n + 1);
   Chebyshev(ToUnit(x, x_max_), n, t);
-  const Eigen::Map<const Eigen::MatrixXd> cov(covariance_.data(), n + 1, n + 1);
+  const Eigen::Map<const Eigen::MatrixXd> cov(covariance.data(), n + 1, n + 1);
   const double sigma_volts = std::sqrt(std::max(0.0, t.dot(cov * t)));
   return sigma_volts / std::abs(SlopeAt(x));
 }
 
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
-                                     const CalibrationOptions& options) {
+                                     const CalibrationOptions& options, double shared_sigma_volts) {
   std::string error;
   if (!options.Check(&error)) throw std::invalid_argument(error);
   // The first swing: release to the equilibrium crossing, a quarter period.
@@ -220,14 +231,24 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
     return CorrelationInflation(
         {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
   };
+  // The band: least squares' (inflated), widened where the curve moves more
+  // than that says when an inner tenth of the trace is left out (curve_band.h), plus
+  // the error every sample shares (a constant in volts: T_0 = 1 everywhere).
+  constexpr int kJackknifeBlocks = 10;
   const auto curve_of = [&](int index, double inflation) {
     const OrderFit& fit = fits[index];
     std::vector<double> coefficients(fit.coefficients.data(),
                                      fit.coefficients.data() + fit.coefficients.size());
+    const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
+    Eigen::MatrixXd band = curve_band::Widened(
+        fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
+                                        weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
+    band(0, 0) += shared_sigma_volts * shared_sigma_volts;
+    std::vector<double> covariance(band.data(), band.data() + band.size());
     const Eigen::MatrixXd inflated = fit.covariance * inflation;
-    std::vector<double> covariance(inflated.data(), inflated.data() + inflated.size());
+    std::vector<double> fit_covariance(inflated.data(), inflated.data() + inflated.size());
     return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
-                          options.range_margin);
+                          options.range_margin, std::move(fit_covariance));
   };
   const int best = by_bic.front();
   const double best_inflation = inflation_of(best);

@@ -42,8 +42,10 @@ struct CalibrationOptions {
 class PhotocellCurve {
  public:
   PhotocellCurve() = default;
+  // `covariance`: the band's; `fit_covariance`: least squares' alone (empty:
+  // the band's), which only weighs the samples converted (FitDisplacementSigma).
   PhotocellCurve(double x_max, std::vector<double> chebyshev, std::vector<double> covariance,
-                 double range_margin);
+                 double range_margin, std::vector<double> fit_covariance = {});
 
   // V at displacement x (0 <= x <= x_max), and dV/dX.
   double VoltsAt(double x) const;
@@ -51,12 +53,18 @@ class PhotocellCurve {
   // The displacement at which the cell reads `volts`. Throws std::domain_error
   // outside the calibrated voltages (with the margin).
   double DisplacementFromVolts(double volts) const;
-  // One-sigma uncertainty of DisplacementFromVolts from the fit alone.
+  // One-sigma uncertainty of DisplacementFromVolts from the curve alone.
   double DisplacementSigma(double volts) const;
   // The same at displacement x (0 <= x <= x_max): the curve's error there,
   // shared by every sample that reads near x (a rebound's maximum carries it
   // whole, however many samples its fit averages).
   double DisplacementSigmaAt(double x) const;
+  // The same from least squares' covariance alone (inflated for the
+  // residuals' correlation), without what the band adds for the curve's
+  // dependence on single stretches and for errors every sample shares: a
+  // converted sample's weight in the fits that read it (displacement.h), as
+  // before the band was widened, so that widening it moves no measurement.
+  double FitDisplacementSigma(double volts) const;
   bool Covers(double volts) const;
 
   double x_max() const { return x_max_; }
@@ -70,7 +78,9 @@ class PhotocellCurve {
  private:
   double x_max_ = 0.0;
   std::vector<double> chebyshev_;
-  std::vector<double> covariance_;  // row-major, (order+1)^2, V^2
+  std::vector<double> covariance_;      // row-major, (order+1)^2, V^2
+  std::vector<double> fit_covariance_;  // the same shape; least squares' alone
+  double SigmaAt(const std::vector<double>& covariance, double x_in) const;
   double volts_min_ = 0.0, volts_max_ = 0.0, margin_volts_ = 0.0;
   bool falling_ = true;
 };
@@ -97,7 +107,13 @@ struct CalibrationResult {
 // A trace that cannot be calibrated is a result with `ok` false and the
 // reason. Throws std::invalid_argument only for options that fail their
 // Check (a caller's mistake).
+// The curve's band (its covariance) is least squares' (inflated for the
+// residuals' correlation), widened where the curve depends on one stretch of
+// the trace more than that says (curve_band.h), plus `shared_sigma_volts`:
+// an error every sample of the trace shares, which no fit can see (a
+// digitized photo's mapping, a quarter of its graticule residual; 0 for a CSV).
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
-                                     const CalibrationOptions& options);
+                                     const CalibrationOptions& options,
+                                     double shared_sigma_volts = 0.0);
 
 }  // namespace impactlab

@@ -1,6 +1,7 @@
 #include "pipeline/photo_traces.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -90,6 +91,11 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   for (std::size_t i = 0; i < result.traces.size(); ++i) {
     const DigitizedTrace& t = result.traces[i];
     out.traces[t.name] = t.trace;
+    out.mapping_sigma_volts[t.name] = result.graticule.px_per_div > 0.0
+                                          ? 0.25 * result.graticule.residual_px /
+                                                result.graticule.px_per_div *
+                                                std::abs(t.settings.volts_per_div)
+                                          : 0.0;
     out.overlay.trace_names.push_back(t.name);
     out.overlay.trace_coverage.push_back(t.coverage);
     out.overlay.trace_spread_px2.push_back(t.spread_px2);

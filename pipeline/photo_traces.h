@@ -27,6 +27,14 @@ struct DigitizedPhoto {
   std::map<std::string, Trace> traces;  // by trace name ("right", "left", "contact", ...)
   std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
   PhotoOverlay overlay;                 // what was found, drawn on the photo
+  // Per trace, the error in volts its samples share through the photo's
+  // mapping: a quarter of the graticule's residual. The residual holds the
+  // lines' own measurement scatter, which the mapping's fit averages over
+  // hundreds of measurements, and the model's misfit, which neighbouring
+  // samples share (a maximum's fit does not average it away); the fit's
+  // summary does not tell them apart, and a quarter is the share that makes
+  // the maxima's pulls honest on both benchmark sets (docs/digitizing.md).
+  std::map<std::string, double> mapping_sigma_volts;
 };
 
 // A photo not read to the end (no graticule, a trace missing from its band)

@@ -193,6 +193,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
                                           : SettingsOfStages(options, {"digitize", "photocell"});
   // Its CSV when given, otherwise its photo digitized (the overlay kept).
   Trace trace;
+  double shared_sigma_volts = 0.0;  // a photo's mapping error, shared by its samples
   if (calibration->trace.csv) {
     trace =
         Timed(seconds.load, [&] { return ReadSessionTraceCsv(session_, *calibration->trace.csv); });
@@ -207,6 +208,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
     });
     if (!digitized.ok) throw InputError(digitized.failed_at, digitized.reason);
     trace = std::move(digitized.traces.at("trace"));
+    shared_sigma_volts = digitized.mapping_sigma_volts.at("trace");
     cell->overlay = std::move(digitized.overlay);
   } else {
     throw InputError({session_.manifest, key + ".trace", std::nullopt},
@@ -214,7 +216,7 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   }
   cell->calibration = Timed(seconds.calibrate, [&] {
     return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
-                              options.photocell);
+                              options.photocell, shared_sigma_volts);
   });
   if (!cell->calibration.ok) {
     throw InputError(
@@ -274,6 +276,10 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   };
   std::map<std::string, DisplacementHistory> histories;
   std::map<std::string, const PhotocellCurve*> curves;
+  // Per bar, the volts its run trace's samples share through the run photo's
+  // mapping (0 for a CSV): a maximum carries it whole, through the curve's
+  // slope there, as it carries the curve's own error.
+  std::map<std::string, double> mapping_sigma_volts;
   for (const char* cell : {"right", "left"}) {
     const auto trace_it = run.traces.find(cell);
     if (trace_it == run.traces.end()) continue;
@@ -301,6 +307,7 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
       }
     });
     curves[cell] = &calibration.curve;
+    mapping_sigma_volts[cell] = trace_it->second.csv ? 0.0 : photo->mapping_sigma_volts.at(cell);
   }
   if (histories.empty()) {
     throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
@@ -317,8 +324,17 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
       return InSessionNumbering(extracted, run.first_rebound);
     });
   };
+  // What a reading at displacement x shares with its neighbours: the curve's
+  // error there and the run photo's mapping error through the curve's slope.
+  const auto shared_sigma_at = [&](const std::string& cell, double x) {
+    const PhotocellCurve& curve = *curves.at(cell);
+    const double slope = std::abs(curve.SlopeAt(std::clamp(x, 0.0, curve.x_max())));
+    const double mapping = slope > 0.0 ? mapping_sigma_volts.at(cell) / slope : 0.0;
+    return std::hypot(curve.DisplacementSigmaAt(x), mapping);
+  };
   const auto curve_sigma = [&](const char* cell) {
-    return [curve = curves.at(cell)](double x) { return curve->DisplacementSigmaAt(x); };
+    return
+        [&shared_sigma_at, cell = std::string(cell)](double x) { return shared_sigma_at(cell, x); };
   };
   if (histories.count("right")) {
     out.right = extract(histories["right"]);
@@ -341,8 +357,7 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   if (histories.size() == 2) {
     // The average of the two histories reads through both curves.
     AddCurveSigma(from_average, [&](double x) {
-      return 0.5 * std::hypot(curves.at("right")->DisplacementSigmaAt(x),
-                              curves.at("left")->DisplacementSigmaAt(x));
+      return 0.5 * std::hypot(shared_sigma_at("right", x), shared_sigma_at("left", x));
     });
   } else {
     AddCurveSigma(from_average, curve_sigma(histories.begin()->first.c_str()));
