@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "digitize/digitize.h"
+#include "digitize/lattice.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
 #include "tests/support/temp_dir.h"
@@ -346,6 +347,30 @@ TEST_CASE("graticule: a print's screen along the grid and a grid printed over pa
   const GraticuleFit fit = FindGraticule(prepared, {10, 8}, options);
   // Measured 0.34 px (80 px per division, lines 6 px wide).
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.6);
+}
+
+}  // namespace impactlab
+
+namespace impactlab {
+
+// Randomised seed 1031 (with the generator's handling), run 0.405: a
+// 3383 px photo of a print in noise, its grid lines 1.7 px wide. In the
+// 500 px working copy a line is a quarter of a pixel, lost in the grain,
+// and the horizontal family was matched through the traces' levels ("the
+// two families of lines found are not one perspective view of a grid").
+// Looked for again in finer working copies, as a person looks closer, the
+// lattice is found and passes the same checks.
+TEST_CASE("graticule: a lattice not found in the working copy is looked for closer") {
+  testing::TempDir dir;
+  const RandomisedPhoto p = LoadRandomised(dir, 1031, "0.405", /*handling=*/true);
+  const GraticuleOptions options;
+  const PreparedPhoto prepared = PreparePhoto(p.photo, options);
+  std::string why;
+  CHECK_FALSE(digitize::FindLattice(prepared, {10, 8}, options.max_rotation_deg, &why));
+  const GraticuleFit fit = FindGraticule(prepared, {10, 8}, options);
+  // Measured 0.17 px RMS and 0.09 px (197 px per division).
+  CHECK(fit.residual_px < 0.4);
+  CHECK(testing::WorstMappingError(fit, p.truth) < 0.3);
 }
 
 }  // namespace impactlab
