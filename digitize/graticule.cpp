@@ -13,8 +13,11 @@
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
 
+#include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
+#include "digitize/grey_ink.h"
 #include "digitize/ink_sampler.h"
 #include "digitize/lattice.h"
 #include "digitize/line_profile.h"
@@ -38,6 +41,17 @@ using digitize::ReadProfile;
 // How many times a lattice refused for a line unseen or a line beyond is
 // moved a division the way that line points (FindGraticule).
 constexpr int kMaxLatticeMoves = 3;
+
+// How many times wider than `detect_width_px` the working copies are that
+// the lattice is looked for in again, in turn, when it is not found in the
+// first.
+constexpr double kCloserLooks[] = {1.5, 2.0, 3.0};
+// ... when the working copy shrank the photo by this factor at least: then a
+// grid line 1-3 photo pixels wide is a fraction of a working pixel. Photos
+// shrunk less keep their lines, and a closer look found nothing more there
+// but a lattice a division off (randomised seed 2008's calibration L-0.713,
+// 950 px wide: looked at unshrunk, its bottom line on the print's border).
+constexpr int kMinShrinkToLookCloser = 3;
 
 // One measurement across a grid line.
 struct LineSample {
@@ -602,34 +616,27 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
 
 }  // namespace
 
-GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
-                           const GraticuleOptions& options) {
-  if (std::string error; !options.Check(&error)) {
-    throw std::invalid_argument("graticule options: " + error);
-  }
-  if (divisions[0] < 1 || divisions[1] < 1 || divisions[0] > 100 || divisions[1] > 100) {
-    throw std::invalid_argument(
-        fmt::format("graticule divisions must be 1..100, got {} x {}", divisions[0], divisions[1]));
-  }
-  const auto start = std::chrono::steady_clock::now();
-  const bool hinted = options.corners_px.has_value();
-  cv::Matx33d homography;
-  if (hinted) {
-    // The user's corners stand in for the search; everything after it is the same.
-    homography = PhotoFromScreenByCorners(photo, divisions, *options.corners_px);
-  } else {
-    std::string why;
-    const std::optional<digitize::Lattice> lattice =
-        digitize::FindLattice(photo, divisions, options.max_rotation_deg, &why);
-    if (!lattice) NotFound(photo, divisions, why, hinted);
-    // The working copy's lattice in photo pixels.
-    const double f = photo.shrink;
-    const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0,
-                                         1.0);
-    homography = photo_from_working * lattice->working_from_screen;
-  }
-  Refined refined = Refine(photo, divisions, options, homography, hinted, start);
-  if (refined.problem && !hinted) {
+namespace {
+
+// The lattice searched for in `working` (a working copy of `photo`), refined
+// on the full photo and, when its lines say it lies a division off, moved.
+// Throws InputError when it is refused; `searched` then says whether the
+// search found a lattice at all (the refusal is the lines' otherwise).
+GraticuleFit SearchAndRefine(const PreparedPhoto& photo, const PreparedPhoto& working,
+                             std::array<int, 2> divisions, const GraticuleOptions& options,
+                             std::chrono::steady_clock::time_point start, bool* searched) {
+  *searched = false;
+  std::string why;
+  const std::optional<digitize::Lattice> lattice =
+      digitize::FindLattice(working, divisions, options.max_rotation_deg, &why);
+  if (!lattice) NotFound(photo, divisions, why, false);
+  *searched = true;
+  // The working copy's lattice in photo pixels.
+  const double f = working.shrink;
+  const cv::Matx33d photo_from_working(f, 0.0, 0.5 * (f - 1), 0.0, f, 0.5 * (f - 1), 0.0, 0.0, 1.0);
+  const cv::Matx33d homography = photo_from_working * lattice->working_from_screen;
+  Refined refined = Refine(photo, divisions, options, homography, false, start);
+  if (refined.problem) {
     // The Hough lines place a lattice along each family only up to whole
     // divisions: a bezel's lip or a print's edge a division beyond the grid
     // can stand in for its outermost line. The lines measured decide: the
@@ -647,7 +654,7 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
       visited.push_back(total);
       const cv::Matx33d moved(1.0, 0.0, total.x, 0.0, 1.0, total.y, 0.0, 0.0, 1.0);
       try {
-        Refined other = Refine(photo, divisions, options, homography * moved, hinted, start);
+        Refined other = Refine(photo, divisions, options, homography * moved, false, start);
         if (!other.problem) {
           refined = std::move(other);
           break;
@@ -658,8 +665,99 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
       }
     }
   }
-  if (refined.problem) NotFound(photo, divisions, refined.problem->what, hinted);
+  if (refined.problem) NotFound(photo, divisions, refined.problem->what, false);
   return refined.fit;
+}
+
+// The working copy at `shrink`, made as PreparePhoto makes its own (the
+// polarity it decided kept): thin bright structure, the copy less its
+// opening by a square a little wider than a grid line.
+PreparedPhoto WorkingCopyAt(const PreparedPhoto& photo, int shrink) {
+  PreparedPhoto copy = photo;  // the photo's pixels shared, not copied
+  copy.shrink = shrink;
+  copy.working = digitize::ShrunkGrey(photo.image, shrink);
+  if (photo.dark_traces) copy.working = 1.0f - copy.working;
+  const cv::Mat square = cv::getStructuringElement(
+      cv::MORPH_RECT, cv::Size(digitize::kRidgeOpeningPx, digitize::kRidgeOpeningPx));
+  cv::Mat opened;
+  cv::morphologyEx(copy.working, opened, cv::MORPH_OPEN, square);
+  copy.ridge = copy.working - opened;
+  return copy;
+}
+
+// The shrink factors of the closer looks (kCloserLooks times the working
+// copy's width), finest last, each finer than the one before; none finer
+// than a print's screen allows, a working pixel at least half its period:
+// finer, what descreening leaves of the dots is a lattice of its own
+// (randomised seed 1034's calibration L-0.713, a 7.8 px screen, searched at
+// twice the width: a lattice 13 divisions off that passed every check).
+std::vector<int> CloserShrinks(const PreparedPhoto& photo, const GraticuleOptions& options) {
+  std::vector<int> shrinks;
+  if (photo.shrink < kMinShrinkToLookCloser) return shrinks;
+  int last = photo.shrink;
+  for (const double times : kCloserLooks) {
+    const int shrink = std::max(
+        1, static_cast<int>(std::lround(photo.image.cols / (times * options.detect_width_px))));
+    if (shrink >= last) continue;
+    if (photo.halftone_period_px > 0.0 && 2.0 * shrink < photo.halftone_period_px) break;
+    shrinks.push_back(shrink);
+    last = shrink;
+  }
+  return shrinks;
+}
+
+}  // namespace
+
+GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                           const GraticuleOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("graticule options: " + error);
+  }
+  if (divisions[0] < 1 || divisions[1] < 1 || divisions[0] > 100 || divisions[1] > 100) {
+    throw std::invalid_argument(
+        fmt::format("graticule divisions must be 1..100, got {} x {}", divisions[0], divisions[1]));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  if (options.corners_px) {
+    // The user's corners stand in for the search; everything after it is the same.
+    const cv::Matx33d homography = PhotoFromScreenByCorners(photo, divisions, *options.corners_px);
+    Refined refined = Refine(photo, divisions, options, homography, true, start);
+    if (refined.problem) NotFound(photo, divisions, refined.problem->what, true);
+    return refined.fit;
+  }
+  // Not found in the working copy, the lattice is looked for again in finer
+  // ones, as a person looks closer: at the working copy's width a grid line
+  // of a large photo is a fraction of a pixel, faint under the photo's
+  // grain, and its family is matched through the traces' and the bezel's
+  // lines instead (randomised seeds 1024's calibration L-0.405, 1031's run
+  // 0.405, 1008's run 0.713: 2800-4600 px wide, lines 1.6-6 px). A lattice
+  // found closer is refined and checked as any other; when none is, the
+  // first look's reason stands.
+  bool searched = false;
+  try {
+    // A print is searched in a working copy no finer than half its screen's
+    // period (CloserShrinks): a small scan's copy is the photo itself, and
+    // what descreening leaves of the dots there made a lattice of its own
+    // (randomised seed 2002's run 0.405, 655 px wide, a 5.8 px screen: a
+    // lattice 7 divisions off that passed every check).
+    const int coarsest = static_cast<int>(std::ceil(0.5 * photo.halftone_period_px));
+    if (photo.shrink < coarsest) {
+      return SearchAndRefine(photo, WorkingCopyAt(photo, coarsest), divisions, options, start,
+                             &searched);
+    }
+    return SearchAndRefine(photo, photo, divisions, options, start, &searched);
+  } catch (const InputError&) {
+    if (searched) throw;  // found, and refused by its lines: not the search's doing
+    for (const int shrink : CloserShrinks(photo, options)) {
+      bool closer_searched = false;
+      try {
+        return SearchAndRefine(photo, WorkingCopyAt(photo, shrink), divisions, options, start,
+                               &closer_searched);
+      } catch (const InputError&) {
+      }
+    }
+    throw;
+  }
 }
 
 namespace {
