@@ -139,5 +139,35 @@ TEST_CASE("A secant point that cannot be evaluated keeps the Jacobian's response
   CHECK(c.covariance(1, 1) == Approx(exact(1, 1)).epsilon(1e-9));
 }
 
+TEST_CASE("The secants' Gauss-Newton step goes to the smooth cost's minimum, past the ripple",
+          "[secant_covariance]") {
+  // Residuals A (x - x*) plus the ripple: from 0.8 sigma off along the weak
+  // parameter, the point Jacobian's step is led by the ripple's slope; the
+  // secants' lands within a few hundredths of a sigma of x*.
+  const Eigen::MatrixXd a = Design();
+  const double ripple = 1e-3, wavenumber = 1e3;
+  const Eigen::VectorXd best = Eigen::Vector2d(0.3, -1.2);
+  const double honest = WeakSigma();
+  const Eigen::VectorXd x = best + Eigen::Vector2d(0.0, 0.8 * honest);
+  const Eigen::VectorXd offset = a * best;
+  const ResidualsAtPoints shifted = [&](const std::vector<Eigen::VectorXd>& points) {
+    std::vector<std::optional<Eigen::VectorXd>> out;
+    for (const Eigen::VectorXd& p : points)
+      out.emplace_back(Residuals(a, p, ripple, wavenumber) - offset);
+    return out;
+  };
+  const Eigen::MatrixXd j = PointJacobian(a, x, ripple, wavenumber);
+  const Eigen::VectorXd r = Residuals(a, x, ripple, wavenumber) - offset;
+  const Eigen::VectorXd point_step = -(j.transpose() * j).ldlt().solve(j.transpose() * r);
+  CHECK(std::abs(x(1) + point_step(1) - best(1)) > 0.5 * honest);  // the ripple misleads it
+
+  const SecantCovariance c = SecantCovarianceAt(x, j, shifted);
+  const Eigen::VectorXd step = SecantStep(c, r);
+  CHECK(std::abs(x(1) + step(1) - best(1)) < 0.05 * honest);
+  CHECK(std::abs(x(0) + step(0) - best(0)) < 0.05 / std::sqrt(double(kRows)));
+  // Rows scaled by 1: the same step.
+  CHECK((SecantStep(c, r, Eigen::VectorXd::Ones(kRows)) - step).norm() < 1e-12);
+}
+
 }  // namespace
 }  // namespace impactlab
