@@ -147,10 +147,11 @@ void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in, doubl
   std::string costs;
   for (double c : fit.start_costs) costs += fmt::format(" {:.0f}", c);
   fmt::print(
-      "\nchi2 per start:{}; Birge ratio {:.3f}; singular values / largest:{}; secant sigma / "
+      "\nchi2 per start:{}, {:.1f} after the secants' steps; Birge ratio {:.3f}; singular values / "
+      "largest:{}; secant sigma / "
       "Jacobian's:{} ({} simulations); {} iterations, {} simulations, {:.1f} s ({:.1f} s of CPU); "
       "a1 {:.4f} Hz measured, {:.4f} Hz fitted, {:.4f} Hz at the start\n\n",
-      costs, fit.birge_ratio, ratios, secant, fit.secant_simulations, fit.iterations,
+      costs, fit.chi2, fit.birge_ratio, ratios, secant, fit.secant_simulations, fit.iterations,
       fit.simulations, fit.seconds, cpu_s,
       fit.measured_frequency_hz ? fit.measured_frequency_hz->value : 0.0, fit.fitted_frequency_hz,
       fit.start_frequency_hz);

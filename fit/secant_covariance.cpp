@@ -106,6 +106,23 @@ SecantCovariance SecantCovarianceAt(const Eigen::VectorXd& x, const Eigen::Matri
   return out;
 }
 
+Eigen::MatrixXd SecantSandwich(const SecantCovariance& secant, const Eigen::VectorXd& row_scale,
+                               const Eigen::MatrixXd& meat) {
+  const Eigen::Index p = secant.directions.rows(), d = secant.basis.cols();
+  if (d == 0) return Eigen::MatrixXd::Zero(p, p);
+  const Eigen::MatrixXd a =
+      row_scale.size() == 0 ? secant.secants : row_scale.asDiagonal() * secant.secants;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
+  Eigen::VectorXd inverse_square = Eigen::VectorXd::Zero(d);
+  for (Eigen::Index k = 0; k < d; ++k) {
+    const double sk = svd.singularValues()(k);
+    if (sk > 0.0) inverse_square(k) = 1.0 / (sk * sk);
+  }
+  const Eigen::MatrixXd bread =
+      svd.matrixV() * inverse_square.asDiagonal() * svd.matrixV().transpose();
+  return secant.basis * (bread * meat * bread) * secant.basis.transpose();
+}
+
 Eigen::VectorXd SecantStep(const SecantCovariance& secant, const Eigen::VectorXd& residuals,
                            const Eigen::VectorXd& row_scale) {
   const Eigen::Index p = secant.directions.rows();

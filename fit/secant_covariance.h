@@ -64,6 +64,14 @@ SecantCovariance SecantCovarianceAt(const Eigen::VectorXd& x, const Eigen::Matri
                                     const ResidualsAtPoints& residuals_at,
                                     const SecantCovarianceOptions& options = {});
 
+// The sandwich B M B, B = (A^T A)^-1, A the secants with each row multiplied
+// by `row_scale` (empty: as they are), for an estimator that minimises the
+// so-scaled residuals' squares when the errors behind them are not
+// independent with unit variance: `meat` is M = cov(A^T e) for the error e,
+// in the determined directions' coordinates (d x d). Returned p x p.
+Eigen::MatrixXd SecantSandwich(const SecantCovariance& secant, const Eigen::VectorXd& row_scale,
+                               const Eigen::MatrixXd& meat);
+
 // The Gauss-Newton step that the secants give towards the least-squares
 // minimum from a point with `residuals`: -B (A^T A)^-1 A^T r over the
 // determined directions B, A the secants with each row multiplied by

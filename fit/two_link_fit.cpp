@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "fit/quantisation_covariance.h"
 #include "fit/secant_covariance.h"
 #include "multibody/two_link_keys.h"
 #include "multibody/two_link_simulation.h"
@@ -575,6 +576,47 @@ Secants SecantsAt(const Problem& problem, const Eigen::VectorXd& x, const Evalua
   return out;
 }
 
+// The covariance of the fitted values: the sandwich B M B with the secants
+// of the unweighted residuals, the cost the fit minimises. The middle term
+// M: an encoder's error is its counts', a known function of the fitted
+// angle and of the grid's phase against it, which no record tells, so it is
+// computed over the phases (fit/quantisation_covariance.h), plus any noise
+// beyond it as white; an accelerometer's noise is white, its rows times its
+// residuals' correlation inflation; the frequency's one row, its own sigma.
+Eigen::MatrixXd FittedValuesCovariance(const Problem& problem,
+                                       const TwoLinkMeasurement& measurement, const Evaluation& at,
+                                       const Secants& secants) {
+  const Eigen::VectorXd unweight = secants.row_weight.cwiseInverse();
+  const Eigen::MatrixXd a = unweight.asDiagonal() * secants.covariance.secants;
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(a.cols(), a.cols());
+  Eigen::Index row = 0;
+  for (int c = 0; c < 6; ++c) {
+    const Channel& channel = problem.channels()[static_cast<std::size_t>(c)];
+    if (!channel.measured) continue;
+    const auto n = static_cast<Eigen::Index>(channel.measured->size());
+    const Eigen::MatrixXd rows = a.middleRows(row, n);
+    const double step = c == 0   ? measurement.encoder_a_step_rad
+                        : c == 1 ? measurement.encoder_b_step_rad
+                                 : 0.0;
+    if (c < 2 && step > 0.0) {
+      std::vector<double> angle(static_cast<std::size_t>(n));
+      for (Eigen::Index i = 0; i < n; ++i) {
+        angle[static_cast<std::size_t>(i)] =
+            channel.values()[static_cast<std::size_t>(i)] + channel.sigma * at.residuals(row + i);
+      }
+      meat += QuantisationScoreCovariance(rows, angle, step, channel.sigma);
+      const double beyond = 1.0 - step * step / 12.0 / (channel.sigma * channel.sigma);
+      if (beyond > 0.0) meat += beyond * rows.transpose() * rows;
+    } else {
+      const double inflation = 1.0 / (secants.row_weight(row) * secants.row_weight(row));
+      meat += inflation * rows.transpose() * rows;
+    }
+    row += n;
+  }
+  for (; row < a.rows(); ++row) meat += a.row(row).transpose() * a.row(row);
+  return SecantSandwich(secants.covariance, unweight, meat);
+}
+
 }  // namespace
 
 bool TwoLinkFitOptions::Check(std::string* error) const {
@@ -707,7 +749,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
       result.secant_simulations += secants.covariance.evaluations;
     }
     const SecantCovariance& secant = secants.covariance;
-    covariance = secant.covariance;
+    covariance = FittedValuesCovariance(problem, measurement, last, secants);
     const Eigen::VectorXd& s = secant.singular_values;
     for (int i = 0; i < p; ++i) {
       const Eigen::VectorXd direction = secant.directions.col(i);
