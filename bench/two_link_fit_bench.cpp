@@ -120,7 +120,7 @@ TwoLinkFitResult Run(const TwoLinkParameters& nominal, const std::vector<Hidden>
 
 // Each parameter's pulls over the seeds, and its errors (fitted - truth).
 struct Pulls {
-  std::vector<double> pulls, errors;
+  std::vector<double> pulls, jacobian_pulls, errors;
 };
 
 void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in, double cpu_s,
@@ -131,51 +131,68 @@ void Print(const TwoLinkFitResult& fit, const TwoLinkParameters& truth_in, doubl
     if (pulls) {
       (*pulls)[p.name].errors.push_back(p.value.value - t);
       if (p.value.sigma > 0) (*pulls)[p.name].pulls.push_back((p.value.value - t) / p.value.sigma);
+      if (p.jacobian_sigma > 0)
+        (*pulls)[p.name].jacobian_pulls.push_back((p.value.value - t) / p.jacobian_sigma);
     }
-    fmt::print("| {} | {:.9g} | {:.9g} | {:.3g} | {} |\n", p.name, t, p.value.value, p.value.sigma,
-               p.value.sigma > 0 ? fmt::format("{:+.2f}", (p.value.value - t) / p.value.sigma)
-                                 : std::string("-"));
+    const auto pull = [&](double sigma) {
+      return sigma > 0 ? fmt::format("{:+.2f}", (p.value.value - t) / sigma) : std::string("-");
+    };
+    fmt::print("| {} | {:.9g} | {:.9g} | {:.3g} | {} | {:.3g} | {} |\n", p.name, t, p.value.value,
+               p.value.sigma, pull(p.value.sigma), p.jacobian_sigma, pull(p.jacobian_sigma));
   }
   std::string ratios;
   for (double r : fit.singular_value_ratios) ratios += fmt::format(" {:.1e}", r);
+  std::string secant;
+  for (double r : fit.secant_sigma_ratios) secant += fmt::format(" {:.2f}", r);
   std::string costs;
   for (double c : fit.start_costs) costs += fmt::format(" {:.0f}", c);
   fmt::print(
-      "\nchi2 per start:{}; Birge ratio {:.3f}; singular values / largest:{}; {} iterations, {} "
-      "simulations, "
-      "{:.1f} s ({:.1f} s of CPU); a1 {:.4f} Hz measured, {:.4f} Hz fitted, {:.4f} Hz at the "
-      "start\n\n",
-      costs, fit.birge_ratio, ratios, fit.iterations, fit.simulations, fit.seconds, cpu_s,
+      "\nchi2 per start:{}, {:.1f} after the secants' steps; Birge ratio {:.3f}; singular values / "
+      "largest:{}; secant sigma / "
+      "Jacobian's:{} ({} simulations); {} iterations, {} simulations, {:.1f} s ({:.1f} s of CPU); "
+      "a1 {:.4f} Hz measured, {:.4f} Hz fitted, {:.4f} Hz at the start\n\n",
+      costs, fit.chi2, fit.birge_ratio, ratios, secant, fit.secant_simulations, fit.iterations,
+      fit.simulations, fit.seconds, cpu_s,
       fit.measured_frequency_hz ? fit.measured_frequency_hz->value : 0.0, fit.fitted_frequency_hz,
       fit.start_frequency_hz);
   std::fflush(stdout);  // each fit as it ends, also into a file
 }
 
-// Over the seeds: each parameter's mean pull and RMS pull, and its errors'
-// mean and scatter (a mean far beyond scatter / sqrt(seeds) is an error all
-// seeds share).
+// Over the seeds: each parameter's mean pull and RMS pull, with the secant
+// covariance's sigma and with the Jacobian's alone, and its errors' mean and
+// scatter (a mean far beyond scatter / sqrt(seeds) is an error all seeds
+// share).
 void PrintPulls(const std::map<std::string, Pulls>& pulls) {
+  const auto mean = [](const std::vector<double>& v) {
+    double m = 0.0;
+    for (double x : v) m += x / static_cast<double>(v.size());
+    return m;
+  };
+  const auto rms = [](const std::vector<double>& v) {
+    double m = 0.0;
+    for (double x : v) m += x * x / static_cast<double>(v.size());
+    return std::sqrt(m);
+  };
   fmt::print(
-      "## Pulls over the seeds\n\n| parameter | seeds | mean pull | RMS pull | mean error | "
-      "error scatter |\n|---|---|---|---|---|---|\n");
-  double sum = 0.0;
-  std::size_t count = 0;
+      "## Pulls over the seeds\n\n| parameter | seeds | mean pull | RMS pull | mean pull "
+      "(Jacobian) | RMS pull (Jacobian) | mean error | error scatter |\n"
+      "|---|---|---|---|---|---|---|---|\n");
+  std::vector<double> all, all_jacobian;
   for (const auto& [name, p] : pulls) {
-    double mean = 0.0, square = 0.0, error = 0.0, error_square = 0.0;
-    for (double v : p.pulls) mean += v / static_cast<double>(p.pulls.size());
-    for (double v : p.pulls) square += v * v / static_cast<double>(p.pulls.size());
-    for (double v : p.errors) error += v / static_cast<double>(p.errors.size());
-    for (double v : p.errors) error_square += (v - error) * (v - error);
-    const double scatter = p.errors.size() > 1
-                               ? std::sqrt(error_square / static_cast<double>(p.errors.size() - 1))
-                               : 0.0;
-    fmt::print("| {} | {} | {:+.2f} | {:.2f} | {:+.3g} | {:.3g} |\n", name, p.pulls.size(), mean,
-               std::sqrt(square), error, scatter);
-    for (double v : p.pulls) sum += v * v;
-    count += p.pulls.size();
+    const double error = mean(p.errors);
+    double square = 0.0;
+    for (double v : p.errors) square += (v - error) * (v - error);
+    const double scatter =
+        p.errors.size() > 1 ? std::sqrt(square / static_cast<double>(p.errors.size() - 1)) : 0.0;
+    fmt::print("| {} | {} | {:+.2f} | {:.2f} | {:+.2f} | {:.2f} | {:+.3g} | {:.3g} |\n", name,
+               p.pulls.size(), mean(p.pulls), rms(p.pulls), mean(p.jacobian_pulls),
+               rms(p.jacobian_pulls), error, scatter);
+    all.insert(all.end(), p.pulls.begin(), p.pulls.end());
+    all_jacobian.insert(all_jacobian.end(), p.jacobian_pulls.begin(), p.jacobian_pulls.end());
   }
-  fmt::print("\nall parameters: RMS pull {:.2f} over {} pulls\n\n",
-             count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0, count);
+  fmt::print(
+      "\nall parameters: RMS pull {:.2f} over {} pulls ({:.2f} with the Jacobian's sigma)\n\n",
+      rms(all), all.size(), rms(all_jacobian));
 }
 
 }  // namespace
@@ -210,7 +227,8 @@ int main(int argc, char** argv) {
   TwoLinkParameters nominal = TwoLinkParameters::Nominal();
   nominal.cases[0].duration_s = duration;
   const std::string header =
-      "| parameter | truth | fitted | sigma | pull |\n|---|---|---|---|---|\n";
+      "| parameter | truth | fitted | sigma | pull | sigma (Jacobian) | pull (Jacobian) |\n"
+      "|---|---|---|---|---|---|---|\n";
   if (!skip_five) {
     const std::vector<Hidden> hidden = {{"beam1.flexural_rigidity_n_m2", 0.903},
                                         {"tool.inertia_kg_m2", 1.26},

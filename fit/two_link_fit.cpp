@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "fit/quantisation_covariance.h"
+#include "fit/secant_covariance.h"
 #include "multibody/two_link_keys.h"
 #include "multibody/two_link_simulation.h"
 #include "signal/damped_modes.h"
@@ -353,6 +355,24 @@ class Problem {
   mutable std::atomic<int> simulations_{0};
 };
 
+// Simulations at several points, `threads` at a time, each with the
+// accelerometer samples left out at `mask` (the base point's).
+std::vector<Evaluation> EvaluateAll(const Problem& problem,
+                                    const std::vector<Eigen::VectorXd>& points,
+                                    const std::vector<bool>& mask, int threads) {
+  std::vector<Evaluation> results(points.size());
+  for (std::size_t first = 0; first < points.size(); first += static_cast<std::size_t>(threads)) {
+    std::vector<std::future<Evaluation>> running;
+    const std::size_t end = std::min(points.size(), first + static_cast<std::size_t>(threads));
+    for (std::size_t t = first; t < end; ++t) {
+      running.push_back(
+          std::async(std::launch::async, [&, t] { return problem.Evaluate(points[t], &mask); }));
+    }
+    for (std::size_t t = first; t < end; ++t) results[t] = running[t - first].get();
+  }
+  return results;
+}
+
 // The residuals' Jacobian by differences of whole simulations, `threads`
 // at a time: forward differences while iterating, central ones for the
 // covariance (a parameter that enters only through a ratio with another then
@@ -362,44 +382,29 @@ class Problem {
 Eigen::MatrixXd Jacobian(const Problem& problem, const Eigen::VectorXd& x, const Evaluation& base,
                          const TwoLinkFitOptions& o, bool central, bool* ok) {
   const int p = problem.parameter_count();
-  struct Task {
-    int column;
-    double step;  // signed
-  };
-  std::vector<Task> tasks;
+  std::vector<Eigen::VectorXd> points;
+  std::vector<double> steps;  // signed
   for (int j = 0; j < p; ++j) {
     const bool log = problem.free()[static_cast<std::size_t>(j)].logarithmic;
     const double h = log ? o.relative_step : o.absolute_step * std::max(1.0, std::abs(x(j)));
-    tasks.push_back({j, h});
-    if (central) tasks.push_back({j, -h});
-  }
-  std::vector<Evaluation> results(tasks.size());
-  *ok = true;
-  for (std::size_t first = 0; first < tasks.size(); first += static_cast<std::size_t>(o.threads)) {
-    std::vector<std::future<Evaluation>> running;
-    const std::size_t end = std::min(tasks.size(), first + static_cast<std::size_t>(o.threads));
-    for (std::size_t t = first; t < end; ++t) {
-      running.push_back(std::async(std::launch::async, [&, t] {
-        Eigen::VectorXd shifted = x;
-        shifted(tasks[t].column) += tasks[t].step;
-        return problem.Evaluate(shifted, &base.near_event);
-      }));
-    }
-    for (std::size_t t = first; t < end; ++t) {
-      results[t] = running[t - first].get();
-      if (!results[t].ok) *ok = false;
+    for (const double step : central ? std::vector<double>{h, -h} : std::vector<double>{h}) {
+      points.push_back(x);
+      points.back()(j) += step;
+      steps.push_back(step);
     }
   }
+  const std::vector<Evaluation> results = EvaluateAll(problem, points, base.near_event, o.threads);
+  *ok = std::all_of(results.begin(), results.end(), [](const Evaluation& e) { return e.ok; });
   Eigen::MatrixXd jacobian(base.residuals.size(), p);
   if (!*ok) return jacobian;
   for (int j = 0; j < p; ++j) {
     if (central) {
       const Evaluation& up = results[static_cast<std::size_t>(2 * j)];
       const Evaluation& down = results[static_cast<std::size_t>(2 * j + 1)];
-      jacobian.col(j) = (up.residuals - down.residuals) / (2.0 * tasks[2 * j].step);
+      jacobian.col(j) = (up.residuals - down.residuals) / (2.0 * steps[2 * j]);
     } else {
       jacobian.col(j) =
-          (results[static_cast<std::size_t>(j)].residuals - base.residuals) / tasks[j].step;
+          (results[static_cast<std::size_t>(j)].residuals - base.residuals) / steps[j];
     }
   }
   return jacobian;
@@ -521,6 +526,98 @@ std::string Combination(const Eigen::VectorXd& direction, const std::vector<Free
   return out;
 }
 
+// The secants' Gauss-Newton steps after the iterations: at most this many
+// rounds of new secants, each with at most this many steps, a step that
+// lowers chi2 by less than this ending the round (the simulation's own
+// resolution of chi2 is ~1e-3).
+constexpr int kSecantRounds = 2, kSecantSteps = 3;
+constexpr double kNegligibleChi2Drop = 0.01;
+
+// The secant covariance at x, and the row weights it used.
+struct Secants {
+  SecantCovariance covariance;
+  Eigen::VectorXd row_weight;
+};
+
+// The residuals of a channel are correlated along the record (an encoder's
+// in runs of one count): each channel's rows are weighted down by the square
+// root of its correlation inflation at `at`. The secants run `threads` at a
+// time with the accelerometer samples left out as at `at`, from the central
+// Jacobian's singular directions (weighted alike); `first_steps` as in
+// SecantCovarianceOptions.
+Secants SecantsAt(const Problem& problem, const Eigen::VectorXd& x, const Evaluation& at,
+                  const Eigen::MatrixXd& jacobian, const TwoLinkFitOptions& options,
+                  std::vector<double> first_steps) {
+  Secants out;
+  out.row_weight = Eigen::VectorXd::Ones(at.residuals.size());
+  Eigen::Index row = 0;
+  for (const Channel& channel : problem.channels()) {
+    if (!channel.measured) continue;
+    const auto n = static_cast<Eigen::Index>(channel.measured->size());
+    const double inflation = CorrelationInflation(
+        std::span<const double>(at.residuals.data() + row, static_cast<std::size_t>(n)));
+    out.row_weight.segment(row, n).setConstant(1.0 / std::sqrt(inflation));
+    row += n;
+  }
+  const ResidualsAtPoints residuals_at = [&](const std::vector<Eigen::VectorXd>& points) {
+    std::vector<std::optional<Eigen::VectorXd>> r;
+    for (const Evaluation& e : EvaluateAll(problem, points, at.near_event, options.threads)) {
+      if (e.ok)
+        r.emplace_back(out.row_weight.cwiseProduct(e.residuals));
+      else
+        r.emplace_back(std::nullopt);
+    }
+    return r;
+  };
+  SecantCovarianceOptions secant_options;
+  secant_options.undetermined_ratio = options.undetermined_ratio;
+  secant_options.first_steps = std::move(first_steps);
+  out.covariance =
+      SecantCovarianceAt(x, out.row_weight.asDiagonal() * jacobian, residuals_at, secant_options);
+  return out;
+}
+
+// The covariance of the fitted values: the sandwich B M B with the secants
+// of the unweighted residuals, the cost the fit minimises. The middle term
+// M: an encoder's error is its counts', a known function of the fitted
+// angle and of the grid's phase against it, which no record tells, so it is
+// computed over the phases (fit/quantisation_covariance.h), plus any noise
+// beyond it as white; an accelerometer's noise is white, its rows times its
+// residuals' correlation inflation; the frequency's one row, its own sigma.
+Eigen::MatrixXd FittedValuesCovariance(const Problem& problem,
+                                       const TwoLinkMeasurement& measurement, const Evaluation& at,
+                                       const Secants& secants) {
+  const Eigen::VectorXd unweight = secants.row_weight.cwiseInverse();
+  const Eigen::MatrixXd a = unweight.asDiagonal() * secants.covariance.secants;
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(a.cols(), a.cols());
+  Eigen::Index row = 0;
+  for (int c = 0; c < 6; ++c) {
+    const Channel& channel = problem.channels()[static_cast<std::size_t>(c)];
+    if (!channel.measured) continue;
+    const auto n = static_cast<Eigen::Index>(channel.measured->size());
+    const Eigen::MatrixXd rows = a.middleRows(row, n);
+    const double step = c == 0   ? measurement.encoder_a_step_rad
+                        : c == 1 ? measurement.encoder_b_step_rad
+                                 : 0.0;
+    if (c < 2 && step > 0.0) {
+      std::vector<double> angle(static_cast<std::size_t>(n));
+      for (Eigen::Index i = 0; i < n; ++i) {
+        angle[static_cast<std::size_t>(i)] =
+            channel.values()[static_cast<std::size_t>(i)] + channel.sigma * at.residuals(row + i);
+      }
+      meat += QuantisationScoreCovariance(rows, angle, step, channel.sigma);
+      const double beyond = 1.0 - step * step / 12.0 / (channel.sigma * channel.sigma);
+      if (beyond > 0.0) meat += beyond * rows.transpose() * rows;
+    } else {
+      const double inflation = 1.0 / (secants.row_weight(row) * secants.row_weight(row));
+      meat += inflation * rows.transpose() * rows;
+    }
+    row += n;
+  }
+  for (; row < a.rows(); ++row) meat += a.row(row).transpose() * a.row(row);
+  return SecantSandwich(secants.covariance, unweight, meat);
+}
+
 }  // namespace
 
 bool TwoLinkFitOptions::Check(std::string* error) const {
@@ -605,55 +702,76 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
     options.on_progress(where);
   }
-  result.fitted = problem.ParametersAt(x);
   result.iterations = iterations;
   result.termination = best_message;
-  const Evaluation last = problem.Evaluate(x);
+  Evaluation last = problem.Evaluate(x);
   bool ok = false;
   const Eigen::MatrixXd jacobian = Jacobian(problem, x, last, options, true, &ok);
   const int p = problem.parameter_count();
-  result.chi2 = last.residuals.squaredNorm();
-  result.dof = std::max(1, last.used - p);
-  result.birge_ratio = std::sqrt(result.chi2 / result.dof);
-  const double scale = std::max(1.0, result.birge_ratio);
+  result.iterated_chi2 = last.residuals.squaredNorm();
 
-  // The residuals of a channel are correlated along the record (an
-  // encoder's in runs of one count): each channel's rows are weighted down by
-  // the square root of its correlation inflation before the covariance.
-  Eigen::MatrixXd weighted = jacobian;
-  {
-    Eigen::Index row = 0;
-    for (const Channel& channel : problem.channels()) {
-      if (!channel.measured) continue;
-      const auto n = static_cast<Eigen::Index>(channel.measured->size());
-      const double inflation = CorrelationInflation(
-          std::span<const double>(last.residuals.data() + row, static_cast<std::size_t>(n)));
-      weighted.middleRows(row, n) /= std::sqrt(inflation);
-      row += n;
-    }
-  }
-  // Covariance from the determined directions only.
+  // The covariance from secants along the weighted Jacobian's singular
+  // directions, each over about two of its own sigma: after the impact the
+  // central differences over the fixed step misjudge the response along the
+  // weak directions (fit/secant_covariance.h). Undetermined directions are
+  // left out.
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(p, p);
+  Eigen::MatrixXd jacobian_covariance = Eigen::MatrixXd::Zero(p, p);
   std::vector<bool> determined(static_cast<std::size_t>(p), true);
   if (ok) {
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(weighted, Eigen::ComputeThinV);
-    for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i) {
-      result.singular_value_ratios.push_back(svd.singularValues()(i) / svd.singularValues()(0));
+    Secants secants = SecantsAt(problem, x, last, jacobian, options, {});
+    result.secant_simulations += secants.covariance.evaluations;
+    // Levenberg-Marquardt found its way with forward differences over the
+    // fixed step, and along a weak direction it stops where they, not the
+    // secants, say the gradient vanishes: several sigma from the minimum in
+    // the five-parameter benchmark. Gauss-Newton steps with the secants go
+    // the rest of the way, each kept only if it lowers the fit's chi2.
+    for (int round = 0; round < kSecantRounds; ++round) {
+      const double before = last.residuals.squaredNorm();
+      for (int step = 0; step < kSecantSteps; ++step) {
+        const Eigen::VectorXd d =
+            SecantStep(secants.covariance, last.residuals, secants.row_weight.cwiseInverse());
+        const double chi2 = last.residuals.squaredNorm();
+        bool lower = false;
+        for (double fraction = 1.0; fraction > 0.2 && !lower; fraction *= 0.5) {
+          Evaluation trial = problem.Evaluate(x + fraction * d);
+          ++result.secant_simulations;
+          if (trial.ok && trial.residuals.squaredNorm() < chi2) {
+            x += fraction * d;
+            last = std::move(trial);
+            lower = true;
+          }
+        }
+        if (!lower || chi2 - last.residuals.squaredNorm() < kNegligibleChi2Drop) break;
+      }
+      // A point moved by less than about one sigma keeps its secants.
+      if (before - last.residuals.squaredNorm() < 1.0) break;
+      secants = SecantsAt(problem, x, last, jacobian, options, secants.covariance.steps);
+      result.secant_simulations += secants.covariance.evaluations;
     }
-    const Eigen::VectorXd& s = svd.singularValues();
+    const SecantCovariance& secant = secants.covariance;
+    covariance = FittedValuesCovariance(problem, measurement, last, secants);
+    const Eigen::VectorXd& s = secant.singular_values;
     for (int i = 0; i < p; ++i) {
-      const Eigen::VectorXd direction = svd.matrixV().col(i);
+      const Eigen::VectorXd direction = secant.directions.col(i);
       const double ratio = s(0) > 0.0 ? s(i) / s(0) : 0.0;
-      if (ratio < options.undetermined_ratio) {
+      result.singular_value_ratios.push_back(ratio);
+      result.secant_sigma_ratios.push_back(secant.sigma_ratios[static_cast<std::size_t>(i)]);
+      if (!secant.determined[static_cast<std::size_t>(i)]) {
         result.undetermined.push_back({Combination(direction, problem.free()), ratio});
         for (int j = 0; j < p; ++j) {
           if (std::abs(direction(j)) >= 0.05) determined[static_cast<std::size_t>(j)] = false;
         }
       } else {
-        covariance += direction * direction.transpose() / (s(i) * s(i));
+        jacobian_covariance += direction * direction.transpose() / (s(i) * s(i));
       }
     }
   }
+  result.fitted = problem.ParametersAt(x);
+  result.chi2 = last.residuals.squaredNorm();
+  result.dof = std::max(1, last.used - p);
+  result.birge_ratio = std::sqrt(result.chi2 / result.dof);
+  const double scale = std::max(1.0, result.birge_ratio);
   for (int j = 0; j < p; ++j) {
     const FreeParameter& f = problem.free()[static_cast<std::size_t>(j)];
     FittedParameter out;
@@ -663,6 +781,8 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
     const double value = f.logarithmic ? std::exp(x(j)) : x(j);
     const double sigma_x = out.determined ? std::sqrt(covariance(j, j)) : 0.0;
     out.value = {value, f.logarithmic ? value * sigma_x : sigma_x};
+    const double jacobian_sigma_x = out.determined ? std::sqrt(jacobian_covariance(j, j)) : 0.0;
+    out.jacobian_sigma = f.logarithmic ? value * jacobian_sigma_x : jacobian_sigma_x;
     out.std_error_scaled = out.value.sigma * scale;
     result.parameters.push_back(out);
   }
@@ -712,6 +832,12 @@ std::string TwoLinkFitResult::Summary() const {
   std::string ratios;
   for (double r : singular_value_ratios) ratios += fmt::format(" {:.2e}", r);
   out += "singular values of the weighted Jacobian over the largest:" + ratios + "\n";
+  std::string secant;
+  for (double r : secant_sigma_ratios) secant += fmt::format(" {:.2f}", r);
+  out += fmt::format(
+      "sigma along each direction from its secants over the Jacobian's:{}; the secants' steps "
+      "took chi2 from {:.6g} to {:.6g} ({} simulations)\n",
+      secant, iterated_chi2, chi2, secant_simulations);
   if (measured_frequency_hz) {
     out += fmt::format(
         "a1 ring-down: measured {:.4f} +- {:.4f} Hz; start {:.4f} Hz; fitted {:.4f} Hz\n",

@@ -16,7 +16,11 @@
 // the encoders in free flight (with a weak prior at the start), the encoders
 // in windows from the impact that double until they reach the record's end,
 // then every channel. For the covariance each channel's rows are weighted
-// down by its residuals' correlation inflation (model/estimate.h).
+// down by its residuals' correlation inflation (model/estimate.h), and the
+// response along each singular direction of the weighted Jacobian is
+// measured again by secants spanning about two of its standard errors
+// (fit/secant_covariance.h): after the impact the fixed-step differences
+// misjudge it along the weak directions.
 //
 // The answer says which combinations the data determine: the singular vectors
 // of the weighted Jacobian (central differences) whose singular values fall
@@ -85,8 +89,10 @@ struct TwoLinkFitOptions {
 struct FittedParameter {
   std::string name;
   double start = 0.0;
-  Estimate value;                 // sigma from the weighted Jacobian (0 when not determined)
+  Estimate value;                 // sigma from secants along the weighted Jacobian's singular
+                                  // directions (0 when not determined)
   double std_error_scaled = 0.0;  // times the Birge ratio when that exceeds 1
+  double jacobian_sigma = 0.0;    // from the weighted Jacobian alone, (J^T J)^-1, for comparison
   bool determined = true;
 };
 
@@ -107,6 +113,10 @@ struct TwoLinkFitResult {
   std::vector<FittedParameter> parameters;
   std::vector<UndeterminedCombination> undetermined;
   std::vector<double> singular_value_ratios;  // of the weighted Jacobian, largest first
+  std::vector<double> secant_sigma_ratios;    // per direction: sigma from its secants over
+                                              // the Jacobian's (0: undetermined)
+  double iterated_chi2 = 0.0;  // where Levenberg-Marquardt stopped, before the secants' steps
+  int secant_simulations = 0;  // the secants' and their steps' (beside the Jacobian's 2p)
   std::vector<ChannelMatch> channels;
   double chi2 = 0.0;
   int dof = 0;
