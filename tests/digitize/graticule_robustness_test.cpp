@@ -70,10 +70,6 @@ TEST_CASE("graticule: a long bright contact level and faint far grid lines do no
   }
 }
 
-}  // namespace impactlab
-
-namespace impactlab {
-
 // A long contact level running along an inner grid line, a few hundredths of
 // a division off it, on a blurred, low-resolution photo whose graticule is lit
 // almost as brightly as the traces: the two merge into one broad line, so the
@@ -267,10 +263,6 @@ TEST_CASE(
   CHECK(prints == 1);
 }
 
-}  // namespace impactlab
-
-namespace impactlab {
-
 // Randomised seed 1003 (the generator's handling on, as in bench_robustness),
 // run 0.713: a graticule at 3 % of the traces' brightness in a grainy
 // photo, crossed by hairs. Noise votes in every Hough cell in proportion to
@@ -301,10 +293,6 @@ TEST_CASE(
   CHECK(found.fit.residual_px < 1.0);
   CHECK(found.worst_px < 0.9);
 }
-
-}  // namespace impactlab
-
-namespace impactlab {
 
 // Randomised seed 1005 (with the generator's handling), calibration L-0.405:
 // a small positive photo whose middle is mostly the light panel round the
@@ -349,10 +337,6 @@ TEST_CASE("graticule: a print's screen along the grid and a grid printed over pa
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.6);
 }
 
-}  // namespace impactlab
-
-namespace impactlab {
-
 // Randomised seed 1031 (with the generator's handling), run 0.405: a
 // 3383 px photo of a print in noise, its grid lines 1.7 px wide. In the
 // 500 px working copy a line is a quarter of a pixel, lost in the grain,
@@ -372,10 +356,6 @@ TEST_CASE("graticule: a lattice not found in the working copy is looked for clos
   CHECK(fit.residual_px < 0.4);
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.3);
 }
-
-}  // namespace impactlab
-
-namespace impactlab {
 
 // Randomised seed 2002 (with the generator's handling), run 0.405: a
 // figure printed through a 5.8 px screen and scanned at 655 px, 26 px per
