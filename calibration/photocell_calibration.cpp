@@ -174,6 +174,206 @@ double PhotocellCurve::SigmaAt(const std::vector<double>& covariance, double x_i
   return sigma_volts / std::abs(SlopeAt(x));
 }
 
+namespace {
+
+// The first swing's samples as the fit takes them: the Chebyshev basis at
+// each sample's ideal displacement, its volts and its weight (1 / sigma).
+struct SwingSamples {
+  Eigen::MatrixXd basis;
+  Eigen::VectorXd v, weight;
+  Eigen::Index size() const { return v.size(); }
+};
+
+SwingSamples Rows(const SwingSamples& all, const std::vector<Eigen::Index>& rows) {
+  SwingSamples out{Eigen::MatrixXd(static_cast<Eigen::Index>(rows.size()), all.basis.cols()),
+                   Eigen::VectorXd(static_cast<Eigen::Index>(rows.size())),
+                   Eigen::VectorXd(static_cast<Eigen::Index>(rows.size()))};
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    out.basis.row(i) = all.basis.row(rows[k]);
+    out.v(i) = all.v(rows[k]);
+    out.weight(i) = all.weight(rows[k]);
+  }
+  return out;
+}
+
+// A curve through the samples, or why none is.
+struct CurveFit {
+  bool ok = false;
+  std::string reason;  // when !ok
+  PhotocellCurve curve;
+  double correlation_inflation = 1.0;
+  std::vector<double> bic;  // per order, from 1
+  // The BIC's order's weighted residuals, whether or not its curve was
+  // taken: where a misreading sits, they stand out (OffCurve).
+  Eigen::VectorXd best_weighted_residual;
+};
+
+CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
+                  const CalibrationOptions& options, double shared_sigma_volts) {
+  const Eigen::Index n = samples.size();
+  const Eigen::MatrixXd& basis = samples.basis;
+  const Eigen::VectorXd &v = samples.v, &weight = samples.weight;
+  CurveFit out;
+  std::vector<OrderFit> fits;
+  for (int order = 1; order <= max_order; ++order) {
+    fits.push_back(FitOrder(basis, v, weight, order));
+    out.bic.push_back(fits.back().bic);
+  }
+  // The order the BIC prefers, unless its curve is not monotone over the
+  // swing (the conversion would be ambiguous) while a lower order's is (the
+  // first in the BIC's ranking) and fits the samples as well as the data can
+  // tell: a photocell's output is monotone in X, and where the trace has a
+  // gap a high order can wiggle there or at its ends and still fit the
+  // samples best. A cell that truly folds back is refused: no monotone order
+  // fits it.
+  std::vector<int> by_bic(fits.size());
+  for (std::size_t i = 0; i < fits.size(); ++i) by_bic[i] = static_cast<int>(i);
+  std::stable_sort(by_bic.begin(), by_bic.end(),
+                   [&](int a, int b) { return fits[a].bic < fits[b].bic; });
+  const auto weighted_residual_of = [&](int index) -> Eigen::VectorXd {
+    return weight.cwiseProduct(v - basis.leftCols(index + 2) * fits[index].coefficients);
+  };
+  // The band from the residuals as they are: correlated along the trace.
+  const auto inflation_of = [&](int index) {
+    const Eigen::VectorXd weighted_residual = weighted_residual_of(index);
+    return CorrelationInflation(
+        {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
+  };
+  // The band: least squares' (inflated), widened where the curve moves more
+  // than that says when an inner tenth of the trace is left out (curve_band.h), plus
+  // the error every sample shares (a constant in volts: T_0 = 1 everywhere).
+  constexpr int kJackknifeBlocks = 10;
+  const auto curve_of = [&](int index, double inflation) {
+    const OrderFit& fit = fits[index];
+    std::vector<double> coefficients(fit.coefficients.data(),
+                                     fit.coefficients.data() + fit.coefficients.size());
+    const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
+    Eigen::MatrixXd band = curve_band::Widened(
+        fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
+                                        weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
+    band(0, 0) += shared_sigma_volts * shared_sigma_volts;
+    std::vector<double> covariance(band.data(), band.data() + band.size());
+    const Eigen::MatrixXd inflated = fit.covariance * inflation;
+    std::vector<double> fit_covariance(inflated.data(), inflated.data() + inflated.size());
+    return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
+                          options.range_margin, std::move(fit_covariance));
+  };
+  const int best = by_bic.front();
+  out.best_weighted_residual = weighted_residual_of(best);
+  const double best_inflation = inflation_of(best);
+  out.curve = curve_of(best, best_inflation);
+  out.correlation_inflation = best_inflation;
+  out.ok = true;
+  if (std::optional<std::string> problem = NonMonotone(out.curve, release_x)) {
+    // The residual's rise over the best order's scatter, in effective
+    // samples (each inflation-many correlated ones count once), against a
+    // chi-square of as many degrees of freedom as terms dropped, at 3 sigma.
+    const double scatter = fits[best].rss / static_cast<double>(n - (best + 2));
+    out.ok = false;
+    for (const int index : by_bic) {
+      if (index >= best) continue;
+      const double terms = best - index;
+      const double rise = (fits[index].rss - fits[best].rss) / scatter / best_inflation;
+      if (rise > terms + 3.0 * std::sqrt(2.0 * terms)) continue;
+      const double inflation = inflation_of(index);
+      PhotocellCurve curve = curve_of(index, inflation);
+      if (NonMonotone(curve, release_x)) continue;
+      out.curve = std::move(curve);
+      out.correlation_inflation = inflation;
+      out.ok = true;
+      break;
+    }
+    if (!out.ok) out.reason = std::move(*problem);
+  }
+  return out;
+}
+
+// A misread stretch of the trace (the tracking on a mark or a scratch for a
+// few milliseconds) lies far off a smooth curve through the rest, while a
+// reading's own errors scatter about it: its samples' residuals exceed
+// kOffCurve robust standard deviations (1.4826 times the median absolute
+// residual of the samples on the curve, which such a stretch hardly moves).
+constexpr double kOffCurve = 8.0, kOffCurveEdge = 3.0;
+// At most this share of the swing's samples may be left out so: beyond it
+// the reading itself is in doubt, not a stretch of it.
+constexpr double kOffCurveMaxShare = 0.15;
+
+// True where a sample's weighted residual is off the curve, its scale from
+// the samples not in `off_before`.
+std::vector<bool> OffCurve(const Eigen::VectorXd& weighted_residual,
+                           const std::vector<bool>& off_before) {
+  std::vector<double> on;
+  for (Eigen::Index i = 0; i < weighted_residual.size(); ++i) {
+    if (!off_before[static_cast<std::size_t>(i)]) on.push_back(std::abs(weighted_residual(i)));
+  }
+  std::vector<bool> off(off_before.size(), false);
+  if (on.empty()) return off;
+  std::nth_element(on.begin(), on.begin() + on.size() / 2, on.end());
+  const double scale = 1.4826 * on[on.size() / 2];
+  if (!(scale > 0.0)) return off;
+  const auto r = [&](std::size_t i) { return weighted_residual(static_cast<Eigen::Index>(i)); };
+  for (std::size_t i = 0; i < off.size(); ++i) off[i] = std::abs(r(i)) > kOffCurve * scale;
+  // Each run grown over its neighbours that stray the same way beyond
+  // kOffCurveEdge: where the tracking leaves the trace and comes back, and
+  // what a curve bent towards the stretch brought nearer.
+  const auto grows = [&](std::size_t from, std::size_t to) {
+    return !off[to] && std::abs(r(to)) > kOffCurveEdge * scale && r(to) * r(from) > 0.0;
+  };
+  for (std::size_t i = 0; i < off.size(); ++i) {
+    if (!off[i]) continue;
+    for (std::size_t j = i; j > 0 && grows(j, j - 1); --j) off[j - 1] = true;
+    std::size_t j = i;
+    for (; j + 1 < off.size() && grows(j, j + 1); ++j) off[j + 1] = true;
+    i = j;
+  }
+  // A tracking that follows a mark does so in one stretch: two runs closer
+  // than the shorter is long are one, the curve bent back to the samples
+  // between them.
+  std::size_t previous_begin = 0, previous_end = 0;  // the last run, [begin, end)
+  for (std::size_t i = 0; i < off.size();) {
+    if (!off[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < off.size() && off[end]) ++end;
+    if (previous_end > previous_begin &&
+        i - previous_end <= std::min(previous_end - previous_begin, end - i)) {
+      std::fill(off.begin() + static_cast<std::ptrdiff_t>(previous_end),
+                off.begin() + static_cast<std::ptrdiff_t>(i), true);
+      previous_end = end;
+    } else {
+      previous_begin = i;
+      previous_end = end;
+    }
+    i = end;
+  }
+  return off;
+}
+
+// Where the samples leave a fifth of the swing or more unread (a trace not
+// seen where the bar is fast, or lost behind a mark), the curve there is
+// the fit's guess: said, with the widest such stretch, after the reason a
+// curve was refused. Empty otherwise.
+std::string UnreadStretch(std::vector<double> x, double release_x) {
+  x.push_back(0.0);
+  x.push_back(release_x);
+  std::sort(x.begin(), x.end());
+  std::size_t widest = 0;
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    if (x[i] - x[i - 1] > x[widest + 1] - x[widest]) widest = i - 1;
+  }
+  const double gap = x[widest + 1] - x[widest];
+  if (gap < 0.2 * release_x) return {};
+  return fmt::format(
+      "; the trace's samples leave X = {:.4g} .. {:.4g} unread ({:.0f} % of the swing), where "
+      "no curve is determined",
+      x[widest], x[widest + 1], 100.0 * gap / release_x);
+}
+
+}  // namespace
+
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
                                      const CalibrationOptions& options, double shared_sigma_volts) {
   std::string error;
@@ -199,94 +399,82 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   }
 
   const int max_order = std::min(options.max_order, n / 4);
-  Eigen::MatrixXd basis(n, max_order + 1);
-  Eigen::VectorXd v(n), weight(n);
+  SwingSamples samples{Eigen::MatrixXd(n, max_order + 1), Eigen::VectorXd(n), Eigen::VectorXd(n)};
   Eigen::VectorXd row(max_order + 1);
   for (int i = 0; i < n; ++i) {
     Chebyshev(ToUnit(out.ideal_displacement[i], release_x), max_order, row);
-    basis.row(i) = row.transpose();
-    v(i) = out.volts[i];
-    weight(i) = 1.0 / sigma[i];
+    samples.basis.row(i) = row.transpose();
+    samples.v(i) = out.volts[i];
+    samples.weight(i) = 1.0 / sigma[i];
   }
-  std::vector<OrderFit> fits;
-  for (int order = 1; order <= max_order; ++order) {
-    fits.push_back(FitOrder(basis, v, weight, order));
-    out.bic.push_back(fits.back().bic);
-  }
-  // The order the BIC prefers, unless its curve is not monotone over the
-  // swing (the conversion would be ambiguous) while a lower order's is (the
-  // first in the BIC's ranking) and fits the samples as well as the data can
-  // tell: a photocell's output is monotone in X, and where the trace has a
-  // gap a high order can wiggle there or at its ends and still fit the
-  // samples best. A cell that truly folds back is refused: no monotone order
-  // fits it.
-  std::vector<int> by_bic(fits.size());
-  for (std::size_t i = 0; i < fits.size(); ++i) by_bic[i] = static_cast<int>(i);
-  std::stable_sort(by_bic.begin(), by_bic.end(),
-                   [&](int a, int b) { return fits[a].bic < fits[b].bic; });
-  // The band from the residuals as they are: correlated along the trace.
-  const auto inflation_of = [&](int index) {
-    const Eigen::VectorXd weighted_residual =
-        weight.cwiseProduct(v - basis.leftCols(index + 2) * fits[index].coefficients);
-    return CorrelationInflation(
-        {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
-  };
-  // The band: least squares' (inflated), widened where the curve moves more
-  // than that says when an inner tenth of the trace is left out (curve_band.h), plus
-  // the error every sample shares (a constant in volts: T_0 = 1 everywhere).
-  constexpr int kJackknifeBlocks = 10;
-  const auto curve_of = [&](int index, double inflation) {
-    const OrderFit& fit = fits[index];
-    std::vector<double> coefficients(fit.coefficients.data(),
-                                     fit.coefficients.data() + fit.coefficients.size());
-    const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
-    Eigen::MatrixXd band = curve_band::Widened(
-        fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
-                                        weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
-    band(0, 0) += shared_sigma_volts * shared_sigma_volts;
-    std::vector<double> covariance(band.data(), band.data() + band.size());
-    const Eigen::MatrixXd inflated = fit.covariance * inflation;
-    std::vector<double> fit_covariance(inflated.data(), inflated.data() + inflated.size());
-    return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
-                          options.range_margin, std::move(fit_covariance));
-  };
-  const int best = by_bic.front();
-  const double best_inflation = inflation_of(best);
-  out.curve = curve_of(best, best_inflation);
-  out.correlation_inflation = best_inflation;
-  if (std::optional<std::string> problem = NonMonotone(out.curve, release_x)) {
-    // The residual's rise over the best order's scatter, in effective
-    // samples (each inflation-many correlated ones count once), against a
-    // chi-square of as many degrees of freedom as terms dropped, at 3 sigma.
-    const double scatter = fits[best].rss / static_cast<double>(n - (best + 2));
-    bool found = false;
-    for (const int index : by_bic) {
-      if (index >= best) continue;
-      const double terms = best - index;
-      const double rise = (fits[index].rss - fits[best].rss) / scatter / best_inflation;
-      if (rise > terms + 3.0 * std::sqrt(2.0 * terms)) continue;
-      const double inflation = inflation_of(index);
-      PhotocellCurve curve = curve_of(index, inflation);
-      if (NonMonotone(curve, release_x)) continue;
-      out.curve = std::move(curve);
-      out.correlation_inflation = inflation;
-      found = true;
-      break;
+  CurveFit fit = FitCurve(samples, max_order, release_x, options, shared_sigma_volts);
+  // No monotone curve fits every sample: one through the rest, when the
+  // ones that prevent it are a misread stretch (OffCurve), which is left out
+  // and recorded. A curve bent towards the stretch hides part of it, so the
+  // samples off each refitted curve are taken in turn, while they change.
+  if (!fit.ok) {
+    std::vector<bool> off = OffCurve(fit.best_weighted_residual, std::vector<bool>(n, false));
+    CurveFit refit;
+    bool settled = false;
+    for (int pass = 0; pass < 6 && !settled; ++pass) {
+      std::vector<Eigen::Index> kept;
+      for (int i = 0; i < n; ++i) {
+        if (!off[static_cast<std::size_t>(i)]) kept.push_back(i);
+      }
+      const auto left_out = static_cast<double>(n) - static_cast<double>(kept.size());
+      if (left_out == 0.0 || left_out > kOffCurveMaxShare * n || kept.size() < 8) break;
+      refit = FitCurve(Rows(samples, kept), std::min(max_order, static_cast<int>(kept.size()) / 4),
+                       release_x, options, shared_sigma_volts);
+      // Off the curve fitted to the rest (the BIC's, where none is monotone).
+      Eigen::VectorXd residual(n);
+      for (int i = 0; i < n; ++i) {
+        residual(i) =
+            samples.weight(i) * (samples.v(i) - refit.curve.VoltsAt(out.ideal_displacement[i]));
+      }
+      std::vector<bool> next = OffCurve(residual, off);
+      settled = next == off;
+      off = std::move(next);
     }
-    if (!found) return {.ok = false, .reason = std::move(*problem)};
+    refit.ok = refit.ok && settled;
+    if (refit.ok) {
+      for (int i = 0; i < n; ++i) {
+        if (!off[static_cast<std::size_t>(i)]) continue;
+        if (i == 0 || !off[static_cast<std::size_t>(i - 1)]) {
+          out.left_out_s.push_back({out.time_s[i], out.time_s[i]});
+        }
+        out.left_out_s.back()[1] = out.time_s[i];
+      }
+      const auto keep = [&](std::vector<double>& values) {
+        std::vector<double> kept_values;
+        for (int i = 0; i < n; ++i) {
+          if (!off[static_cast<std::size_t>(i)]) kept_values.push_back(values[i]);
+        }
+        values = std::move(kept_values);
+      };
+      keep(out.time_s);
+      keep(out.ideal_displacement);
+      keep(out.volts);
+      fit = std::move(refit);
+    }
   }
+  if (!fit.ok)
+    return {.ok = false, .reason = fit.reason + UnreadStretch(out.ideal_displacement, release_x)};
+  out.curve = std::move(fit.curve);
+  out.correlation_inflation = fit.correlation_inflation;
+  out.bic = std::move(fit.bic);
 
+  const std::size_t used = out.volts.size();
   double sum_v = 0.0, sum_x = 0.0;
-  for (int i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < used; ++i) {
     const double r = out.volts[i] - out.curve.VoltsAt(out.ideal_displacement[i]);
     out.residual_volts.push_back(r);
     sum_v += r * r;
     const double rx = r / out.curve.SlopeAt(out.ideal_displacement[i]);
     sum_x += rx * rx;
   }
-  out.samples_used = n;
-  out.residual_rms_volts = std::sqrt(sum_v / n);
-  out.residual_rms_length = std::sqrt(sum_x / n);
+  out.samples_used = static_cast<int>(used);
+  out.residual_rms_volts = std::sqrt(sum_v / static_cast<double>(used));
+  out.residual_rms_length = std::sqrt(sum_x / static_cast<double>(used));
   out.ok = true;
   return out;
 }

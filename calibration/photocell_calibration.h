@@ -11,6 +11,7 @@
 // swing is refused, as is a conversion outside the calibrated voltages.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,11 @@ struct CalibrationResult {
   double residual_rms_volts = 0.0;
   double residual_rms_length = 0.0;  // the same, through the curve's slope
   int samples_used = 0;
+  // Stretches of the first swing left out as misread ([from, to], s since
+  // release): where no monotone curve fits every sample, the runs of samples
+  // far off the curve through the rest (a tracking that followed a mark or a
+  // scratch), when they are few. Empty otherwise.
+  std::vector<std::array<double, 2>> left_out_s;
   std::vector<double> bic;  // per order tried, from 1
   // The factor the coefficient covariance was multiplied by because the
   // residuals are correlated along the trace (1 + 2 sum of their positive

@@ -257,7 +257,8 @@ std::string ReuseProblem(const RunMeasurement& r) {
       if (std::string p = NotFinite(g + "/" + name, value); !p.empty()) return p;
     }
     const std::pair<const char*, const std::vector<double>*> vectors[] = {
-        {"chebyshev", &c.chebyshev}, {"points_x", &c.points_x}, {"points_volts", &c.points_volts}};
+        {"chebyshev", &c.chebyshev}, {"points_x", &c.points_x}, {"points_volts", &c.points_volts},
+        {"left_out_from", &c.left_out_from_s}, {"left_out_to", &c.left_out_to_s}};
     for (const auto& [name, values] : vectors) {
       if (std::string p = NotFinite(g + "/" + name, *values); !p.empty()) return p;
     }

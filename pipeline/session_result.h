@@ -148,6 +148,8 @@ struct CellCalibration {
   int samples_used = 0;
   double volts_min = 0.0, volts_max = 0.0;
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
+  // Stretches of the swing left out as misread (photocell_calibration.h), s.
+  std::vector<double> left_out_from_s, left_out_to_s;
   std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
   SettingValues settings;  // the stage settings it was made with (photocell, digitize for a photo)
 
@@ -173,6 +175,9 @@ struct CellCalibration {
     visit("samples_used", self.samples_used, Quantity::kDimensionless, "samples the fit used");
     visit("points_x", self.points_x, Quantity::kLength, "the fit's pairs (decimated): X");
     visit("points_volts", self.points_volts, Quantity::kVolts, "and V");
+    visit("left_out_from", EvenEmpty(self.left_out_from_s), Quantity::kSeconds,
+          "stretches of the swing left out as misread: their starts");
+    visit("left_out_to", EvenEmpty(self.left_out_to_s), Quantity::kSeconds, "and their ends");
   }
 };
 

@@ -127,6 +127,10 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
   out.samples_used = c.samples_used;
   out.volts_min = c.curve.volts_min();
   out.volts_max = c.curve.volts_max();
+  for (const auto& [from, to] : c.left_out_s) {
+    out.left_out_from_s.push_back(from);
+    out.left_out_to_s.push_back(to);
+  }
   const std::size_t stride = std::max<std::size_t>(1, c.volts.size() / 500);
   for (std::size_t i = 0; i < c.volts.size(); i += stride) {
     out.points_x.push_back(c.ideal_displacement[i]);
