@@ -24,27 +24,7 @@
 namespace impactlab {
 namespace {
 
-using testing::kContactStartS;
 using testing::kContactTimePerDiv;
-
-// The standard run photo with a 50 us/div contact trace, levels 0.05 and
-// 2.45 V at 2 V/div (screen y -3.875 and -2.675), switched at `rise_div`
-// and `fall_div`.
-testing::RunScene MarkedPulseScene(double rise_div, double fall_div) {
-  testing::RunScene run = testing::StandardRunScene();
-  TraceSettings settings = testing::Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
-  settings.impact = 2;
-  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
-  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
-  ScreenTrace& contact = run.scene.traces[2];
-  contact.time_s = {window_start, kContactStartS, kContactStartS,
-                    fall_s,       fall_s,         window_start + 10.5 * kContactTimePerDiv};
-  contact.volts = {0.05, 0.05, 2.45, 2.45, 0.05, 0.05};
-  contact.settings = settings;
-  run.requests[2].settings = settings;
-  return run;
-}
 
 }  // namespace
 
@@ -53,7 +33,7 @@ TEST_CASE(
   cv::setNumThreads(1);
   constexpr double kRiseDiv = 2.3, kFallDiv = 8.62;
   constexpr double kPulseY = -2.675;
-  const testing::RunScene run = MarkedPulseScene(kRiseDiv, kFallDiv);
+  const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
   RenderOptions options;
   options.style = PhotoStyle::kClean;
   options.width_px = 1600;

@@ -26,25 +26,6 @@ namespace {
 using testing::kContactStartS;
 using testing::kContactTimePerDiv;
 
-// The standard run photo with the session generator's contact trace: a
-// 50 us/div delayed sweep, levels 0.05 and 2.45 V at 2 V/div, the rise at
-// screen x `rise_div` and the fall at `fall_div`, both exactly vertical.
-testing::RunScene ContactScene(double rise_div, double fall_div) {
-  testing::RunScene run = testing::StandardRunScene();
-  TraceSettings settings = testing::Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
-  settings.impact = 2;
-  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
-  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
-  ScreenTrace& contact = run.scene.traces[2];
-  contact.time_s = {window_start, kContactStartS, kContactStartS,
-                    fall_s,       fall_s,         window_start + 10.5 * kContactTimePerDiv};
-  contact.volts = {0.05, 0.05, 2.45, 2.45, 0.05, 0.05};
-  contact.settings = settings;
-  run.requests[2].settings = settings;
-  return run;
-}
-
 struct EdgeCase {
   PhotoStyle style;
   double offset_div;  // both edges this far right of a grid line (x = 2 and x = 9)
@@ -83,7 +64,7 @@ TEST_CASE(
   };
   for (const EdgeCase& c : cases) {
     const double rise_div = 2.0 + c.offset_div, fall_div = 9.0 + c.offset_div;
-    const testing::RunScene run = ContactScene(rise_div, fall_div);
+    const testing::RunScene run = testing::ContactPulseScene(rise_div, fall_div);
     RenderOptions options;
     options.style = c.style;
     options.width_px = c.width_px;

@@ -97,6 +97,26 @@ inline RunScene StandardRunScene() {
   return run;
 }
 
+// The standard run photo with the session generator's contact trace: a
+// 50 us/div delayed sweep, levels 0.05 and 2.45 V at 2 V/div (screen y
+// -3.875 and -2.675), the rise at screen x `rise_div` and the fall at
+// `fall_div`, both exactly vertical.
+inline RunScene ContactPulseScene(double rise_div, double fall_div) {
+  RunScene run = StandardRunScene();
+  TraceSettings settings = Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
+  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
+  settings.impact = 2;
+  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
+  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
+  ScreenTrace& contact = run.scene.traces[2];
+  contact.time_s = {window_start, kContactStartS, kContactStartS,
+                    fall_s,       fall_s,         window_start + 10.5 * kContactTimePerDiv};
+  contact.volts = {0.05, 0.05, 2.45, 2.45, 0.05, 0.05};
+  contact.settings = settings;
+  run.requests[2].settings = settings;
+  return run;
+}
+
 // How far the digitized centre line lies from the truth.
 struct TraceScore {
   double rms_px = 0.0;  // distance to the true centre line, in photo pixels
