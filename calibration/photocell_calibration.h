@@ -8,7 +8,9 @@
 // series on [0, X0] whose order the data choose (Bayesian information
 // criterion). The noise is in the voltage, so V is regressed on X, not the
 // reverse; the curve is then inverted. A curve that is not monotone over the
-// swing is refused, as is a conversion outside the calibrated voltages.
+// swing is refused, unless a misread stretch of the trace (far off the curve
+// through the rest) is why: then that stretch is left out and recorded. A
+// conversion outside the calibrated voltages is refused.
 #pragma once
 
 #include <array>
