@@ -539,6 +539,27 @@ class ProgressCounter {
   std::size_t done_ = 0, total_ = 0;
 };
 
+// A calibration that left a misread stretch of its swing out
+// (photocell_calibration.h) is worth a look at its overlay: said once per
+// calibration.
+void WarnOfLeftOutStretches(SessionResult& result) {
+  std::set<std::string> warned;
+  for (const RunResult& run : result.runs) {
+    for (const CellCalibration& c : run.measured.calibrations) {
+      if (c.left_out_from_s.empty() || !warned.insert(c.calibration_id).second) continue;
+      std::string stretches;
+      for (std::size_t i = 0; i < c.left_out_from_s.size(); ++i) {
+        stretches += fmt::format("{}{:.4g} .. {:.4g} s", i == 0 ? "" : ", ", c.left_out_from_s[i],
+                                 c.left_out_to_s[i]);
+      }
+      result.warnings.push_back(fmt::format(
+          "calibration \"{}\": its trace is far off the curve through the rest at t = {}, "
+          "left out as misread (a mark or a scratch followed?): see its overlay",
+          c.calibration_id, stretches));
+    }
+  }
+}
+
 // Every run, calibration and log the manifest could read.
 SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions& options) {
   SessionResult result;
@@ -637,6 +658,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     progress.Done("run " + runs[i].id, runs[i].ok, runs[i].reused);
   });
   result.runs = std::move(runs);
+  WarnOfLeftOutStretches(result);
   MarkAnomalies(pendulum, result.runs);
   CheckTypedReleases(session, result);
   CheckSweepsAgainstPendulum(session, pendulum, result);

@@ -144,6 +144,48 @@ std::vector<std::string> WarningsAbout(const std::filesystem::path& dir, const s
   return found;
 }
 
+TEST_CASE(
+    "trace_session: a calibration sweep read off a mark for a stretch reduces without it, and "
+    "says so") {
+  testing::TempDir dir;
+  const double x0 = 0.405;
+  const Written w = WriteSession(dir.path(), x0, 0.002);
+  // The right cell's sweep 0.15 V off where the bar passes X = 0.05 .. 0.12 X0
+  // (fast: a few milliseconds), as a tracking that followed a mark would be.
+  const std::filesystem::path sweep = dir.path() / "traces" / "R.csv";
+  Trace trace = ReadTraceCsv(sweep);
+  const double quarter = 0.5 * HalfPeriod(kPendulum, x0);
+  double from = 1e9, to = -1e9;
+  for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
+    const double t = trace.time_s[i];
+    if (t < 0.0 || t > quarter) continue;
+    const double s = ReleaseSwingDisplacement(kPendulum, x0, t) / x0;
+    if (s < 0.05 || s > 0.12) continue;
+    trace.volts[i] += 0.15;
+    from = std::min(from, t);
+    to = std::max(to, t);
+  }
+  WriteTraceCsv(sweep, trace);
+
+  const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
+  REQUIRE(result.runs.size() == 1);
+  const RunResult& run = result.runs[0];
+  INFO(run.Status());
+  REQUIRE(run.ok);
+  const CellCalibration& right = run.measured.calibrations.at(0);
+  REQUIRE(right.calibration_id == "R");
+  REQUIRE(right.left_out_from_s.size() == 1);
+  CHECK(right.left_out_from_s[0] == Approx(from).margin(5e-4));
+  CHECK(right.left_out_to_s[0] == Approx(to).margin(5e-4));
+  CHECK(std::any_of(result.warnings.begin(), result.warnings.end(), [](const std::string& w) {
+    return w.find("calibration \"R\"") != std::string::npos &&
+           w.find("left out as misread") != std::string::npos;
+  }));
+  for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
+    CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 3.0 * run.measured.xmax_sigma[n]);
+  }
+}
+
 TEST_CASE("trace_session: a typed X0 the traces' own release contradicts is warned about") {
   // The traces read X0 = 0.405 (through calibrations typed right); the run's
   // X0 typed 10 % high is named with both values, the right one passes.
