@@ -101,6 +101,8 @@ class PowerSpectrum {
   }
 
   double At(int u, int v) const { return power_(Wrap(v), Wrap(u)); }
+  // The powers at frequencies (0 .. n - 1, fy), fy in [0, n).
+  const float* Row(int fy) const { return power_.ptr<float>(fy); }
 
   int Wrap(double f) const {
     const int i = static_cast<int>(std::lround(f));
@@ -149,11 +151,13 @@ class RingSpectrum {
     const int ring_hi = static_cast<int>(level_.size()) - 1;
     std::vector<std::vector<float>> ring_power(level_.size());
     for (int fy = 0; fy <= std::min(n / 2, ring_hi); ++fy) {
+      const float* row = spectrum_.Row(fy);
       for (int fx = -std::min(n / 2, ring_hi); fx <= std::min(n / 2 - 1, ring_hi); ++fx) {
-        const int ring = RingOf(fx, fy);
-        if (ring < ring_lo || ring > ring_hi) continue;
-        ring_power[ring].push_back(static_cast<float>(spectrum_.At(fx, fy)));
+        // RingOf and At, the square root taken once and the row read directly.
         const double r = std::sqrt(static_cast<double>(fx * fx + fy * fy));
+        const int ring = static_cast<int>(std::lround(r));
+        if (ring < ring_lo || ring > ring_hi) continue;
+        ring_power[ring].push_back(row[fx < 0 ? fx + n : fx]);
         if (r >= r_lo_ && r <= r_hi_) screen_bins_.push_back({fx, fy, ring});
       }
     }
