@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <initializer_list>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -71,36 +71,52 @@ void ReadGreyTile(const cv::Mat& image, cv::Point corner, int side, cv::Mat1f& o
 // The power spectrum of the photo's middle, averaged over a 2 x 2 block of
 // square tiles of `side` pixels (Welch's estimate: steadier than one
 // window's, and a quarter of the memory, which a large transform spends
-// mostly on fresh pages), or over some of them (`tiles`: 0 top left, 1 top
+// mostly on fresh pages), or over some of them (Add: 0 top left, 1 top
 // right, 2 bottom left, 3 bottom right). Each tile's mean is taken out and a
 // Hann window put on, so that its edges add no spectral lines.
 class PowerSpectrum {
  public:
-  PowerSpectrum(const cv::Mat& image, int side, std::initializer_list<int> tiles) : n_(side) {
-    std::vector<float> hann(n_);
+  // No tile yet: zero power.
+  PowerSpectrum(const cv::Mat& image, int side)
+      : image_(image),
+        n_(side),
+        x0_(std::max(0, image.cols / 2 - side)),
+        y0_(std::max(0, image.rows / 2 - side)),
+        hann_(side),
+        power_(cv::Mat1f::zeros(side, side)) {
     for (int i = 0; i < n_; ++i) {
-      hann[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / (n_ - 1)));
+      hann_[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / (n_ - 1)));
     }
-    const int x0 = std::max(0, image.cols / 2 - n_), y0 = std::max(0, image.rows / 2 - n_);
+  }
+
+  // Adds tile `tile`'s power.
+  void Add(int tile) {
+    const cv::Point corner(x0_ + (tile % 2) * n_, y0_ + (tile / 2) * n_);
     cv::Mat1f grey;
     cv::Mat2f complex;
-    power_ = cv::Mat1f::zeros(n_, n_);
-    const cv::Point corners[] = {cv::Point(x0, y0), cv::Point(x0 + n_, y0), cv::Point(x0, y0 + n_),
-                                 cv::Point(x0 + n_, y0 + n_)};
-    for (const int tile : tiles) {
-      ReadGreyTile(image, corners[tile], n_, grey);
-      grey -= cv::mean(grey)[0];
-      for (int r = 0; r < n_; ++r) {
-        float* p = grey.ptr<float>(r);
-        for (int c = 0; c < n_; ++c) p[c] *= hann[r] * hann[c];
-      }
-      cv::dft(grey, complex, cv::DFT_COMPLEX_OUTPUT);
-      for (int r = 0; r < n_; ++r) {
-        const cv::Vec2f* z = complex.ptr<cv::Vec2f>(r);
-        float* p = power_.ptr<float>(r);
-        for (int c = 0; c < n_; ++c) p[c] += z[c][0] * z[c][0] + z[c][1] * z[c][1];
-      }
+    ReadGreyTile(image_, corner, n_, grey);
+    grey -= cv::mean(grey)[0];
+    for (int r = 0; r < n_; ++r) {
+      float* p = grey.ptr<float>(r);
+      for (int c = 0; c < n_; ++c) p[c] *= hann_[r] * hann_[c];
     }
+    cv::dft(grey, complex, cv::DFT_COMPLEX_OUTPUT);
+    for (int r = 0; r < n_; ++r) {
+      const cv::Vec2f* z = complex.ptr<cv::Vec2f>(r);
+      float* p = power_.ptr<float>(r);
+      for (int c = 0; c < n_; ++c) p[c] += z[c][0] * z[c][0] + z[c][1] * z[c][1];
+    }
+  }
+
+  // Adds `other`'s power, bin by bin: a tile's power read once serves both
+  // its own spectrum and the four's (its sum is the same, added in turn).
+  void Add(const PowerSpectrum& other) { power_ += other.power_; }
+
+  // A spectrum of its own with the same power.
+  PowerSpectrum Clone() const {
+    PowerSpectrum copy = *this;
+    copy.power_ = power_.clone();
+    return copy;
   }
 
   int n() const { return n_; }
@@ -125,7 +141,10 @@ class PowerSpectrum {
   }
 
  private:
+  cv::Mat image_;  // shared, not copied
   int n_;
+  int x0_, y0_;  // the 2 x 2 block's top left corner
+  std::vector<float> hann_;
   cv::Mat1f power_;
 };
 
@@ -205,10 +224,8 @@ class RingSpectrum {
  public:
   using Bin = RingLayout::Bin;
 
-  RingSpectrum(const cv::Mat& image, int side, std::initializer_list<int> tiles)
-      : spectrum_(image, side, tiles),
-        layout_(RingLayout::For(spectrum_.n())),
-        level_(layout_.rings, 0.0) {
+  explicit RingSpectrum(const PowerSpectrum& spectrum)
+      : spectrum_(spectrum), layout_(RingLayout::For(spectrum_.n())), level_(layout_.rings, 0.0) {
     const float* power = spectrum_.Data();
     std::vector<float> ring_power(layout_.ring_index.size());
     for (std::size_t i = 0; i < ring_power.size(); ++i) {
@@ -316,14 +333,11 @@ bool IsScreenPeak(const RingSpectrum& spectrum, int fx, int fy, double contrast,
   return NothingBelow(spectrum, fx, fy, contrast);
 }
 
-// The screen in the spectrum of `tiles` of the 2 x 2 tiles of `side`
-// pixels in the photo's middle (PowerSpectrum), its contrasts asked for at
-// `contrast_share` of the constants above.
-std::optional<HalftoneScreen> SearchScreen(const cv::Mat& image, int side,
-                                           std::initializer_list<int> tiles,
-                                           double contrast_share) {
-  const RingSpectrum spectrum(image, side, tiles);
-  const int n = side;
+// The screen in `power` (a tile's spectrum, or the four's), its contrasts
+// asked for at `contrast_share` of the constants above.
+std::optional<HalftoneScreen> SearchScreen(const PowerSpectrum& power, double contrast_share) {
+  const RingSpectrum spectrum(power);
+  const int n = power.n();
 
   // The frequencies standing out of their rings, the strongest first (the
   // block pattern left out); the first that is a screen's is taken: a
@@ -371,13 +385,26 @@ std::optional<HalftoneScreen> FindHalftoneScreen(const cv::Mat& image) {
   while (side > 64 && (2 * side > image.cols || 2 * side > image.rows)) side /= 2;
   if (side < 128) return std::nullopt;
   // Two tiles alone, each with its contrasts asked for at kOneTileShare,
-  // decide whether the four are read (kOneTileShare): half the transforms
-  // on a photo without a screen. The screen is always the four's.
-  if (!SearchScreen(image, side, {0}, kOneTileShare) &&
-      !SearchScreen(image, side, {3}, kOneTileShare)) {
-    return std::nullopt;
+  // decide whether the four are read: half the transforms on a photo
+  // without a screen. The screen is always the four's, their powers added
+  // in the same order (0, 1, 2, 3) whichever were read first.
+  PowerSpectrum top_left(image, side);
+  top_left.Add(0);
+  std::optional<PowerSpectrum> bottom_right;
+  if (!SearchScreen(top_left, kOneTileShare)) {
+    bottom_right.emplace(image, side);
+    bottom_right->Add(3);
+    if (!SearchScreen(*bottom_right, kOneTileShare)) return std::nullopt;
   }
-  return SearchScreen(image, side, {0, 1, 2, 3}, 1.0);
+  PowerSpectrum four = top_left.Clone();
+  four.Add(1);
+  four.Add(2);
+  if (bottom_right) {
+    four.Add(*bottom_right);
+  } else {
+    four.Add(3);
+  }
+  return SearchScreen(four, 1.0);
 }
 
 cv::Mat Descreen(const cv::Mat& image, const HalftoneScreen& screen) {
