@@ -125,13 +125,40 @@ bool ThinFeaturesDark(const cv::Mat1f& grey, const cv::Mat& square) {
 // The largest factor ShrinkByArea takes: its column sums of 8-bit pixels fit 16 bits.
 constexpr int kMaxShrinkByArea = 65535 / 255;
 
-// One row of the shrunk photo from the sums of f photo rows: each pixel the
-// mean of an f x f block, rounded as cv::resize rounds it.
+// One row of the shrunk photo from the sums of kF photo rows: each pixel the
+// mean of a kF x kF block, rounded as cv::resize rounds it. kF known when
+// compiled, the sums along a block unroll: twice as fast as a loop over f.
+template <int kF, int kChannels>
+void MeanOfBlocks(const ushort* sums, int width, uchar* out) {
+  const float scale = 1.0f / (kF * kF);
+  for (int x = 0; x < width; ++x) {
+    const ushort* block = sums + x * kF * kChannels;
+    for (int c = 0; c < kChannels; ++c) {
+      int sum = 0;
+      for (int k = 0; k < kF; ++k) sum += block[k * kChannels + c];
+      out[x * kChannels + c] = cv::saturate_cast<uchar>(sum * scale);
+    }
+  }
+}
+
+// The same for any f.
 template <int kChannels>
-void MeanOfBlocks(const std::vector<ushort>& sums, int f, int width, uchar* out) {
+void MeanOfBlocks(const ushort* sums, int f, int width, uchar* out) {
+  switch (f) {
+    case 3:
+      return MeanOfBlocks<3, kChannels>(sums, width, out);
+    case 4:
+      return MeanOfBlocks<4, kChannels>(sums, width, out);
+    case 5:
+      return MeanOfBlocks<5, kChannels>(sums, width, out);
+    case 6:
+      return MeanOfBlocks<6, kChannels>(sums, width, out);
+    default:
+      break;
+  }
   const float scale = 1.0f / (f * f);
   for (int x = 0; x < width; ++x) {
-    const ushort* block = sums.data() + x * f * kChannels;
+    const ushort* block = sums + x * f * kChannels;
     std::array<int, kChannels> sum{};
     for (int k = 0; k < f; ++k) {
       for (int c = 0; c < kChannels; ++c) sum[c] += block[k * kChannels + c];
@@ -145,8 +172,8 @@ void MeanOfBlocks(const std::vector<ushort>& sums, int f, int width, uchar* out)
 // An 8-bit photo shrunk by the whole factor f (2 < f <= kMaxShrinkByArea),
 // the same as cv::resize's area resampling gives. That has a vectorised path
 // only for halving; for larger factors it reads every pixel through an
-// offset table. Summing whole rows first, then blocks along them, takes less
-// than half the time.
+// offset table. Summing whole rows first, then blocks along them, takes a
+// third to a half of the time.
 cv::Mat ShrinkByArea(const cv::Mat& photo, int f) {
   const int channels = photo.channels();
   const int width = photo.cols / f, height = photo.rows / f;
@@ -154,15 +181,16 @@ cv::Mat ShrinkByArea(const cv::Mat& photo, int f) {
   cv::Mat small(height, width, photo.type());
   std::vector<ushort> sums(row_values);
   for (int y = 0; y < height; ++y) {
-    std::fill(sums.begin(), sums.end(), 0);
-    for (int r = 0; r < f; ++r) {
+    const uchar* first = photo.ptr<uchar>(y * f);
+    for (int i = 0; i < row_values; ++i) sums[i] = first[i];
+    for (int r = 1; r < f; ++r) {
       const uchar* p = photo.ptr<uchar>(y * f + r);
       for (int i = 0; i < row_values; ++i) sums[i] += p[i];
     }
     uchar* out = small.ptr<uchar>(y);
-    if (channels == 1) MeanOfBlocks<1>(sums, f, width, out);
-    if (channels == 3) MeanOfBlocks<3>(sums, f, width, out);
-    if (channels == 4) MeanOfBlocks<4>(sums, f, width, out);
+    if (channels == 1) MeanOfBlocks<1>(sums.data(), f, width, out);
+    if (channels == 3) MeanOfBlocks<3>(sums.data(), f, width, out);
+    if (channels == 4) MeanOfBlocks<4>(sums.data(), f, width, out);
   }
   return small;
 }
@@ -245,19 +273,24 @@ Photo DecodePhoto(const std::vector<unsigned char>& bytes, const std::filesystem
 
 namespace digitize {
 
-cv::Mat ShrunkLuma(const cv::Mat& image, int f) {
+cv::Mat ShrunkByArea(const cv::Mat& image, int f) {
   // An exact whole factor: OpenCV's area resampling then takes its fast path,
   // and shrunk pixel (u, v) covers photo pixels [f u, f u + f) exactly.
-  cv::Mat small;
   const cv::Rect whole(0, 0, image.cols / f * f, image.rows / f * f);
   if (f > 2 && f <= kMaxShrinkByArea && image.depth() == CV_8U) {
-    small = ShrinkByArea(image(whole), f);
-  } else if (f > 1) {
+    return ShrinkByArea(image(whole), f);
+  }
+  if (f > 1) {
+    cv::Mat small;
     cv::resize(image(whole), small, cv::Size(whole.width / f, whole.height / f), 0.0, 0.0,
                cv::INTER_AREA);
-  } else {
-    small = image;
+    return small;
   }
+  return image;
+}
+
+cv::Mat ShrunkLuma(const cv::Mat& image, int f) {
+  cv::Mat small = ShrunkByArea(image, f);
   if (small.channels() == 3) cv::cvtColor(small, small, cv::COLOR_BGR2GRAY);
   if (small.channels() == 4) cv::cvtColor(small, small, cv::COLOR_BGRA2GRAY);
   return small;

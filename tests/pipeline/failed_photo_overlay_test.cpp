@@ -39,7 +39,8 @@ TEST_CASE("failed photo: a run whose photo shows no graticule keeps its overlay 
 
   const auto file = dir.path() / "results.h5";
   WriteResults(result, file);
-  const RunResult* read = ReadResults(file).FindRun(photo_run->id);
+  const SessionResult read_back = ReadResults(file);  // kept: `read` points into it
+  const RunResult* read = read_back.FindRun(photo_run->id);
   REQUIRE(read != nullptr);
   REQUIRE(read->measured.overlays.size() == 1);
   CHECK(read->measured.overlays.front().jpeg == failed->measured.overlays.front().jpeg);
