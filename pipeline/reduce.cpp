@@ -543,20 +543,23 @@ class ProgressCounter {
 // (photocell_calibration.h) is worth a look at its overlay: said once per
 // calibration.
 void WarnOfLeftOutStretches(SessionResult& result) {
-  std::set<std::string> warned;
+  std::vector<const CellCalibration*> calibrations;
+  for (const CellCalibration& c : result.calibrations) calibrations.push_back(&c);
   for (const RunResult& run : result.runs) {
-    for (const CellCalibration& c : run.measured.calibrations) {
-      if (c.left_out_from_s.empty() || !warned.insert(c.calibration_id).second) continue;
-      std::string stretches;
-      for (std::size_t i = 0; i < c.left_out_from_s.size(); ++i) {
-        stretches += fmt::format("{}{:.4g} .. {:.4g} s", i == 0 ? "" : ", ", c.left_out_from_s[i],
-                                 c.left_out_to_s[i]);
-      }
-      result.warnings.push_back(fmt::format(
-          "calibration \"{}\": its trace is far off the curve through the rest at t = {}, "
-          "left out as misread (a mark or a scratch followed?): see its overlay",
-          c.calibration_id, stretches));
+    for (const CellCalibration& c : run.measured.calibrations) calibrations.push_back(&c);
+  }
+  std::set<std::string> warned;
+  for (const CellCalibration* c : calibrations) {
+    if (c->left_out_from_s.empty() || !warned.insert(c->calibration_id).second) continue;
+    std::string stretches;
+    for (std::size_t i = 0; i < c->left_out_from_s.size(); ++i) {
+      stretches += fmt::format("{}{:.4g} .. {:.4g} s", i == 0 ? "" : ", ", c->left_out_from_s[i],
+                               c->left_out_to_s[i]);
     }
+    result.warnings.push_back(fmt::format(
+        "calibration \"{}\": its trace is far off the curve through the rest at t = {}, "
+        "left out as misread (a mark or a scratch followed?): see its overlay",
+        c->calibration_id, stretches));
   }
 }
 
@@ -629,6 +632,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     for (auto& c : done) {
       if (c) result.calibrations.push_back(std::move(*c));
     }
+    WarnOfLeftOutStretches(result);
     RecordNotAsked(session_options.products, result);
     return result;
   }
