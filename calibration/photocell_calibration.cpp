@@ -235,10 +235,12 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
     return weight.cwiseProduct(v - basis.leftCols(index + 2) * fits[index].coefficients);
   };
   // The band from the residuals as they are: correlated along the trace.
-  const auto inflation_of = [&](int index) {
-    const Eigen::VectorXd weighted_residual = weighted_residual_of(index);
+  const auto inflation_of_residual = [](const Eigen::VectorXd& weighted_residual) {
     return CorrelationInflation(
         {weighted_residual.data(), static_cast<std::size_t>(weighted_residual.size())});
+  };
+  const auto inflation_of = [&](int index) {
+    return inflation_of_residual(weighted_residual_of(index));
   };
   // The band: least squares' (inflated), widened where the curve moves more
   // than that says when an inner tenth of the trace is left out (curve_band.h), plus
@@ -261,7 +263,7 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
   };
   const int best = by_bic.front();
   out.best_weighted_residual = weighted_residual_of(best);
-  const double best_inflation = inflation_of(best);
+  const double best_inflation = inflation_of_residual(out.best_weighted_residual);
   out.curve = curve_of(best, best_inflation);
   out.correlation_inflation = best_inflation;
   out.ok = true;
