@@ -84,7 +84,8 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
     photo.id = id;
     photo.run_photo = true;
     photo.look = t["photo"]["look"];
-    // Its calibrations: failed when the run's failure names their photo.
+    // Its calibrations: failed when the run's failure names their photo, or
+    // a warning does (a calibration the run failed before it asked for).
     bool calibrations_ok = true;
     for (const std::string cell : {"R-", "L-"}) {
       PhotoRecord cal;
@@ -92,11 +93,16 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
       cal.id = cell + id;
       cal.look = calibration_looks[cell + id];
       cal.outcome = Outcome::kOk;
-      if (run != nullptr && !run->ok &&
-          run->reason.find("calibration/" + cell + id + ".") != std::string::npos) {
+      const std::string photo_path = "calibration/" + cell + id + ".";
+      if (run != nullptr && !run->ok && run->reason.find(photo_path) != std::string::npos) {
         cal.outcome = Outcome::kFailed;
         cal.failure = run->reason;
         calibrations_ok = false;
+      }
+      for (const std::string& w : result.warnings) {
+        if (cal.outcome != Outcome::kOk || w.find(photo_path) == std::string::npos) continue;
+        cal.outcome = Outcome::kFailed;
+        cal.failure = w;
       }
       records.push_back(std::move(cal));
     }

@@ -519,6 +519,25 @@ void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum
   }
 }
 
+// A calibration that failed is reported by the runs that name it; one whose
+// runs all failed before they asked for it (a run's other bar first) would
+// go unreported. Its failure is a warning then: every broken entry is said,
+// with its file, key and reason.
+void WarnOfUnreachedFailures(const MeasurementPlan& plan, CalibrationCache& calibrations,
+                             SessionResult& result) {
+  for (const std::string& id : plan.calibrations) {
+    try {
+      calibrations.Get(id);
+    } catch (const std::exception& error) {
+      const std::string reason = error.what();
+      const bool said = std::any_of(
+          result.runs.begin(), result.runs.end(),
+          [&](const RunResult& r) { return !r.ok && r.reason.find(reason) != std::string::npos; });
+      if (!said) result.warnings.push_back(reason);
+    }
+  }
+}
+
 // Counts the work done for ReduceOptions::on_progress, from any thread.
 class ProgressCounter {
  public:
@@ -662,6 +681,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     progress.Done("run " + runs[i].id, runs[i].ok, runs[i].reused);
   });
   result.runs = std::move(runs);
+  WarnOfUnreachedFailures(plan, calibrations, result);
   WarnOfLeftOutStretches(result);
   MarkAnomalies(pendulum, result.runs);
   CheckTypedReleases(session, result);

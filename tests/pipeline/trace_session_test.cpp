@@ -294,6 +294,32 @@ TEST_CASE("trace_session: a calibration that does not cover the run is refused")
   CHECK_THAT(result.runs[0].reason, Catch::Contains("does not cover"));
 }
 
+TEST_CASE("trace_session: a broken calibration no run reached is still reported") {
+  // The run fails on its right trace (a calibration from a smaller swing)
+  // before it asks for its left calibration, whose cell folds over (not
+  // monotone): the left calibration's failure is a warning of its own.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  const double quarter = 0.5 * HalfPeriod(kPendulum, 0.6);
+  std::vector<double> t, v;
+  for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
+    const double x = s < 0 ? 0.6 : ReleaseSwingDisplacement(kPendulum, 0.6, std::min(s, quarter));
+    t.push_back(s);
+    v.push_back(0.2 + 2.2 * std::max(x, 0.0) - 3.0 * x * x);  // peaks at X = 0.37
+  }
+  WriteCsv(dir.path() / "traces" / "L.csv", t, v);
+  const Session session = WithCellCalibratedAt(dir.path(), "R", 0.2, 0.0);
+  const SessionResult result = ReduceSession(session, {});
+  REQUIRE_FALSE(result.runs[0].ok);
+  CHECK_THAT(result.runs[0].reason, Catch::Contains("does not cover"));
+  const auto left = std::find_if(
+      result.warnings.begin(), result.warnings.end(),
+      [](const std::string& w) { return w.find("calibration \"L\"") != std::string::npos; });
+  REQUIRE(left != result.warnings.end());
+  CHECK_THAT(*left, Catch::Contains("not monotone"));
+  CHECK_THAT(*left, Catch::Contains("L.csv"));
+}
+
 // Two runs sharing nothing: the trace session's run and a second, typed-in one.
 Session TwoRunSession(const std::filesystem::path& dir) {
   WriteSession(dir, 0.6, 0.001);
