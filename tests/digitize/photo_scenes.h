@@ -117,6 +117,38 @@ inline RunScene ContactPulseScene(double rise_div, double fall_div) {
   return run;
 }
 
+// The standard run photo with a contact trace at 50 us/div, levels 0.05 and
+// 2.45 V at 2 V/div, switched at screen x `rise_div` and `fall_div`, each
+// edge an RC exponential of time constant `rc_s`.
+inline RunScene ContactRcScene(double rise_div, double fall_div, double rc_s) {
+  RunScene run = StandardRunScene();
+  TraceSettings settings = Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
+  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
+  settings.impact = 2;
+  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
+  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
+  const double low = 0.05, high = 2.45;
+  ScreenTrace& contact = run.scene.traces[2];
+  contact.time_s.clear();
+  contact.volts.clear();
+  const double end = window_start + 10.5 * kContactTimePerDiv;
+  for (double t = window_start; t <= end; t += 0.05e-6) {
+    double v = low;
+    if (t >= kContactStartS)
+      v = low + (high - low) * (1.0 - std::exp(-(t - kContactStartS) / rc_s));
+    if (t >= fall_s) {
+      const double at_fall =
+          low + (high - low) * (1.0 - std::exp(-(fall_s - kContactStartS) / rc_s));
+      v = low + (at_fall - low) * std::exp(-(t - fall_s) / rc_s);
+    }
+    contact.time_s.push_back(t);
+    contact.volts.push_back(v);
+  }
+  contact.settings = settings;
+  run.requests[2].settings = settings;
+  return run;
+}
+
 // How far the digitized centre line lies from the truth.
 struct TraceScore {
   double rms_px = 0.0;  // distance to the true centre line, in photo pixels
