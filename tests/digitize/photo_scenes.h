@@ -117,14 +117,10 @@ inline RunScene ContactPulseScene(double rise_div, double fall_div) {
   return run;
 }
 
-// The standard run photo with a contact trace at 50 us/div, levels 0.05 and
-// 2.45 V at 2 V/div, switched at screen x `rise_div` and `fall_div`, each
-// edge an RC exponential of time constant `rc_s`.
+// ContactPulseScene's pulse with each edge an RC exponential of time
+// constant `rc_s` from its switching instant (a real contact circuit's).
 inline RunScene ContactRcScene(double rise_div, double fall_div, double rc_s) {
-  RunScene run = StandardRunScene();
-  TraceSettings settings = Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
-  settings.impact = 2;
+  RunScene run = ContactPulseScene(rise_div, fall_div);
   const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
   const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
   const double low = 0.05, high = 2.45;
@@ -144,8 +140,6 @@ inline RunScene ContactRcScene(double rise_div, double fall_div, double rc_s) {
     contact.time_s.push_back(t);
     contact.volts.push_back(v);
   }
-  contact.settings = settings;
-  run.requests[2].settings = settings;
   return run;
 }
 
