@@ -28,38 +28,6 @@ namespace {
 using testing::kContactStartS;
 using testing::kContactTimePerDiv;
 
-// The standard run photo with a contact trace at 50 us/div, levels 0.05 and
-// 2.45 V at 2 V/div, switched at screen x `rise_div` and `fall_div`, each
-// edge an RC exponential of time constant `rc_s`.
-testing::RunScene RcScene(double rise_div, double fall_div, double rc_s) {
-  testing::RunScene run = testing::StandardRunScene();
-  TraceSettings settings = testing::Settings(kContactTimePerDiv, 2.0, -3.9, {-4.0, -2.8});
-  settings.t0_div = rise_div - kContactStartS / kContactTimePerDiv;
-  settings.impact = 2;
-  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
-  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
-  const double low = 0.05, high = 2.45;
-  ScreenTrace& contact = run.scene.traces[2];
-  contact.time_s.clear();
-  contact.volts.clear();
-  const double end = window_start + 10.5 * kContactTimePerDiv;
-  for (double t = window_start; t <= end; t += 0.05e-6) {
-    double v = low;
-    if (t >= kContactStartS)
-      v = low + (high - low) * (1.0 - std::exp(-(t - kContactStartS) / rc_s));
-    if (t >= fall_s) {
-      const double at_fall =
-          low + (high - low) * (1.0 - std::exp(-(fall_s - kContactStartS) / rc_s));
-      v = low + (at_fall - low) * std::exp(-(t - fall_s) / rc_s);
-    }
-    contact.time_s.push_back(t);
-    contact.volts.push_back(v);
-  }
-  contact.settings = settings;
-  run.requests[2].settings = settings;
-  return run;
-}
-
 // A level's row along the sweep: a beam of Gaussian section whose level
 // runs up to `end_px` (leaving) or from it (reaching), through a saturating
 // tone curve.
@@ -119,7 +87,7 @@ TEST_CASE("digitize: a pulse with RC edges on a phone photo is timed between lik
       {1.972, 8.972, 2.0e-6, 7},
   };
   for (const Case& c : cases) {
-    const testing::RunScene run = RcScene(c.rise_div, c.fall_div, c.rc_s);
+    const testing::RunScene run = testing::ContactRcScene(c.rise_div, c.fall_div, c.rc_s);
     RenderOptions options;
     options.style = PhotoStyle::kPhone;
     options.width_px = 1600;

@@ -117,6 +117,32 @@ inline RunScene ContactPulseScene(double rise_div, double fall_div) {
   return run;
 }
 
+// ContactPulseScene's pulse with each edge an RC exponential of time
+// constant `rc_s` from its switching instant (a real contact circuit's).
+inline RunScene ContactRcScene(double rise_div, double fall_div, double rc_s) {
+  RunScene run = ContactPulseScene(rise_div, fall_div);
+  const double window_start = kContactStartS - rise_div * kContactTimePerDiv;
+  const double fall_s = kContactStartS + (fall_div - rise_div) * kContactTimePerDiv;
+  const double low = 0.05, high = 2.45;
+  ScreenTrace& contact = run.scene.traces[2];
+  contact.time_s.clear();
+  contact.volts.clear();
+  const double end = window_start + 10.5 * kContactTimePerDiv;
+  for (double t = window_start; t <= end; t += 0.05e-6) {
+    double v = low;
+    if (t >= kContactStartS)
+      v = low + (high - low) * (1.0 - std::exp(-(t - kContactStartS) / rc_s));
+    if (t >= fall_s) {
+      const double at_fall =
+          low + (high - low) * (1.0 - std::exp(-(fall_s - kContactStartS) / rc_s));
+      v = low + (at_fall - low) * std::exp(-(t - fall_s) / rc_s);
+    }
+    contact.time_s.push_back(t);
+    contact.volts.push_back(v);
+  }
+  return run;
+}
+
 // How far the digitized centre line lies from the truth.
 struct TraceScore {
   double rms_px = 0.0;  // distance to the true centre line, in photo pixels
