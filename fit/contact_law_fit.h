@@ -154,8 +154,6 @@ struct ContactLawFit {
     visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
           "law parameters and one rebound-0 speed per run");
     visit("dof", self.dof, Quantity::kDimensionless, "degrees of freedom");
-    visit("excess_scatter", self.scatter.excess, Quantity::kDimensionless,
-          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
     visit("rebound0_speed", self.run_rebound0_speed, Quantity::kSpeed,
           "each run's fitted rebound-0 speed, in the runs' order");
     visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
@@ -163,8 +161,7 @@ struct ContactLawFit {
     visit("chi2_contact", self.chi2_contact, Quantity::kDimensionless, "its contact times' share");
     visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
     visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
-    visit("birge_ratio", self.scatter.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
-    visit("chi2_p_value", self.scatter.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
+    ScatterCheck::VisitFields(self.scatter, visit);
     visit("leave_one_out_ok", self.loo_ok, Quantity::kDimensionless,
           "1 when every run was left out and predicted");
     visit("leave_one_out_maxima", self.loo_maxima, Quantity::kDimensionless,
