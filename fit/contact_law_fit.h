@@ -143,8 +143,11 @@ struct ContactLawFit {
   std::string effective_modulus_unidentifiable;
 
   // What the results file keeps as fields (options/result_fields.h). The
-  // parameters, their intervals and covariance, and the leave-one-out RMS
-  // (only where it ran) are stored by the file's own layout.
+  // parameters, their intervals' ends and methods, and the leave-one-out RMS
+  // (only where it ran) are stored by the file's own layout. Not kept: the
+  // status but its time (ok and reason are the group's status), the
+  // covariance's correlation (its matrix gives it) and whether it was scaled
+  // by the residuals (never: the laws' maxima carry their sigmas).
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("identifiability", self.identifiability, Quantity::kDimensionless,
@@ -167,6 +170,15 @@ struct ContactLawFit {
     visit("leave_one_out_maxima", self.loo_maxima, Quantity::kDimensionless,
           "maxima the left-out runs' predictions were compared with");
     visit("seconds", self.status.seconds, Quantity::kSeconds, "the fit's wall time");
+    visit("covariance", Square(self.covariance.matrix), Quantity::kDimensionless,
+          "the covariance of the law's fitted parameters (their logarithms; n as it is)");
+    visit("covariance@parameter_names", self.covariance.names, Quantity::kDimensionless,
+          "its rows, e.g. log k, log chi, n");
+    visit("interval_rise_at_lower", Column(self.intervals, &ParameterInterval::rise_at_lower),
+          Quantity::kDimensionless,
+          "per parameter: the chi2 profile's rise at the linear interval's lower end, in s^2");
+    visit("interval_rise_at_upper", Column(self.intervals, &ParameterInterval::rise_at_upper),
+          Quantity::kDimensionless, "and at its upper end");
     visit("effective_modulus", self.effective_modulus, Quantity::kPressure,
           "E* = 3 k / (8 sqrt(R)) where the ends are spheres of radius R");
     visit("handbook_effective_modulus", self.handbook_effective_modulus, Quantity::kPressure,

@@ -486,7 +486,6 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
   WriteNamedEstimates(out, g, fit.parameters);
   WriteScaledErrors(out, g, fit.parameters, fit.scatter.Scale());
   std::vector<std::string> methods;
-  std::vector<double> rise_lower, rise_upper;
   for (std::size_t i = 0; i < fit.intervals.size() && i < fit.parameters.size(); ++i) {
     const ParameterInterval& in = fit.intervals[i];
     const std::string units = UnitOfKind(fit.parameters[i].units, out.u);
@@ -494,19 +493,8 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
     f.WriteScalar(g + "/" + in.name + "_interval_upper", in.upper, units);
     methods.push_back(std::string(in.profile ? "profile" : "linear") +
                       (in.at_bound ? ", at a bound" : ""));
-    rise_lower.push_back(in.rise_at_lower);
-    rise_upper.push_back(in.rise_at_upper);
   }
   f.WriteStrings(g + "/interval_methods", methods);
-  if (!methods.empty()) {
-    f.WriteVector(g + "/interval_rise_at_lower", rise_lower, "1");
-    f.WriteVector(g + "/interval_rise_at_upper", rise_upper, "1");
-  }
-  if (const std::size_t n = fit.covariance.names.size();
-      n > 0 && fit.covariance.matrix.size() == n * n) {
-    out.x.WriteMatrix(g + "/covariance", n, n, fit.covariance.matrix, "1");
-    out.x.SetStringsAttribute(g + "/covariance", "parameter_names", fit.covariance.names);
-  }
   if (fit.loo_ok || fit.loo_maxima > 0) {  // left out: fewer than three runs, or not asked
     f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
     f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
@@ -523,25 +511,18 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   if (!f.Exists(g + "/chi2")) return fit;
   ReadFields(f, g, fit);
   fit.parameters = ReadNamedEstimates(f, g);
-  if (f.Exists(g + "/interval_methods")) {
-    const std::vector<std::string> methods = f.ReadStrings(g + "/interval_methods");
-    const std::vector<double> rise_lower = ReadVectorIfPresent(f, g + "/interval_rise_at_lower");
-    const std::vector<double> rise_upper = ReadVectorIfPresent(f, g + "/interval_rise_at_upper");
-    for (std::size_t i = 0; i < methods.size() && i < fit.parameters.size(); ++i) {
-      ParameterInterval in;
-      in.name = fit.parameters[i].name;
-      in.lower = f.ReadScalar(g + "/" + in.name + "_interval_lower");
-      in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
-      in.profile = methods[i].rfind("profile", 0) == 0;
-      in.at_bound = methods[i].find("at a bound") != std::string::npos;
-      if (i < rise_lower.size()) in.rise_at_lower = rise_lower[i];
-      if (i < rise_upper.size()) in.rise_at_upper = rise_upper[i];
-      fit.intervals.push_back(in);
-    }
-  }
-  if (f.Exists(g + "/covariance")) {
-    fit.covariance.matrix = f.ReadVector(g + "/covariance");
-    fit.covariance.names = ReadStringsAttribute(f.path(), g + "/covariance", "parameter_names");
+  // Each interval's ends and method, beside the rises its list read.
+  const std::vector<std::string> methods = f.Exists(g + "/interval_methods")
+                                               ? f.ReadStrings(g + "/interval_methods")
+                                               : std::vector<std::string>{};
+  fit.intervals.resize(std::min(methods.size(), fit.parameters.size()));
+  for (std::size_t i = 0; i < fit.intervals.size(); ++i) {
+    ParameterInterval& in = fit.intervals[i];
+    in.name = fit.parameters[i].name;
+    in.lower = f.ReadScalar(g + "/" + in.name + "_interval_lower");
+    in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
+    in.profile = methods[i].rfind("profile", 0) == 0;
+    in.at_bound = methods[i].find("at a bound") != std::string::npos;
   }
   const std::optional<double> loo = f.ReadScalarIfPresent(g + "/leave_one_out_rms_normalized");
   fit.loo_rms_normalized = loo.value_or(0.0);
