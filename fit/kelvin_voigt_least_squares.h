@@ -87,10 +87,10 @@ struct KelvinVoigtLeastSquaresFit {
   // session's), the contact time (the run's), the residuals but their
   // normalized values (the run's maxima and sigmas give the rest), the
   // covariances (the correlation and the estimates' errors give that of
-  // (zeta, v0), which holds that of (ln e, ln v0)); nor are the predicted
-  // maxima's errors and the solver's and identifiability's details
-  // (FitStatus, Identifiability): each dataset more lengthens every reduce,
-  // about half of which, for a typed-in session, is writing the file.
+  // (zeta, v0), which holds that of (ln e, ln v0)); nor are the solver's and
+  // identifiability's details (FitStatus, Identifiability): each dataset more
+  // lengthens every reduce, about half of which, for a typed-in session, is
+  // writing the file.
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     VisitLeastSquaresFields(self, visit);
@@ -105,6 +105,8 @@ struct KelvinVoigtLeastSquaresFit {
     visit("damping", self.damping, Quantity::kDamping, "C, with a contact time");
     visit("predicted_xmax", Column(self.predicted_xmax, &Estimate::value), Quantity::kLength,
           "the model's Xmax of rebound 0, 1, ...");
+    visit("predicted_xmax_std_error", Column(self.predicted_xmax, &Estimate::sigma),
+          Quantity::kLength, "their standard errors, Birge-scaled where the scatter is in excess");
   }
 };
 
