@@ -1,6 +1,9 @@
 // What reducing a session produces: one RunResult per run, the cross-run
-// Kelvin-Voigt analysis and the predictions. The results file (results_file.h)
-// stores exactly this; the report formats it and never recomputes it.
+// Kelvin-Voigt analysis and the predictions, the stages' results as they
+// return them where they have field lists (the least-squares fits, the
+// contact laws). The results file (results_file.h) stores what each result's
+// list keeps (options/result_fields.h; a list says what it leaves out); the
+// report formats it and never recomputes it.
 #pragma once
 
 #include <optional>
