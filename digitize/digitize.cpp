@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,13 +22,24 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// The widest trace's width and the brightest's height: what a mark must exceed.
+// The beam's line width and the brightest trace's height: what a mark must
+// exceed. The width is the widest continuously drawn trace's (a first
+// reading's median over its samples). A chopped trace's reading is no
+// measure of it: where its sparse dashes were joined by a label's or a
+// ring's unbroken strokes, those can outnumber them and widen the median
+// past the mark itself. Only when every trace is chopped is the narrowest
+// of them taken (marks widen a reading, never narrow it).
 std::array<double, 2> TraceScale(const std::vector<DigitizedTrace>& traces) {
-  double width = 0.0, height = 0.0;
+  double continuous = 0.0, chopped = std::numeric_limits<double>::infinity(), height = 0.0;
   for (const DigitizedTrace& t : traces) {
-    width = std::max(width, t.width_px);
+    if (digitize::ReadInDashes(t)) {
+      if (t.width_px > 0.0) chopped = std::min(chopped, t.width_px);
+    } else {
+      continuous = std::max(continuous, t.width_px);
+    }
     height = std::max(height, t.height);
   }
+  const double width = continuous > 0.0 ? continuous : std::isfinite(chopped) ? chopped : 0.0;
   return {width, height};
 }
 

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "digitize/grey_ink.h"
+#include "digitize/select.h"
 
 namespace impactlab::digitize {
 
@@ -91,31 +92,78 @@ cv::Mat1b MarkGround(const GraticuleFit& graticule, int f, const cv::Rect& regio
   return ground;
 }
 
+// A reading's samples in runs with gaps of at most kCourseGapDiv.
+struct SampleRun {
+  std::size_t first = 0, end = 0;  // samples [first, end)
+  double length_div = 0.0;
+  double gap_before_div = 0.0;  // from the previous run's last sample
+};
+
+std::vector<SampleRun> UnbrokenRuns(const std::vector<cv::Point2d>& screen) {
+  std::vector<SampleRun> runs;
+  std::size_t first = 0;
+  for (std::size_t i = 1; i <= screen.size(); ++i) {
+    if (i < screen.size() && screen[i].x - screen[i - 1].x <= kCourseGapDiv) continue;
+    runs.push_back({first, i, screen[i - 1].x - screen[first].x,
+                    first > 0 ? screen[first].x - screen[first - 1].x : 0.0});
+    first = i;
+  }
+  return runs;
+}
+
+// Whether a reading shows a chopped beam: many runs, nearly all short and
+// alike, with gaps alike between them (a chopper is periodic). A continuous
+// trace seen in pieces (broken at grid lines, on faint flanks) has few runs
+// or runs and gaps of every length.
+bool DrawnInDashes(const std::vector<SampleRun>& runs) {
+  constexpr std::size_t kMinRuns = 10;
+  constexpr double kRegularShare = 0.8;
+  if (runs.size() < kMinRuns) return false;
+  std::vector<float> lengths, gaps;
+  for (const SampleRun& r : runs) {
+    lengths.push_back(static_cast<float>(r.length_div));
+    if (&r != &runs.front()) gaps.push_back(static_cast<float>(r.gap_before_div));
+  }
+  const auto regular = [&](std::vector<float> values) {
+    const double usual = MedianOf(values);
+    const auto alike =
+        std::count_if(values.begin(), values.end(), [&](float v) { return v <= 2.0 * usual; });
+    return usual < kCourseMinDiv && alike >= kRegularShare * static_cast<double>(values.size());
+  };
+  return regular(lengths) && regular(gaps);
+}
+
 // Clears `allowed` (mask pixels, origin at `origin`) within half a trace's
-// width of the samples a reading of the traces measured in long unbroken
-// runs: the beam's course. A first reading may stray onto a mark too, but
-// there only briefly (a label's strokes, a stroke's crossing).
+// width (its own, or the beam's `width_px` if wider) of the samples a
+// reading of the traces measured in long unbroken runs: the beam's course,
+// however thick it is there. A first reading may stray onto a mark too, but
+// there only briefly (a label's strokes, a stroke's crossing). A chopped
+// trace's reading clears nothing: its dashes are too short to be taken for
+// marks, and its unbroken runs are not its own.
 void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point origin,
                   double width_px, cv::Mat1b& allowed) {
-  const int radius = std::max(1, static_cast<int>(std::lround(0.5 * width_px / f)));
   for (const DigitizedTrace& trace : traces) {
-    const std::vector<cv::Point2d>& screen = trace.screen_div;
-    std::size_t first = 0;
-    for (std::size_t i = 1; i <= screen.size(); ++i) {
-      if (i < screen.size() && screen[i].x - screen[i - 1].x <= kCourseGapDiv) continue;
-      // Samples first .. i - 1 are one run.
-      if (i > first && screen[i - 1].x - screen[first].x >= kCourseMinDiv) {
-        for (std::size_t k = first; k < i; ++k) {
-          cv::circle(allowed, MaskPixel(trace.centre_px[k], f, origin), radius, cv::Scalar(0),
-                     cv::FILLED);
-        }
+    // A chopped beam draws no unbroken run: what the reading followed
+    // unbroken there is something else (a ring's arc, a stroke along it).
+    const std::vector<SampleRun> runs = UnbrokenRuns(trace.screen_div);
+    if (DrawnInDashes(runs)) continue;
+    const int radius =
+        std::max(1, static_cast<int>(std::lround(0.5 * std::max(width_px, trace.width_px) / f)));
+    for (const SampleRun& run : runs) {
+      if (run.length_div < kCourseMinDiv) continue;
+      for (std::size_t k = run.first; k < run.end; ++k) {
+        cv::circle(allowed, MaskPixel(trace.centre_px[k], f, origin), radius, cv::Scalar(0),
+                   cv::FILLED);
       }
-      first = i;
     }
   }
 }
 
 }  // namespace
+
+bool ReadInDashes(const DigitizedTrace& trace) {
+  return DrawnInDashes(UnbrokenRuns(trace.screen_div));
+}
 
 bool HandMarkMap::Covers(cv::Point2d photo_px) const {
   if (mask.empty()) return false;
@@ -229,21 +277,51 @@ PreparedPhoto WithoutMarks(const PreparedPhoto& photo, const HandMarkMap& marks)
   return out;
 }
 
+namespace {
+
+// Whether the straight course from `a` to `b` (photo pixels) crosses a mark:
+// checked at every mask pixel's step along it.
+bool CourseCrossesMark(const HandMarkMap& marks, cv::Point2d a, cv::Point2d b) {
+  const int steps = std::max(1, static_cast<int>(std::ceil(cv::norm(b - a) / marks.shrink)));
+  for (int k = 1; k < steps; ++k) {
+    if (marks.Covers(a + (b - a) * (static_cast<double>(k) / steps))) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::array<double, 2>> DropSamplesOnMarks(const HandMarkMap& marks,
                                                       DigitizedTrace& trace) {
   std::vector<std::array<double, 2>> stretches;
+  // Joins the last stretch when `from` lies before its end, or starts one.
+  const auto take = [&](double from, double to) {
+    if (!stretches.empty() && from <= stretches.back()[1]) {
+      stretches.back()[0] = std::min(stretches.back()[0], from);
+      stretches.back()[1] = std::max(stretches.back()[1], to);
+    } else {
+      stretches.push_back({from, to});
+    }
+  };
   const std::size_t n = trace.trace.time_s.size();
   std::size_t kept = 0;
-  bool in_stretch = false;
+  bool dropping = false;  // the previous sample was dropped
   for (std::size_t i = 0; i < n; ++i) {
+    const double x = trace.screen_div[i].x;
     if (marks.Covers(trace.centre_px[i])) {
-      const double x = trace.screen_div[i].x;
-      if (!in_stretch) stretches.push_back({x, x});
-      stretches.back()[1] = x;
-      in_stretch = true;
+      if (dropping) {
+        stretches.back()[1] = x;
+      } else {
+        take(x, x);
+      }
+      dropping = true;
       continue;
     }
-    in_stretch = false;
+    dropping = false;
+    // Between the last sample kept and this one the course crossed a mark.
+    if (kept > 0 && CourseCrossesMark(marks, trace.centre_px[kept - 1], trace.centre_px[i])) {
+      take(trace.screen_div[kept - 1].x, x);
+    }
     trace.trace.time_s[kept] = trace.trace.time_s[i];
     trace.trace.volts[kept] = trace.trace.volts[i];
     if (!trace.trace.sigma_volts.empty())

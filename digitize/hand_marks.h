@@ -35,12 +35,21 @@ HandMarkMap FindHandMarks(const PreparedPhoto& photo, const GraticuleFit& gratic
                           double trace_width_px, double trace_height,
                           const std::vector<DigitizedTrace>& first_reading);
 
+// Whether a reading of a trace shows a chopped beam: ten or more runs of
+// samples (gaps of at most 0.05 division) whose lengths and gaps are nearly
+// all alike and short. Such a beam draws no unbroken run, so what its
+// reading followed unbroken (a ring's arc, a stroke along it) is not its own.
+bool ReadInDashes(const DigitizedTrace& trace);
+
 // `photo` with the marks taken out of its ridge image, which the tracking
 // reads: a mark crossing a trace leaves a gap that the tracking bridges.
 PreparedPhoto WithoutMarks(const PreparedPhoto& photo, const HandMarkMap& marks);
 
 // Drops `trace`'s samples that lie on a mark; returns the stretches of the
-// sweep (divisions, [from, to]) where samples were dropped.
+// sweep (divisions, [from, to]) a mark took from the trace: where samples
+// were dropped, and where the trace's course between two kept samples runs
+// across a mark (the tracking bridged it, or its samples there were already
+// refused as off the line).
 std::vector<std::array<double, 2>> DropSamplesOnMarks(const HandMarkMap& marks,
                                                       DigitizedTrace& trace);
 

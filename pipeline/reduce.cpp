@@ -671,6 +671,9 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     if (const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left)) {
       result.warnings.push_back(fmt::format("run \"{}\": its maxima stop at rebound {}: {}", run.id,
                                             disagreement->rebound, disagreement->why));
+    } else if (const auto lost = OneBarStretch(*run.measured.right, *run.measured.left,
+                                               run.measured.xmax.size())) {
+      result.warnings.push_back(fmt::format("run \"{}\": {}", run.id, *lost));
     }
   }
   if (options.products != Products::kFit) {

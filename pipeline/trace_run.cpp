@@ -369,8 +369,11 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   const BarRebounds both =
       histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average) : from_average;
   if (both.xmax.size() < 2) {
-    const std::optional<BarDisagreement> disagreement =
-        histories.size() == 2 ? FirstDisagreement(*out.right, *out.left) : std::nullopt;
+    std::optional<BarDisagreement> disagreement;
+    if (histories.size() == 2) {
+      disagreement = FirstDisagreement(*out.right, *out.left);
+      if (!disagreement) disagreement = AverageSlip(*out.right, *out.left, from_average);
+    }
     throw InputError({session.manifest, RunKey(run), std::nullopt},
                      fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
                                  "complete in the traces{}; at least 2 are needed",

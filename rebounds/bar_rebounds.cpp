@@ -1,6 +1,7 @@
 #include "rebounds/bar_rebounds.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -25,6 +26,43 @@ double MeanOfTwoSigma(double a, double sigma_a, double b, double sigma_b) {
   if (!(sigma_a > 0.0) || !(sigma_b > 0.0)) return 0.0;
   const double combined = std::hypot(sigma_a, sigma_b);
   return 0.5 * std::max(combined, std::abs(a - b));
+}
+
+// The bars' common swing at rebound 0 (session numbering), from the
+// rebounds [0, both) both bars read: the pair's centre of mass swings on
+// through every impact (the impact exchanges momentum between the bars, not
+// its sum), half a period per rebound, so each bar's maximum is the mean of
+// the two plus this length with alternating sign: right_n = mean_n +
+// (-1)^n c, left_n = mean_n - (-1)^n c. Estimated as the weighted mean of
+// (-1)^n (right_n - left_n) / 2, with its standard error widened by the
+// scatter about it (a Birge ratio) where two or more rebounds give it.
+Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::size_t both) {
+  double sum_w = 0.0, sum_wc = 0.0;
+  std::vector<std::array<double, 2>> readings;  // c_n and its sigma
+  for (std::size_t n = 0; n < both; ++n) {
+    const double sign = n % 2 == 0 ? 1.0 : -1.0;
+    const double c = sign * 0.5 * (right.xmax[n] - left.xmax[n]);
+    const double sigma = 0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]);
+    if (!(sigma > 0.0)) continue;
+    readings.push_back({c, sigma});
+    sum_w += 1.0 / (sigma * sigma);
+    sum_wc += c / (sigma * sigma);
+  }
+  if (readings.empty()) return {0.0, 0.0};
+  const double mean = sum_wc / sum_w;
+  double chi2 = 0.0;
+  for (const auto& [c, sigma] : readings) chi2 += std::pow((c - mean) / sigma, 2);
+  const double birge =
+      readings.size() > 1 ? std::max(1.0, std::sqrt(chi2 / (readings.size() - 1.0))) : 1.0;
+  return {mean, birge / std::sqrt(sum_w)};
+}
+
+// Whether rebound n's peaks in `a` and `b` lie more than a tenth of its
+// duration (`duration`) apart: the bars meet at every impact, so the same
+// rebound peaks within a millisecond in both bars and in their average.
+bool PeaksApart(const BarRebounds& a, const BarRebounds& b, std::size_t n, double duration) {
+  constexpr double kPeakShareOfDuration = 0.1;
+  return std::abs(a.t_peak[n] - b.t_peak[n]) > kPeakShareOfDuration * duration;
 }
 
 }  // namespace
@@ -66,12 +104,10 @@ void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_
 
 std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
                                                  const BarRebounds& left) {
-  constexpr double kPeakShareOfDuration = 0.1;
   const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
   for (std::size_t n = 0; n < both; ++n) {
-    const double duration = 0.5 * (right.duration[n] + left.duration[n]);
     const double apart_s = std::abs(right.t_peak[n] - left.t_peak[n]);
-    if (apart_s > kPeakShareOfDuration * duration) {
+    if (PeaksApart(right, left, n, 0.5 * (right.duration[n] + left.duration[n]))) {
       return BarDisagreement{
           n, fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
                          "{:.4g} s), more than a tenth of its duration: one bar's trace was "
@@ -80,6 +116,57 @@ std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
     }
   }
   return std::nullopt;
+}
+
+std::optional<BarDisagreement> AverageSlip(const BarRebounds& right, const BarRebounds& left,
+                                           const BarRebounds& averaged) {
+  for (std::size_t n = 0; n < averaged.xmax.size(); ++n) {
+    for (const auto& [name, bar] : {std::pair{"right", &right}, std::pair{"left", &left}}) {
+      // The bar's own duration: a row the average's walk misread may
+      // last any time.
+      if (n >= bar->xmax.size() || !PeaksApart(averaged, *bar, n, bar->duration[n])) continue;
+      return BarDisagreement{
+          n, fmt::format("the averaged history's rebound {} peaks at {:.4g} s, the {} bar's at "
+                         "{:.4g} s: the average's walk slipped where the other bar's trace is "
+                         "lost",
+                         n, averaged.t_peak[n], name, bar->t_peak[n])};
+    }
+  }
+  return std::nullopt;
+}
+
+void ExtendFromOneBar(const BarRebounds& right, const BarRebounds& left, std::size_t both,
+                      BarRebounds& session) {
+  if (both == 0) return;  // no rebound tells the common swing
+  const bool right_longer = right.xmax.size() > left.xmax.size();
+  const BarRebounds& bar = right_longer ? right : left;
+  // right_n = mean_n + (-1)^n c; left_n = mean_n - (-1)^n c.
+  const double side = right_longer ? 1.0 : -1.0;
+  const Estimate common = CommonSwing(right, left, both);
+  if (!(common.sigma > 0.0)) return;
+  for (std::size_t n = session.xmax.size(); n < bar.xmax.size(); ++n) {
+    const double sign = n % 2 == 0 ? 1.0 : -1.0;
+    session.xmax.push_back(bar.xmax[n] - side * sign * common.value);
+    session.xmax_sigma.push_back(std::hypot(bar.xmax_sigma[n], common.sigma));
+    session.t_peak.push_back(bar.t_peak[n]);
+    session.t_peak_sigma.push_back(bar.t_peak_sigma[n]);
+    session.duration.push_back(bar.duration[n]);
+    session.duration_sigma.push_back(SigmaAt(bar.duration_sigma, n));
+  }
+}
+
+std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebounds& left,
+                                         std::size_t rows) {
+  const bool left_short = left.xmax.size() < right.xmax.size();
+  const std::size_t own = std::min(right.xmax.size(), left.xmax.size());
+  if (rows <= own) return std::nullopt;
+  return fmt::format(
+      "the {} bar's trace gives no rebound {}{} of its own (lost under a mark, or past its "
+      "record's end): the maxima there are the averaged history's where it has them, else the "
+      "{} bar's less the bars' common swing",
+      left_short ? "left" : "right", own,
+      rows - 1 > own ? fmt::format(" to {}", rows - 1) : std::string(),
+      left_short ? "right" : "left");
 }
 
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
@@ -104,7 +191,9 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                                0.5 * std::hypot(right.release.sigma, left.release.sigma)}
                     : averaged.release;
   if (disagreement) return out;
-  for (std::size_t n = both; n < averaged.xmax.size(); ++n) {
+  const std::optional<BarDisagreement> slip = AverageSlip(right, left, averaged);
+  const std::size_t end = slip ? slip->rebound : averaged.xmax.size();
+  for (std::size_t n = both; n < end; ++n) {
     out.xmax.push_back(averaged.xmax[n]);
     out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
     out.t_peak.push_back(averaged.t_peak[n]);
@@ -112,6 +201,7 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
     out.duration.push_back(averaged.duration[n]);
     out.duration_sigma.push_back(SigmaAt(averaged.duration_sigma, n));
   }
+  ExtendFromOneBar(right, left, both, out);
   return out;
 }
 

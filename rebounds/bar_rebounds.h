@@ -62,12 +62,37 @@ struct BarDisagreement {
 };
 std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right, const BarRebounds& left);
 
+// The first rebound of the averaged history (session numbering) whose peak
+// is not where a bar's rebound of that number peaks, and why. The average is
+// read only where both bars are: where one bar's trace is lost at the start,
+// the average's walk begins later and its numbering slips by the rebounds
+// lost.
+std::optional<BarDisagreement> AverageSlip(const BarRebounds& right, const BarRebounds& left,
+                                           const BarRebounds& averaged);
+
+// Past the rebounds `session` holds, those only one bar's trace shows (the
+// other's lost under a mark, or beyond its record's end): that bar's maxima
+// less the bars' common swing, which the rebounds [0, both) both bars read
+// measure (the pair's centre of mass swings on through every impact, so each
+// bar's maximum is the mean plus a constant length with alternating sign),
+// its error added in quadrature. Nothing when no rebound was read by both.
+void ExtendFromOneBar(const BarRebounds& right, const BarRebounds& left, std::size_t both,
+                      BarRebounds& session);
+
+// Where the session's `rows` maxima reach past the rebounds one bar's own
+// walk measured: which bar lost which rebounds, and that their maxima rest
+// on the other bar's trace, in words; nullopt when both bars measured all.
+std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebounds& left,
+                                         std::size_t rows);
+
 // The session's maxima from both bars (session numbering, gap-free): the
 // mean of the bars' own where both have the rebound (the thesis's average of
 // the two displacements at its peak, without reading one bar at the other's
 // sample times), sigmas combined; past the last rebound both have, the
 // averaged history's own as long as it has them. The sequence stops at the
-// first rebound the bars disagree about: past it neither can be trusted.
+// first rebound the bars disagree about (past it neither can be trusted);
+// where the average's numbering slipped (AverageSlip) or its rows end, the
+// rebounds one bar still shows follow (ExtendFromOneBar).
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged);
 

@@ -13,6 +13,7 @@
 
 #include "digitize/digitize.h"
 #include "digitize/halftone.h"
+#include "digitize/hand_marks.h"
 #include "photo_scenes.h"
 #include "render/oscillograph.h"
 
@@ -84,6 +85,81 @@ TEST_CASE("digitize marks: pencil strokes across a trace and written labels are 
       std::any_of(right.mark_stretches_div.begin(), right.mark_stretches_div.end(),
                   [](const std::array<double, 2>& s) { return s[1] > 1.1 && s[0] < 2.5; });
   CHECK(crossing_said);
+}
+
+TEST_CASE("digitize marks: what a chopped trace's first reading followed unbroken may be a mark") {
+  // Sparse dashes (0.13 division slots, drawn 40 % of each, as on the
+  // external annotated-e903) and a pencil arc over the left trace's peak,
+  // four times the beam's width. A first reading that took the arc over
+  // more than a division unbroken (and so measured its width) did not
+  // follow the beam, which draws no unbroken run: the arc is no course of
+  // the trace's to keep from the marks (annotated-e903's run 0.314 had kept
+  // a ring's arc so, and failed). Had the beam drawn continuously, an
+  // unbroken run would be its own course, however thick.
+  const testing::RunScene run = testing::StandardRunScene();
+  RenderOptions options;
+  options.style = PhotoStyle::kClean;
+  options.width_px = 2000;
+  options.seed = 5;
+  options.grey = true;
+  options.chop_dash_div = 0.13;
+  options.chop_duty = 0.4;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const TraceTruth& truth = photo.traces[1];
+  REQUIRE(truth.name == "left");
+  cv::Point2d peak(0.0, -10.0);
+  for (const cv::Point2d& p : truth.screen_div) {
+    if (p.x > 4.0 && p.x < 6.0 && p.y > peak.y) peak = p;
+  }
+  // The arc: the top of an ellipse round the peak, 0.9 x 0.45 division.
+  constexpr double kRadiusX = 0.9, kRadiusY = 0.45, kStrokeDiv = 0.08, kHalfSpan = 0.75;
+  const double px_per_div = cv::norm(photo.ImageFromScreen({1.0, 0.0}) - photo.ImageFromScreen({}));
+  const double half_angle = std::acos(kHalfSpan / kRadiusX) * 180.0 / std::numbers::pi;
+  cv::ellipse(photo.image, Pixel(photo, peak),
+              {static_cast<int>(kRadiusX * px_per_div), static_cast<int>(kRadiusY * px_per_div)},
+              0.0, 180.0 + half_angle, 360.0 - half_angle, cv::Scalar(235),
+              static_cast<int>(kStrokeDiv * px_per_div), cv::LINE_AA);
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "arc.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+
+  // The first readings: the trace's samples (its dashes only, or all of
+  // them), but along the arc, sampled every 0.01 division, and as wide.
+  const auto reading = [&](bool dashes) {
+    DigitizedTrace left;
+    left.name = "left";
+    left.width_px = kStrokeDiv * px_per_div;
+    left.height = 0.8;
+    const auto add = [&](cv::Point2d screen) {
+      left.screen_div.push_back(screen);
+      left.centre_px.push_back(photo.ImageFromScreen(screen));
+    };
+    bool arc_added = false;
+    double last_x = -1.0;
+    for (std::size_t i = 0; i < truth.screen_div.size(); ++i) {
+      const cv::Point2d p = truth.screen_div[i];
+      if (std::abs(p.x - peak.x) <= kHalfSpan) {
+        for (double x = peak.x - kHalfSpan; !arc_added && x <= peak.x + kHalfSpan; x += 0.01) {
+          const double u = (x - peak.x) / kRadiusX;
+          add({x, peak.y + kRadiusY * std::sqrt(1.0 - u * u)});
+        }
+        arc_added = true;
+        last_x = peak.x + kHalfSpan;
+        continue;
+      }
+      if (p.x - last_x < 0.01 || (dashes && !truth.drawn[i])) continue;
+      add(p);
+      last_x = p.x;
+    }
+    return left;
+  };
+  const cv::Point2d top = photo.ImageFromScreen({peak.x, peak.y + kRadiusY});
+  const DigitizedTrace chopped = reading(true), continuous = reading(false);
+  REQUIRE(digitize::ReadInDashes(chopped));
+  REQUIRE_FALSE(digitize::ReadInDashes(continuous));
+  CHECK(
+      digitize::FindHandMarks(prepared, graticule, 0.02 * px_per_div, 0.8, {chopped}).Covers(top));
+  CHECK_FALSE(digitize::FindHandMarks(prepared, graticule, 0.02 * px_per_div, 0.8, {continuous})
+                  .Covers(top));
 }
 
 TEST_CASE("digitize prints: a figure printed through a dot screen is read like the photo") {

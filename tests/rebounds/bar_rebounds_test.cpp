@@ -104,5 +104,79 @@ TEST_CASE("bar_rebounds: the maxima stop where one bar's rebounds slipped agains
   CHECK(MeanOfBars(right, left, left).xmax.size() == 5);
 }
 
+TEST_CASE("bar_rebounds: the average's rows stop where its numbering slipped against a bar's") {
+  // The left bar's trace is lost under a label until after rebound 0 (the
+  // external session annotated-e903's run 0.314): the left bar has no rebound
+  // numbered, and the average of the two histories, read only where both
+  // are, begins at rebound 1 and calls it rebound 0.
+  BarRebounds right, averaged;
+  const double peaks[] = {0.75, 1.50, 2.25, 3.00, 3.75};
+  const double xmax[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+  for (int n = 0; n < 5; ++n) {
+    right.xmax.push_back(xmax[n]);
+    right.t_peak.push_back(peaks[n]);
+    if (n > 0) {
+      averaged.xmax.push_back(xmax[n]);
+      averaged.t_peak.push_back(peaks[n] + 3e-4);
+    }
+  }
+  for (BarRebounds* b : {&right, &averaged}) {
+    b->xmax_sigma.assign(b->xmax.size(), 3e-4);
+    b->t_peak_sigma.assign(b->xmax.size(), 2e-4);
+    b->duration.assign(b->xmax.size(), 0.75);
+  }
+  const BarRebounds left;  // nothing numbered
+  const std::optional<BarDisagreement> slip = AverageSlip(right, left, averaged);
+  REQUIRE(slip.has_value());
+  CHECK(slip->rebound == 0);
+  CHECK_THAT(slip->why, Catch::Contains("right bar's at 0.75 s"));
+  // Not 0.199 as rebound 0; and with no rebound both bars read, nothing
+  // tells the bars' common swing that would let the right bar's stand alone.
+  CHECK(MeanOfBars(right, left, averaged).xmax.empty());
+
+  // Numbered alike, the average's rows stand past what both bars have.
+  averaged = right;
+  CHECK_FALSE(AverageSlip(right, left, averaged).has_value());
+  CHECK(MeanOfBars(right, left, averaged).xmax.size() == 5);
+}
+
+TEST_CASE("bar_rebounds: rebounds one bar lost are the other's less the bars' common swing") {
+  // The pair's centre of mass swings on through every impact: each bar's
+  // maximum is the mean of the two plus a constant length with alternating
+  // sign. The left bar reads rebounds 0 and 1, then its trace is lost; the
+  // right bar reads all five.
+  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kCommon = 2e-4;
+  BarRebounds right, left;
+  for (int n = 0; n < 5; ++n) {
+    const double sign = n % 2 == 0 ? 1.0 : -1.0;
+    right.xmax.push_back(mean[n] + sign * kCommon);
+    if (n < 2) left.xmax.push_back(mean[n] - sign * kCommon);
+  }
+  for (BarRebounds* b : {&right, &left}) {
+    for (std::size_t n = 0; n < b->xmax.size(); ++n) {
+      b->xmax_sigma.push_back(3e-4);
+      b->t_peak.push_back(0.75 + 0.75 * n);
+      b->t_peak_sigma.push_back(2e-4);
+      b->duration.push_back(0.75);
+      b->duration_sigma.push_back(1e-3);
+    }
+  }
+  const BarRebounds averaged;  // the average has nothing past what both have
+  const BarRebounds both = MeanOfBars(right, left, averaged);
+  REQUIRE(both.xmax.size() == 5);
+  for (std::size_t n = 0; n < 5; ++n) CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+  // The common swing from two rebounds, each 0.5 hypot(3e-4, 3e-4): its
+  // standard error 1.5e-4 / sqrt(2), in quadrature with the right bar's own.
+  const double common_sigma = 0.5 * std::hypot(3e-4, 3e-4) / std::sqrt(2.0);
+  CHECK(both.xmax_sigma[1] == Approx(0.5 * std::hypot(3e-4, 3e-4)));
+  CHECK(both.xmax_sigma[3] == Approx(std::hypot(3e-4, common_sigma)));
+  CHECK(both.t_peak[4] == Approx(3.75));
+  const std::optional<std::string> note = OneBarStretch(right, left, both.xmax.size());
+  REQUIRE(note.has_value());
+  CHECK_THAT(*note, Catch::Contains("left bar's trace gives no rebound 2 to 4"));
+  CHECK_FALSE(OneBarStretch(right, right, 5).has_value());
+}
+
 }  // namespace
 }  // namespace impactlab
