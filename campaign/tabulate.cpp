@@ -9,6 +9,7 @@
 #include "campaign/campaign_internal.h"
 #include "campaign/restitution_law.h"
 #include "fit/effective_modulus.h"
+#include "io/result_fields_hdf5.h"
 #include "model/pendulum.h"
 #include "pipeline/material_constants.h"
 
@@ -22,24 +23,11 @@ std::string UnitLabel(const std::string& kind, UnitSystem system) {
   return UnitOfKind(kind, labels);
 }
 
-std::string KindOf(Quantity quantity) {
-  switch (quantity) {
-    case Quantity::kLength:
-      return "length";
-    case Quantity::kPressure:
-      return "pressure";
-    case Quantity::kHertzStiffness:
-      return "hertz_stiffness";
-    default:
-      return "1";
-  }
-}
-
 Specimen ConvertSpecimen(Specimen specimen, UnitSystem from, UnitSystem to) {
   Specimen::VisitFields(specimen, [&](const char*, auto&& listed, Quantity quantity, const char*) {
     auto& field = FieldOf(listed);
     if constexpr (std::is_same_v<std::remove_cvref_t<decltype(field)>, std::optional<double>>) {
-      if (field) *field *= UnitFactor(KindOf(quantity), from, to);
+      if (field) *field *= UnitFactor(UnitKindOf(quantity), from, to);
     }
   });
   return specimen;

@@ -143,8 +143,11 @@ struct ContactLawFit {
   std::string effective_modulus_unidentifiable;
 
   // What the results file keeps as fields (options/result_fields.h). The
-  // parameters, their intervals and covariance, and the leave-one-out RMS
-  // (only where it ran) are stored by the file's own layout.
+  // parameters, their intervals' ends and methods, and the leave-one-out RMS
+  // (only where it ran) are stored by the file's own layout. Not kept: the
+  // status but its time (ok and reason are the group's status), the
+  // covariance's correlation (its matrix gives it) and whether it was scaled
+  // by the residuals (never: the laws' maxima carry their sigmas).
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("identifiability", self.identifiability, Quantity::kDimensionless,
@@ -154,8 +157,6 @@ struct ContactLawFit {
     visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
           "law parameters and one rebound-0 speed per run");
     visit("dof", self.dof, Quantity::kDimensionless, "degrees of freedom");
-    visit("excess_scatter", self.scatter.excess, Quantity::kDimensionless,
-          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
     visit("rebound0_speed", self.run_rebound0_speed, Quantity::kSpeed,
           "each run's fitted rebound-0 speed, in the runs' order");
     visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
@@ -163,13 +164,21 @@ struct ContactLawFit {
     visit("chi2_contact", self.chi2_contact, Quantity::kDimensionless, "its contact times' share");
     visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
     visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
-    visit("birge_ratio", self.scatter.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
-    visit("chi2_p_value", self.scatter.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
+    ScatterCheck::VisitFields(self.scatter, visit);
     visit("leave_one_out_ok", self.loo_ok, Quantity::kDimensionless,
           "1 when every run was left out and predicted");
     visit("leave_one_out_maxima", self.loo_maxima, Quantity::kDimensionless,
           "maxima the left-out runs' predictions were compared with");
     visit("seconds", self.status.seconds, Quantity::kSeconds, "the fit's wall time");
+    visit("covariance", Square(self.covariance.matrix), Quantity::kDimensionless,
+          "the covariance of the law's fitted parameters (their logarithms; n as it is)");
+    visit("covariance@parameter_names", self.covariance.names, Quantity::kDimensionless,
+          "its rows, e.g. log k, log chi, n");
+    visit("interval_rise_at_lower", Column(self.intervals, &ParameterInterval::rise_at_lower),
+          Quantity::kDimensionless,
+          "per parameter: the chi2 profile's rise at the linear interval's lower end, in s^2");
+    visit("interval_rise_at_upper", Column(self.intervals, &ParameterInterval::rise_at_upper),
+          Quantity::kDimensionless, "and at its upper end");
     visit("effective_modulus", self.effective_modulus, Quantity::kPressure,
           "E* = 3 k / (8 sqrt(R)) where the ends are spheres of radius R");
     visit("handbook_effective_modulus", self.handbook_effective_modulus, Quantity::kPressure,

@@ -133,6 +133,7 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   Eigen::VectorXd r;
   const Eigen::MatrixXd j = fit_internal::Jacobian(problem, {theta}, &r);
   fit.chi2 = r.squaredNorm();
+  if (weighted) fit.scatter = CheckScatter(fit.chi2, fit.dof);
   for (std::size_t k = 0; k < used.size(); ++k) {
     const auto i = static_cast<std::size_t>(used[k]);
     MaximumResidual res;
@@ -174,7 +175,6 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   // The model's maxima, with sigma from the gradient of X_n in (q, w), scaled
   // by the Birge ratio where the scatter exceeds the stated sigmas: a
   // prediction must cover what the data scatter by, not what they promised.
-  if (weighted) fit.scatter = CheckScatter(fit.chi2, fit.dof);
   const int count = measured.xmax.empty() ? 0 : static_cast<int>(measured.xmax.size());
   for (int n = 0; n < count; ++n) {
     const double v = std::exp(w + n * q);

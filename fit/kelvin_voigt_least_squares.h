@@ -49,15 +49,6 @@ struct KelvinVoigtLeastSquaresOptions {
   bool Check(std::string* why) const;
 };
 
-// One maximum's fit residual.
-struct MaximumResidual {
-  int rebound = 0;          // session numbering
-  double measured = 0.0;    // length units
-  double model = 0.0;       // length units
-  double sigma = 0.0;       // the uncertainty used (1 when unweighted)
-  double normalized = 0.0;  // (measured - model)/sigma
-};
-
 struct KelvinVoigtLeastSquaresFit {
   FitStatus status;
   // True when the solve is usable, the data show dissipation (ln e < 0) and
@@ -88,6 +79,35 @@ struct KelvinVoigtLeastSquaresFit {
   Identifiability identifiability;  // over (ln e, ln v0)
   std::vector<Estimate>
       predicted_xmax;  // the model's maxima of rebounds 0, 1, ... (Birge-scaled sigma)
+
+  // What the results file keeps of a fit that ran (options/result_fields.h,
+  // docs/results.md's <least-squares fit>); the status (ok, and the reason
+  // of a fit that failed or of one that holds with a caveat) by the file's
+  // own layout. Not kept, as they follow from what is: the separation (the
+  // session's), the contact time (the run's), the residuals but their
+  // normalized values (the run's maxima and sigmas give the rest), the
+  // covariances (the correlation and the estimates' errors give that of
+  // (zeta, v0), which holds that of (ln e, ln v0)); nor are the solver's and
+  // identifiability's details (FitStatus, Identifiability): each dataset more
+  // lengthens every reduce, about half of which, for a typed-in session, is
+  // writing the file.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    VisitLeastSquaresFields(self, visit);
+    visit("zeta", EvenEmpty(self.damping_ratio), Quantity::kDimensionless, "zeta");
+    visit("restitution", EvenEmpty(self.restitution), Quantity::kDimensionless, "e");
+    visit("log_restitution", EvenEmpty(self.log_restitution), Quantity::kDimensionless, "ln e");
+    visit("rebound0_xmax", EvenEmpty(self.rebound0_xmax), Quantity::kLength,
+          "the model's Xmax of rebound 0");
+    visit("rebound0_speed", EvenEmpty(self.rebound0_speed), Quantity::kSpeed,
+          "v0, the speed through equilibrium at rebound 0");
+    visit("stiffness", self.stiffness, Quantity::kStiffness, "K, with a contact time");
+    visit("damping", self.damping, Quantity::kDamping, "C, with a contact time");
+    visit("predicted_xmax", Column(self.predicted_xmax, &Estimate::value), Quantity::kLength,
+          "the model's Xmax of rebound 0, 1, ...");
+    visit("predicted_xmax_std_error", Column(self.predicted_xmax, &Estimate::sigma),
+          Quantity::kLength, "their standard errors, Birge-scaled where the scatter is in excess");
+  }
 };
 
 // Throws std::invalid_argument for fewer than two usable maxima (NaN entries

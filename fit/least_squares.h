@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "options/result_fields.h"
 #include "options/settings.h"
 
 namespace impactlab {
@@ -65,11 +66,27 @@ struct SolverControl {
 struct FitStatus {
   bool converged = false;  // Ceres reported CONVERGENCE
   bool usable = false;     // the parameters are the solver's best point (also after NO_CONVERGENCE)
-  std::string message;     // Ceres's termination message, or why the fit did not run
+  std::string message;     // Ceres's termination message, or why the solve did not start
   int iterations = 0;      // successful + unsuccessful steps
   double initial_cost = 0;  // (1/2) sum of squared (robustified) whitened residuals
   double final_cost = 0;
   double seconds = 0;  // wall time of the whole fit (solve, covariance, checks)
+
+  // Whether the fit took its inputs: one that returned always says how it
+  // ended; one they refused (it throws) has no message, only its caller's reason.
+  bool Ran() const { return !message.empty(); }
+
+  // What the results file keeps of it, as a fit's list takes it in
+  // (options/result_fields.h). Not kept: `usable` (a fit that is not says so
+  // in its reason), the iterations and the costs (docs/results.md: each
+  // dataset or attribute more lengthens every reduce).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("converged", self.converged, Quantity::kDimensionless, "1 when the solver converged");
+    visit("termination", self.message, Quantity::kDimensionless,
+          "the solver's termination message, or why it did not start");
+    visit("seconds", self.seconds, Quantity::kSeconds, "the fit's wall time");
+  }
 };
 
 // A covariance over named parameters, row-major n x n.
@@ -94,6 +111,18 @@ struct Identifiability {
   std::vector<std::vector<double>> directions;  // unit right singular vectors, same order
   double relative_smallest = 0;                 // smallest / largest singular value
   std::string message;  // the verdict in words (which combination is undetermined)
+
+  // What the results file keeps of it, as a fit's list takes it in
+  // (options/result_fields.h): the verdict. Not kept: the singular values and
+  // directions, which the message states in words where they matter.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("identifiable", self.identifiable, Quantity::kDimensionless,
+          "1 when the data determine every parameter");
+    visit("rank", self.rank, Quantity::kDimensionless, "the combinations they determine");
+    visit("identifiability", self.message, Quantity::kDimensionless,
+          "which combinations are determined and which not, in words");
+  }
 };
 
 // Whether the scatter about a fit is what the stated sigmas promise: chi^2
@@ -109,8 +138,45 @@ struct ScatterCheck {
   // The factor the stated standard errors are multiplied by: the Birge ratio
   // when the excess is significant, else 1.
   double Scale() const { return excess ? birge_ratio : 1.0; }
+
+  // Its fields, as a fit's list takes them in (options/result_fields.h).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("excess_scatter", self.excess, Quantity::kDimensionless,
+          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
+    visit("birge_ratio", self.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
+    visit("chi2_p_value", self.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
+  }
 };
 ScatterCheck CheckScatter(double chi2, int dof);
+
+// One maximum's fit residual.
+struct MaximumResidual {
+  int run = 0;              // its run's index among the fit's runs (a joint fit's; else 0)
+  int rebound = 0;          // session numbering
+  double measured = 0.0;    // length units
+  double model = 0.0;       // length units
+  double sigma = 0.0;       // the uncertainty used (1 when unweighted)
+  double normalized = 0.0;  // (measured - model)/sigma
+};
+
+// What the Kelvin-Voigt and Poynting-Thomson fits' field lists share
+// (options/result_fields.h): how the solve went, what the data determine,
+// the fit's quality, each maximum's normalized residual (the runs' in turn)
+// and the correlation of the parameters fitted (the results file names its
+// rows, docs/results.md).
+template <typename Fit, typename Visit>
+void VisitLeastSquaresFields(Fit& fit, Visit&& visit) {
+  FitStatus::VisitFields(fit.status, visit);
+  Identifiability::VisitFields(fit.identifiability, visit);
+  visit("dof", fit.dof, Quantity::kDimensionless, "degrees of freedom");
+  visit("chi2", fit.chi2, Quantity::kDimensionless, "sum of the squared normalized residuals");
+  ScatterCheck::VisitFields(fit.scatter, visit);
+  visit("normalized_residuals", Column(fit.residuals, &MaximumResidual::normalized),
+        Quantity::kDimensionless, "(measured - model) / sigma of each maximum fitted");
+  visit("correlation", Square(fit.covariance.correlation), Quantity::kDimensionless,
+        "the correlation of the parameters fitted");
+}
 
 // The Ceres Solver the fits were built with, e.g. "2.1.0".
 std::string CeresVersion();

@@ -404,6 +404,7 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   Eigen::VectorXd res;
   const Eigen::MatrixXd j = fit_internal::Jacobian(problem, blocks, &res);
   fit.chi2 = res.squaredNorm();
+  if (weighted) fit.scatter = CheckScatter(fit.chi2, fit.dof);
   const std::vector<std::string> names = {"log K1", "log K2", "log C"};
   fit.identifiability = fit_internal::Analyse(j, 3, names, options.min_relative_singular_value);
   Identifiability& id = fit.identifiability;
@@ -455,12 +456,13 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     out.rebound0_speed = {std::exp(log_speed[r]), std::exp(log_speed[r]) * sw};
     for (const auto& [n, x] : UsableMaxima(run)) {
       MaximumResidual m;
+      m.run = static_cast<int>(r);
       m.rebound = n;
       m.measured = x;
       m.sigma = sigmas[r][static_cast<std::size_t>(n)];
       m.model = x + res[row] * m.sigma;
       m.normalized = -res[row++];
-      out.maxima.push_back(m);
+      fit.residuals.push_back(m);
     }
     if (run.measured.contact_time) out.contact_time_normalized = -res[row++];
     if (run.peak_compression) out.peak_normalized = -res[row++];

@@ -80,10 +80,10 @@ struct PoyntingThomsonLeastSquaresOptions {
   bool Check(std::string* why) const;
 };
 
+// One run of the fit (its maxima's residuals are the fit's, by run index).
 struct PoyntingThomsonRunFit {
   std::string name;
-  Estimate rebound0_speed;  // v_r, length/s
-  std::vector<MaximumResidual> maxima;
+  Estimate rebound0_speed;                        // v_r, length/s
   std::optional<double> contact_time_normalized;  // (measured - model)/sigma
   std::optional<double> peak_normalized;          // (measured - model)/sigma
 };
@@ -107,13 +107,40 @@ struct PoyntingThomsonLeastSquaresFit {
   bool at_bound = false;  // some parameter ended on its bound (covariance not meaningful there)
 
   std::vector<PoyntingThomsonRunFit> runs;
+  std::vector<MaximumResidual> residuals;  // every run's maxima, the runs in turn
   // Over log K1, log K2, log C, then ln v_r per run (Moore-Penrose
   // pseudo-inverse when not identifiable: meaningful only along determined
   // directions).
   ParameterCovariance covariance;
-  double chi2 = 0.0;                // sum of squared normalized residuals (no robust loss)
-  int dof = 0;                      // residuals - parameters
+  double chi2 = 0.0;  // sum of squared normalized residuals (no robust loss)
+  int dof = 0;        // residuals - parameters
+  // Weighted fits: chi^2 against its dof; the estimates keep their stated
+  // standard errors.
+  ScatterCheck scatter;
   Identifiability identifiability;  // of (log K1, log K2, log C), per-run speeds profiled out
+
+  // What the results file keeps of a fit that ran (options/result_fields.h,
+  // docs/results.md's <least-squares fit>); the status (ok and reason) by
+  // the file's own layout. Not kept, as they follow from what is: the
+  // separation (the session's), the model (K1, K2, C are the estimates';
+  // M the session's), the residuals but their normalized values; nor are the
+  // runs' speeds, contact-time and peak residuals, the covariance (the
+  // correlation is), whether it ended on a bound (its reason says so), and
+  // the solver's and identifiability's details (FitStatus,
+  // Identifiability): each dataset more lengthens every reduce, about half
+  // of which, for a typed-in session, is writing the file.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    VisitLeastSquaresFields(self, visit);
+    visit("stiffness_1", EvenEmpty(self.stiffness1), Quantity::kStiffness, "K1");
+    visit("stiffness_2", EvenEmpty(self.stiffness2), Quantity::kStiffness, "K2");
+    visit("damping", EvenEmpty(self.damping), Quantity::kDamping, "C");
+    visit("log_restitution", EvenEmpty(self.log_restitution), Quantity::kDimensionless, "ln e");
+    visit("restitution", EvenEmpty(self.restitution), Quantity::kDimensionless, "e");
+    visit("contact_time", EvenEmpty(self.contact_time), Quantity::kSeconds, "tau_c");
+    visit("peak_per_speed", EvenEmpty(self.peak_per_speed), Quantity::kSeconds,
+          "the peak compression per impact speed");
+  }
 };
 
 // Throws std::invalid_argument for no runs, a run with fewer than one usable

@@ -27,10 +27,17 @@
 //   IfAny(x)      a string or a number left out when empty or 0 (0: not known)
 //   EvenEmpty(x)  a vector written even when empty (its presence says it was looked
 //                 for), an Estimate even when {0, 0}
+// Two store what has no type of its own above (none when empty):
+//   Square(values)         a row-major n x n std::vector<double>: a 2-D dataset
+//   Column(rows, &Row::m)  a double member of every row of a vector (a
+//                          table's column): a 1-D dataset
+// A result may list a member struct's own fields among its own by calling
+// that struct's VisitFields with `visit` (FitStatus in fit/least_squares.h).
 // A name is relative to the result's group and may reach into a subgroup
-// ("rebounds/xmax"); "a@b" is the string attribute b of the result's dataset
-// a, written when a is. A field stored only when an earlier one holds
-// something is listed under an `if` on that one: it is read back after it.
+// ("rebounds/xmax"); "a@b" is the attribute b (a string, strings, int or
+// bool) of the result's dataset a, written when a is. A field stored only
+// when an earlier one holds something is listed under an `if` on that one:
+// it is read back after it.
 // The meaning is for the documentation (docs/results.md lists every name).
 #pragma once
 
@@ -75,26 +82,45 @@ struct SquareMatrix {
   bool empty() const { return values.empty(); }
 };
 
-// A field left out of the file when it holds nothing: a string when empty, a
-// number when 0 (which then means "not known").
-template <typename T>
-struct IfAnyField {
+// How a listed field is stored where its type alone does not say (see above).
+enum class Storage {
+  // Left out of the file when it holds nothing: a string when empty, a
+  // number when 0 (which then means "not known").
+  kIfAny,
+  // Written even when empty: a vector's presence says it was looked for (e.g.
+  // a photo's hand marks); an Estimate even when {0, 0}.
+  kEvenEmpty,
+  // A row-major n x n std::vector<double> (a covariance): a 2-D dataset.
+  kSquare,
+};
+template <Storage How, typename T>
+struct StoredAs {
   T& field;
 };
+template <typename T>
+using IfAnyField = StoredAs<Storage::kIfAny, T>;
 template <typename T>
 IfAnyField<T> IfAny(T& field) {
   return {field};
 }
-
-// A vector written even when it is empty: its presence says it was looked
-// for (e.g. a photo's hand marks); an Estimate written even when {0, 0}.
 template <typename T>
-struct EvenEmptyField {
-  T& field;
-};
-template <typename T>
-EvenEmptyField<T> EvenEmpty(T& field) {
+StoredAs<Storage::kEvenEmpty, T> EvenEmpty(T& field) {
   return {field};
+}
+template <typename T>
+StoredAs<Storage::kSquare, T> Square(T& values) {
+  return {values};
+}
+
+// A double member of every row of a vector, stored as a column (see above).
+template <typename Rows, typename Member>
+struct ColumnField {
+  Rows& rows;
+  Member member;  // a pointer to a member of Rows' value type
+};
+template <typename Rows, typename Member>
+ColumnField<Rows, Member> Column(Rows& rows, Member member) {
+  return {rows, member};
 }
 
 // The member a listed field is, through its wrapper.
@@ -102,12 +128,8 @@ template <typename T>
 T& FieldOf(T& field) {
   return field;
 }
-template <typename T>
-T& FieldOf(IfAnyField<T> wrapped) {
-  return wrapped.field;
-}
-template <typename T>
-T& FieldOf(EvenEmptyField<T> wrapped) {
+template <Storage How, typename T>
+T& FieldOf(StoredAs<How, T> wrapped) {
   return wrapped.field;
 }
 

@@ -16,60 +16,11 @@
 namespace impactlab {
 namespace {
 
-void CopyQuality(const FitStatus& status, const Identifiability& identifiability, double chi2,
-                 int dof, const ParameterCovariance& covariance, LeastSquaresSummary& out) {
-  out.converged = status.converged;
-  out.termination = status.message;
-  out.seconds = status.seconds;
-  out.identifiable = identifiability.identifiable;
-  out.rank = identifiability.rank;
-  out.identifiability = identifiability.message;
-  out.chi2 = chi2;
-  out.dof = dof;
-  // Unweighted fits already scale their covariance by the residuals.
-  if (!covariance.scaled_by_residuals) out.scatter = CheckScatter(chi2, dof);
-  out.covariance_names = covariance.names;
-  out.correlation = covariance.correlation;
-}
-
-LeastSquaresSummary Summarise(const KelvinVoigtLeastSquaresFit& fit) {
-  LeastSquaresSummary out;
-  out.model = "kelvin_voigt_least_squares";
-  CopyQuality(fit.status, fit.identifiability, fit.chi2, fit.dof, fit.covariance, out);
-  out.ok = fit.ok;
-  if (!fit.ok) out.reason = fit.reason;
-  out.parameters = {{"zeta", "1", fit.damping_ratio},
-                    {"restitution", "1", fit.restitution},
-                    {"log_restitution", "1", fit.log_restitution},
-                    {"rebound0_xmax", "length", fit.rebound0_xmax},
-                    {"rebound0_speed", "speed", fit.rebound0_speed}};
-  if (fit.stiffness) out.parameters.push_back({"stiffness", "stiffness", *fit.stiffness});
-  if (fit.damping) out.parameters.push_back({"damping", "damping", *fit.damping});
-  for (const Estimate& x : fit.predicted_xmax) out.predicted_xmax.push_back(x.value);
-  for (const MaximumResidual& r : fit.residuals) out.normalized_residuals.push_back(r.normalized);
-  return out;
-}
-
-LeastSquaresSummary Summarise(const PoyntingThomsonLeastSquaresFit& fit) {
-  LeastSquaresSummary out;
-  out.model = "poynting_thomson";
-  CopyQuality(fit.status, fit.identifiability, fit.chi2, fit.dof, fit.covariance, out);
-  out.ok = fit.ok;
-  if (!fit.ok) out.reason = fit.reason;
-  out.parameters = {
-      {"stiffness_1", "stiffness", fit.stiffness1}, {"stiffness_2", "stiffness", fit.stiffness2},
-      {"damping", "damping", fit.damping},          {"log_restitution", "1", fit.log_restitution},
-      {"restitution", "1", fit.restitution},        {"contact_time", "s", fit.contact_time},
-      {"peak_per_speed", "s", fit.peak_per_speed}};
-  for (const PoyntingThomsonRunFit& r : fit.runs) {
-    for (const MaximumResidual& m : r.maxima) out.normalized_residuals.push_back(m.normalized);
-  }
-  return out;
-}
-
-LeastSquaresSummary Failed(const std::string& model, const std::string& why) {
-  LeastSquaresSummary out;
-  out.model = model;
+// A fit whose inputs its stage refused: only why (FitStatus::Ran is false).
+template <typename Fit>
+Fit Refused(Separation separation, const std::string& why) {
+  Fit out;
+  out.separation = separation;
   out.reason = why;
   return out;
 }
@@ -101,37 +52,34 @@ std::optional<PoyntingThomson> StartFromKelvinVoigt(const RunFits& fits, double 
 
 }  // namespace
 
-std::vector<LeastSquaresSummary> FitRunLeastSquares(const Pendulum& pendulum, double mass,
-                                                    Separation separation, const FitOptions& fit,
-                                                    const std::string& run_id,
-                                                    const RunFits& fits) {
-  std::vector<LeastSquaresSummary> out;
+void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
+                        const FitOptions& fit, const std::string& run_id, RunFits& fits) {
   ReboundMeasurements measured = fits.fitted;
   if (!measured.xmax_sigma.empty() && measured.xmax_sigma.front() <= 0.0)
     measured.xmax_sigma.clear();
   try {
     KelvinVoigtLeastSquaresOptions options = fit.kelvin_voigt;
     options.separation = separation;
-    out.push_back(Summarise(FitKelvinVoigtLeastSquares(pendulum, mass, measured, options)));
+    fits.kelvin_voigt_least_squares = FitKelvinVoigtLeastSquares(pendulum, mass, measured, options);
   } catch (const std::exception& e) {
-    out.push_back(Failed("kelvin_voigt_least_squares", e.what()));
+    fits.kelvin_voigt_least_squares = Refused<KelvinVoigtLeastSquaresFit>(separation, e.what());
   }
   try {
     PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
     options.mass = mass;
     options.separation = separation;
     options.initial = StartFromKelvinVoigt(fits, mass);
-    out.push_back(Summarise(FitPoyntingThomsonLeastSquares(
-        {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, options)));
+    fits.poynting_thomson = FitPoyntingThomsonLeastSquares(
+        {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, options);
   } catch (const std::exception& e) {
-    out.push_back(Failed("poynting_thomson", e.what()));
+    fits.poynting_thomson = Refused<PoyntingThomsonLeastSquaresFit>(separation, e.what());
   }
-  return out;
 }
 
-std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
-                                                   Separation separation, const FitOptions& fit,
-                                                   const std::vector<RunResult>& runs) {
+std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pendulum, double mass,
+                                                              Separation separation,
+                                                              const FitOptions& fit,
+                                                              const std::vector<RunResult>& runs) {
   std::vector<PoyntingThomsonRun> joint;
   for (const RunResult& run : runs) {
     if (run.ok && run.measured.xmax.size() >= 2) {
@@ -146,9 +94,9 @@ std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, dou
     for (const RunResult& run : runs) {
       if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
     }
-    return {Summarise(FitPoyntingThomsonLeastSquares(joint, options))};
+    return {FitPoyntingThomsonLeastSquares(joint, options)};
   } catch (const std::exception& e) {
-    return {Failed("poynting_thomson", e.what())};
+    return {Refused<PoyntingThomsonLeastSquaresFit>(separation, e.what())};
   }
 }
 

@@ -1,6 +1,6 @@
 // The least-squares fits of `reduce` (fit/kelvin_voigt_least_squares.h,
 // fit/poynting_thomson_least_squares.h): per run, and Poynting-Thomson jointly
-// over the session's runs, summarised for the results file.
+// over the session's runs, kept as fit/ returns them.
 #pragma once
 
 #include <map>
@@ -12,18 +12,19 @@
 
 namespace impactlab {
 
-// Kelvin-Voigt over all maxima the run's fits are fitted to, and
+// Into `fits`: Kelvin-Voigt over all maxima the run's fits are fitted to, and
 // Poynting-Thomson from them (with the contact time when it has an
-// uncertainty), started from the run's two-point Kelvin-Voigt fit. A fit that
-// cannot run is summarised with its reason, never thrown.
-std::vector<LeastSquaresSummary> FitRunLeastSquares(const Pendulum& pendulum, double mass,
-                                                    Separation separation, const FitOptions& fit,
-                                                    const std::string& run_id, const RunFits& fits);
+// uncertainty), started from the run's two-point Kelvin-Voigt fit. A fit
+// whose inputs its stage refuses holds that reason, never thrown.
+void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
+                        const FitOptions& fit, const std::string& run_id, RunFits& fits);
 
-// Poynting-Thomson with one parameter set for every successful run.
-std::vector<LeastSquaresSummary> FitSessionJointly(const Pendulum& pendulum, double mass,
-                                                   Separation separation, const FitOptions& fit,
-                                                   const std::vector<RunResult>& runs);
+// Poynting-Thomson with one parameter set for every successful run (none
+// when fewer than two runs have two maxima).
+std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pendulum, double mass,
+                                                              Separation separation,
+                                                              const FitOptions& fit,
+                                                              const std::vector<RunResult>& runs);
 
 // What the contact-law fits need of the session beyond the runs' results.
 struct LawInputs {

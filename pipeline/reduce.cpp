@@ -110,7 +110,7 @@ RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& se
     out.model_residual = ResidualCurve(measured.measured_displacement, out.model_response);
   }
   out.kelvin_voigt = std::move(fit);
-  out.least_squares = FitRunLeastSquares(pendulum, mass, separation, fit_options, run.id, out);
+  FitRunLeastSquares(pendulum, mass, separation, fit_options, run.id, out);
   return out;
 }
 

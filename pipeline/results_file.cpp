@@ -33,6 +33,9 @@ struct In {
   const Hdf5File& f;
   long long layout;
   const SettingValues& session_settings;  // /settings, read first
+  // The session's (the root's), which its fits used.
+  Separation separation = Separation::kKinematic;
+  double mass = 0.0;
 };
 
 // A result's stage settings (pipeline/stage_options.h): the attributes of its
@@ -239,18 +242,35 @@ CellCalibration ReadCalibration(const In& in, const std::string& g, const std::s
   return c;
 }
 
-// A fit's parameters: one dataset each (+ _std_error), and their names and unit
-// kinds, so that they read back in order.
-void WriteNamedEstimates(Out& out, const std::string& g,
+// A fit's parameters' names and unit kinds, so that they read back in order.
+void WriteParameterNames(Out& out, const std::string& g,
                          const std::vector<NamedEstimate>& parameters) {
   std::vector<std::string> names, kinds;
   for (const NamedEstimate& p : parameters) {
     names.push_back(p.name);
     kinds.push_back(p.units);
-    WriteEstimate(out.f, g + "/" + p.name, p.estimate, UnitOfKind(p.units, out.u));
   }
   out.f.WriteStrings(g + "/parameter_names", names);
   out.f.WriteStrings(g + "/parameter_unit_kinds", kinds);
+}
+
+// A fit's parameters: one dataset each (+ _std_error), and their names.
+void WriteNamedEstimates(Out& out, const std::string& g,
+                         const std::vector<NamedEstimate>& parameters) {
+  for (const NamedEstimate& p : parameters) {
+    WriteEstimate(out.f, g + "/" + p.name, p.estimate, UnitOfKind(p.units, out.u));
+  }
+  WriteParameterNames(out, g, parameters);
+}
+
+// Each parameter's standard error times `scale`, the fit's Birge scale
+// (ScatterCheck::Scale), beside it: the errors to quote.
+void WriteScaledErrors(Out& out, const std::string& g, const std::vector<NamedEstimate>& parameters,
+                       double scale) {
+  for (const NamedEstimate& p : parameters) {
+    out.f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * scale,
+                      UnitOfKind(p.units, out.u));
+  }
 }
 
 std::vector<NamedEstimate> ReadNamedEstimates(const Hdf5File& f, const std::string& g) {
@@ -265,76 +285,116 @@ std::vector<NamedEstimate> ReadNamedEstimates(const Hdf5File& f, const std::stri
 
 // A least-squares fit's covariance is over its free parameters (fit/…:
 // zeta and v0; log K1, log K2, log C and ln v0 of each run). A correlation is
-// the same for a parameter and its logarithm, so the file names each row as
-// the estimate it is: rebound0_speed, stiffness_1, stiffness_2, damping,
-// rebound0_speed_<run id> (names already so are kept).
-std::string EstimateNameOf(const std::string& parameter) {
-  if (parameter == "v0") return "rebound0_speed";
-  if (parameter == "log K1") return "stiffness_1";
-  if (parameter == "log K2") return "stiffness_2";
-  if (parameter == "log C") return "damping";
-  const std::string per_run = "ln v0 ";
-  if (parameter.rfind(per_run, 0) == 0) return "rebound0_speed_" + parameter.substr(per_run.size());
-  return parameter;
-}
+// the same for a parameter and its logarithm, so the file names each row of
+// `correlation` as the estimate it is: rebound0_speed, stiffness_1,
+// stiffness_2, damping, rebound0_speed_<run id> (names already so are kept).
+const std::pair<const char*, const char*> kEstimateNames[] = {{"v0", "rebound0_speed"},
+                                                              {"log K1", "stiffness_1"},
+                                                              {"log K2", "stiffness_2"},
+                                                              {"log C", "damping"}};
+const std::string kPerRunSpeed = "ln v0 ", kPerRunSpeedEstimate = "rebound0_speed_";
 
 std::vector<std::string> EstimateNamesOf(const std::vector<std::string>& parameters) {
   std::vector<std::string> names;
-  for (const std::string& p : parameters) names.push_back(EstimateNameOf(p));
+  for (const std::string& p : parameters) {
+    std::string name =
+        p.starts_with(kPerRunSpeed) ? kPerRunSpeedEstimate + p.substr(kPerRunSpeed.size()) : p;
+    for (const auto& [parameter, estimate] : kEstimateNames) {
+      if (p == parameter) name = estimate;
+    }
+    names.push_back(name);
+  }
   return names;
 }
 
-// Everything but the status applies only to a fit that ran (one that threw
-// has no estimates); the correlation only where it could be computed.
-// `rebound_scale`: the run's rebound numbers, when the fit predicts one
-// maximum per rebound (empty: none).
-void WriteLeastSquares(Out& out, const std::string& g, const LeastSquaresSummary& fit,
+// The fit's own names of a file's estimate names (files that kept only the
+// correlation).
+std::vector<std::string> ParameterNamesOf(const std::vector<std::string>& estimates) {
+  std::vector<std::string> names;
+  for (const std::string& e : estimates) {
+    std::string name = e.starts_with(kPerRunSpeedEstimate)
+                           ? kPerRunSpeed + e.substr(kPerRunSpeedEstimate.size())
+                           : e;
+    for (const auto& [parameter, estimate] : kEstimateNames) {
+      if (e == estimate) name = parameter;
+    }
+    names.push_back(name);
+  }
+  return names;
+}
+
+// A least-squares fit's estimates, its listed Estimate fields that hold one,
+// in the list's order: what `parameter_names` names.
+template <typename Fit>
+std::vector<NamedEstimate> EstimatesOf(const Fit& fit) {
+  std::vector<NamedEstimate> out;
+  Fit::VisitFields(fit, [&](const char* name, auto&& listed, Quantity quantity, const char*) {
+    const auto& field = FieldOf(listed);
+    using Field = std::remove_cvref_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, Estimate>) {
+      out.push_back({name, UnitKindOf(quantity), field});
+    } else if constexpr (std::is_same_v<Field, std::optional<Estimate>>) {
+      if (field) out.push_back({name, UnitKindOf(quantity), *field});
+    }
+  });
+  return out;
+}
+
+// A least-squares fit (fit/kelvin_voigt_least_squares.h,
+// fit/poynting_thomson_least_squares.h): its status, and for a fit that ran
+// its listed fields, an ok fit's caveat, and what the layout adds: the
+// parameters' names and Birge-scaled errors, the correlation's rows named as
+// estimates, `rebound_scale` (the run's rebound numbers, when the fit
+// predicts one maximum per rebound; empty: none) on the predicted maxima.
+template <typename Fit>
+void WriteLeastSquares(Out& out, const std::string& g, const Fit& fit,
                        const std::string& rebound_scale) {
   Hdf5File& f = out.f;
   f.CreateGroup(g);
   f.SetAttribute(g, "method", "least-squares");
-  f.SetAttribute(g, "status", fit.Status());
-  if (fit.parameters.empty()) return;
-  if (fit.ok) f.SetAttribute(g, "termination", fit.termination);
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
+  if (!fit.status.Ran()) return;
+  if (fit.ok && !fit.reason.empty()) f.SetAttribute(g, "note", fit.reason);
   WriteFields(f, out.x, g, fit, out.u);
-  WriteNamedEstimates(out, g, fit.parameters);
-  for (const NamedEstimate& p : fit.parameters) {
-    f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
-                  UnitOfKind(p.units, out.u));
-  }
-  if (!fit.predicted_xmax.empty() && !rebound_scale.empty()) {
-    out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
-  }
-  const std::size_t n = fit.covariance_names.size();
-  if (n > 0) {
-    out.x.WriteMatrix(g + "/correlation", n, n, fit.correlation, "1");
+  const std::vector<NamedEstimate> estimates = EstimatesOf(fit);
+  WriteParameterNames(out, g, estimates);
+  WriteScaledErrors(out, g, estimates, fit.scatter.Scale());
+  if (!rebound_scale.empty()) out.x.AttachScale(g + "/predicted_xmax", rebound_scale);
+  if (!fit.covariance.correlation.empty()) {
     out.x.SetStringsAttribute(g + "/correlation", "parameter_names",
-                              EstimateNamesOf(fit.covariance_names));
+                              EstimateNamesOf(fit.covariance.names));
   }
 }
 
-LeastSquaresSummary ReadLeastSquares(const In& in, const std::string& g, const std::string& model) {
+// A least-squares fit as WriteLeastSquares wrote it, or as layout 1 and the
+// first files of layout 2 did; what the file does not keep follows from what
+// it does (the separation and M are the session's, K1, K2, C the estimates').
+template <typename Fit>
+Fit ReadLeastSquares(const In& in, const std::string& g) {
   const Hdf5File& f = in.f;
-  LeastSquaresSummary fit;
-  fit.model = model;
+  Fit fit;
+  fit.separation = in.separation;
   const std::string status = f.ReadStringAttribute(g, "status");
   fit.ok = status == "ok";
   if (!fit.ok) fit.reason = ReasonOf(status);
   if (in.layout == 1) {
-    // Its "solver_message": the termination, or a failed fit's reason.
-    (fit.ok ? fit.termination : fit.reason) = f.ReadStringAttribute(g, "solver_message");
-  } else {
-    if (fit.ok) fit.termination = f.ReadStringAttribute(g, "termination");
-    if (!f.Exists(g + "/parameter_names")) return fit;  // the fit did not run
+    // Every fit ran; its "solver_message" is the termination, or a failed fit's reason.
+    fit.status.message = f.ReadStringAttribute(g, "solver_message");
+  } else if (!f.Exists(g + "/parameter_names")) {
+    return fit;  // its inputs were refused
   }
   ReadFields(f, g, fit);
-  fit.parameters = ReadNamedEstimates(f, g);
+  // Written before a failed fit's termination was kept: its reason stands in.
+  if (!fit.status.Ran()) fit.status.message = fit.reason;
+  if (fit.ok && f.HasAttribute(g, "note")) fit.reason = f.ReadStringAttribute(g, "note");
   if (in.layout == 1) {
-    fit.covariance_names = EstimateNamesOf(f.ReadStrings(g + "/covariance_names"));
-    fit.correlation = f.ReadVector(g + "/correlation");
+    fit.covariance.names = f.ReadStrings(g + "/covariance_names");
   } else if (f.Exists(g + "/correlation")) {
-    fit.covariance_names = ReadStringsAttribute(f.path(), g + "/correlation", "parameter_names");
-    fit.correlation = f.ReadVector(g + "/correlation");  // n x n, row by row
+    fit.covariance.names =
+        ParameterNamesOf(ReadStringsAttribute(f.path(), g + "/correlation", "parameter_names"));
+  }
+  if constexpr (std::is_same_v<Fit, PoyntingThomsonLeastSquaresFit>) {
+    fit.model = {in.mass, fit.stiffness1.value, fit.stiffness2.value, fit.damping.value};
   }
   return fit;
 }
@@ -424,12 +484,8 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
   if (fit.parameters.empty() && fit.maxima == 0) return;  // it did not run
   WriteFields(f, out.x, g, fit, out.u);
   WriteNamedEstimates(out, g, fit.parameters);
-  for (const NamedEstimate& p : fit.parameters) {
-    f.WriteScalar(g + "/" + p.name + "_std_error_scaled", p.estimate.sigma * fit.scatter.Scale(),
-                  UnitOfKind(p.units, out.u));
-  }
+  WriteScaledErrors(out, g, fit.parameters, fit.scatter.Scale());
   std::vector<std::string> methods;
-  std::vector<double> rise_lower, rise_upper;
   for (std::size_t i = 0; i < fit.intervals.size() && i < fit.parameters.size(); ++i) {
     const ParameterInterval& in = fit.intervals[i];
     const std::string units = UnitOfKind(fit.parameters[i].units, out.u);
@@ -437,19 +493,8 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
     f.WriteScalar(g + "/" + in.name + "_interval_upper", in.upper, units);
     methods.push_back(std::string(in.profile ? "profile" : "linear") +
                       (in.at_bound ? ", at a bound" : ""));
-    rise_lower.push_back(in.rise_at_lower);
-    rise_upper.push_back(in.rise_at_upper);
   }
   f.WriteStrings(g + "/interval_methods", methods);
-  if (!methods.empty()) {
-    f.WriteVector(g + "/interval_rise_at_lower", rise_lower, "1");
-    f.WriteVector(g + "/interval_rise_at_upper", rise_upper, "1");
-  }
-  if (const std::size_t n = fit.covariance.names.size();
-      n > 0 && fit.covariance.matrix.size() == n * n) {
-    out.x.WriteMatrix(g + "/covariance", n, n, fit.covariance.matrix, "1");
-    out.x.SetStringsAttribute(g + "/covariance", "parameter_names", fit.covariance.names);
-  }
   if (fit.loo_ok || fit.loo_maxima > 0) {  // left out: fewer than three runs, or not asked
     f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
     f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
@@ -466,25 +511,18 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   if (!f.Exists(g + "/chi2")) return fit;
   ReadFields(f, g, fit);
   fit.parameters = ReadNamedEstimates(f, g);
-  if (f.Exists(g + "/interval_methods")) {
-    const std::vector<std::string> methods = f.ReadStrings(g + "/interval_methods");
-    const std::vector<double> rise_lower = ReadVectorIfPresent(f, g + "/interval_rise_at_lower");
-    const std::vector<double> rise_upper = ReadVectorIfPresent(f, g + "/interval_rise_at_upper");
-    for (std::size_t i = 0; i < methods.size() && i < fit.parameters.size(); ++i) {
-      ParameterInterval in;
-      in.name = fit.parameters[i].name;
-      in.lower = f.ReadScalar(g + "/" + in.name + "_interval_lower");
-      in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
-      in.profile = methods[i].rfind("profile", 0) == 0;
-      in.at_bound = methods[i].find("at a bound") != std::string::npos;
-      if (i < rise_lower.size()) in.rise_at_lower = rise_lower[i];
-      if (i < rise_upper.size()) in.rise_at_upper = rise_upper[i];
-      fit.intervals.push_back(in);
-    }
-  }
-  if (f.Exists(g + "/covariance")) {
-    fit.covariance.matrix = f.ReadVector(g + "/covariance");
-    fit.covariance.names = ReadStringsAttribute(f.path(), g + "/covariance", "parameter_names");
+  // Each interval's ends and method, beside the rises its list read.
+  const std::vector<std::string> methods = f.Exists(g + "/interval_methods")
+                                               ? f.ReadStrings(g + "/interval_methods")
+                                               : std::vector<std::string>{};
+  fit.intervals.resize(std::min(methods.size(), fit.parameters.size()));
+  for (std::size_t i = 0; i < fit.intervals.size(); ++i) {
+    ParameterInterval& in = fit.intervals[i];
+    in.name = fit.parameters[i].name;
+    in.lower = f.ReadScalar(g + "/" + in.name + "_interval_lower");
+    in.upper = f.ReadScalar(g + "/" + in.name + "_interval_upper");
+    in.profile = methods[i].rfind("profile", 0) == 0;
+    in.at_bound = methods[i].find("at a bound") != std::string::npos;
   }
   const std::optional<double> loo = f.ReadScalarIfPresent(g + "/leave_one_out_rms_normalized");
   fit.loo_rms_normalized = loo.value_or(0.0);
@@ -681,10 +719,13 @@ void WriteRun(Out& out, const RunResult& run) {
     WriteCalibration(out, g + "/calibration/" + c.cell, c);
   }
   if (run.fits.kelvin_voigt) WriteKelvinVoigt(out, run);
-  const std::string scale = m.xmax.empty() ? "" : g + "/rebounds/rebound";
-  for (const LeastSquaresSummary& fit : run.fits.least_squares) {
-    const bool per_rebound = fit.predicted_xmax.size() == m.xmax.size();
-    WriteLeastSquares(out, g + "/fit/" + fit.model, fit, per_rebound ? scale : "");
+  if (const auto& fit = run.fits.kelvin_voigt_least_squares) {
+    const bool per_rebound = !m.xmax.empty() && fit->predicted_xmax.size() == m.xmax.size();
+    WriteLeastSquares(out, g + "/fit/kelvin_voigt_least_squares", *fit,
+                      per_rebound ? g + "/rebounds/rebound" : "");
+  }
+  if (run.fits.poynting_thomson) {
+    WriteLeastSquares(out, g + "/fit/poynting_thomson", *run.fits.poynting_thomson, "");
   }
 }
 
@@ -755,8 +796,8 @@ void WriteAll(Hdf5File& f, const SessionResult& r) {
     WriteCalibration(out, JoinPath({"calibrations", c.calibration_id}), c);
   }
   if (r.kelvin_voigt) WriteSessionKelvinVoigt(out, *r.kelvin_voigt);
-  for (const LeastSquaresSummary& fit : r.joint_fits) {
-    WriteLeastSquares(out, "/session/joint_fits/" + fit.model, fit, "");
+  for (const PoyntingThomsonLeastSquaresFit& fit : r.joint_fits) {
+    WriteLeastSquares(out, "/session/joint_fits/poynting_thomson", fit, "");
   }
   if (r.model_comparison) WriteModelComparison(out, *r.model_comparison);
   for (const ContactLawFit& fit : r.contact_laws) WriteContactLaw(out, fit);
@@ -855,9 +896,13 @@ RunResult ReadRun(const In& in, const std::string& id, ResultsReading reading) {
     }
   }
   if (reading == ResultsReading::kRunMeasurements) return run;
-  for (const char* model : {"kelvin_voigt_least_squares", "poynting_thomson"}) {
-    const std::string g_fit = g + "/fit/" + model;
-    if (f.Exists(g_fit)) run.fits.least_squares.push_back(ReadLeastSquares(in, g_fit, model));
+  if (f.Exists(g + "/fit/kelvin_voigt_least_squares")) {
+    run.fits.kelvin_voigt_least_squares =
+        ReadLeastSquares<KelvinVoigtLeastSquaresFit>(in, g + "/fit/kelvin_voigt_least_squares");
+  }
+  if (f.Exists(g + "/fit/poynting_thomson")) {
+    run.fits.poynting_thomson =
+        ReadLeastSquares<PoyntingThomsonLeastSquaresFit>(in, g + "/fit/poynting_thomson");
   }
   if (f.Exists(KelvinVoigtPath(id))) ReadKelvinVoigt(in, run);
   return run;
@@ -930,7 +975,7 @@ SessionResult ReadSessionAndRuns(const Hdf5File& f, long long layout, ResultsRea
                                  const std::function<bool(const std::string&)>& wanted) {
   SessionResult r;
   ReadSessionSettings(f, r);
-  const In in{f, layout, r.settings};
+  const In in{f, layout, r.settings, r.separation, r.apparatus.mass};
   for (const std::string& id : ChildrenIfPresent(f, "/runs")) {
     if (wanted(id)) r.runs.push_back(ReadRun(in, id, reading));
   }
@@ -950,7 +995,7 @@ SessionResult ReadResults(const std::filesystem::path& path, ResultsReading read
   const Hdf5File f = Hdf5File::OpenReadOnly(path);
   const long long layout = CheckedLayout(f);
   SessionResult r = ReadSessionAndRuns(f, layout, reading, [](const std::string&) { return true; });
-  const In in{f, layout, r.settings};
+  const In in{f, layout, r.settings, r.separation, r.apparatus.mass};
   if (f.Exists("/session/model_comparison")) r.model_comparison = ReadModelComparison(f);
   for (const std::string& law : ChildrenIfPresent(f, "/session/contact_laws")) {
     r.contact_laws.push_back(ReadContactLaw(f, law));
@@ -961,8 +1006,9 @@ SessionResult ReadResults(const std::filesystem::path& path, ResultsReading read
   }
   if (f.Exists("/session/kelvin_voigt")) r.kelvin_voigt = ReadSessionKelvinVoigt(f);
   for (const std::string& id : ChildrenIfPresent(f, "/logs")) r.logs.push_back(ReadLog(in, id));
-  for (const std::string& model : ChildrenIfPresent(f, "/session/joint_fits")) {
-    r.joint_fits.push_back(ReadLeastSquares(in, "/session/joint_fits/" + model, model));
+  if (f.Exists("/session/joint_fits/poynting_thomson")) {
+    r.joint_fits.push_back(ReadLeastSquares<PoyntingThomsonLeastSquaresFit>(
+        in, "/session/joint_fits/poynting_thomson"));
   }
   for (const std::string& name : ChildrenIfPresent(f, "/predictions")) {
     r.predictions.push_back(ReadPrediction(f, name));

@@ -1,6 +1,9 @@
 // What reducing a session produces: one RunResult per run, the cross-run
-// Kelvin-Voigt analysis and the predictions. The results file (results_file.h)
-// stores exactly this; the report formats it and never recomputes it.
+// Kelvin-Voigt analysis and the predictions, the stages' results as they
+// return them where they have field lists (the least-squares fits, the
+// contact laws). The results file (results_file.h) stores what each result's
+// list keeps (options/result_fields.h; a list says what it leaves out); the
+// report formats it and never recomputes it.
 #pragma once
 
 #include <optional>
@@ -8,8 +11,10 @@
 #include <vector>
 
 #include "fit/contact_law_fit.h"
+#include "fit/kelvin_voigt_least_squares.h"
 #include "fit/kelvin_voigt_session.h"
 #include "fit/kelvin_voigt_two_point.h"
+#include "fit/poynting_thomson_least_squares.h"
 #include "io/rgb_image.h"
 #include "io/session.h"
 #include "io/units.h"
@@ -19,60 +24,6 @@
 #include "rebounds/bar_rebounds.h"
 
 namespace impactlab {
-
-// A least-squares fit as the results file keeps it (fit/least_squares.h has
-// the full result): named estimates, fit quality and what the data determine.
-struct LeastSquaresSummary {
-  std::string model;  // group name: "kelvin_voigt_least_squares" or "poynting_thomson"
-  bool converged = false;
-  bool ok = false;          // usable, dissipative and identifiable
-  std::string reason;       // why not, when !ok
-  std::string termination;  // the solver's, when ok
-  bool identifiable = false;
-  int rank = 0;
-  std::string identifiability;  // in words: which combination is not determined
-  std::vector<NamedEstimate> parameters;
-  double chi2 = 0.0;
-  int dof = 0;
-  // chi^2 against its dof (weighted fits only): the Birge ratio that scales
-  // the stated standard errors where the scatter exceeds them.
-  ScatterCheck scatter;
-  double seconds = 0.0;
-  std::vector<double> predicted_xmax;        // rebound 0, 1, ... (when the model predicts them)
-  std::vector<double> normalized_residuals;  // (measured - model)/sigma per maximum
-  // The rows of `correlation`: the fit's free parameters as fit/ names them
-  // ("log K1"), or, read from a results file, named as the estimates they are
-  // ("stiffness_1"; the results file names them so).
-  std::vector<std::string> covariance_names;
-  std::vector<double> correlation;  // n x n, row-major
-
-  std::string Status() const { return ok ? "ok" : "failed: " + reason; }
-
-  // What the results file keeps as fields of a fit that ran
-  // (options/result_fields.h). The status, the solver's termination (only
-  // when ok), the parameters by name and the correlation with its names are
-  // stored by the file's own layout.
-  template <typename Self, typename Visit>
-  static void VisitFields(Self& self, Visit&& visit) {
-    visit("converged", self.converged, Quantity::kDimensionless, "1 when the solver converged");
-    visit("identifiable", self.identifiable, Quantity::kDimensionless,
-          "1 when the data determine every parameter");
-    visit("rank", self.rank, Quantity::kDimensionless, "the Jacobian's numerical rank");
-    visit("identifiability", self.identifiability, Quantity::kDimensionless,
-          "which combination is not determined, in words");
-    visit("dof", self.dof, Quantity::kDimensionless, "degrees of freedom");
-    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
-    visit("excess_scatter", self.scatter.excess, Quantity::kDimensionless,
-          "1 when chi2's p-value < 0.001: the errors are Birge-scaled");
-    visit("birge_ratio", self.scatter.birge_ratio, Quantity::kDimensionless, "sqrt(chi2 / dof)");
-    visit("chi2_p_value", self.scatter.p_value, Quantity::kDimensionless, "P(chi2_dof >= chi2)");
-    visit("seconds", self.seconds, Quantity::kSeconds, "the fit's wall time");
-    visit("predicted_xmax", self.predicted_xmax, Quantity::kLength,
-          "the fitted model's maxima, rebound 0, 1, ...");
-    visit("normalized_residuals", self.normalized_residuals, Quantity::kDimensionless,
-          "(measured - model) / sigma per maximum");
-  }
-};
 
 // A digitized photo as the report shows it: the photo with the grid and
 // traces found drawn on it (a downscaled JPEG) and how well they were found.
@@ -150,7 +101,7 @@ struct CellCalibration {
   std::vector<double> points_x, points_volts;  // the pairs the fit used (decimated to <= 500)
   // Stretches of the swing left out as misread (photocell_calibration.h), s.
   std::vector<double> left_out_from_s, left_out_to_s;
-  std::optional<PhotoOverlay> overlay;         // a photo calibration: its photo, digitized
+  std::optional<PhotoOverlay> overlay;  // a photo calibration: its photo, digitized
   SettingValues settings;  // the stage settings it was made with (photocell, digitize for a photo)
 
   // What the results file keeps as fields (options/result_fields.h); the overlay
@@ -274,7 +225,10 @@ struct RunFits {
   // measured displacement less it at the measured times, length units.
   Curve model_response;
   Curve model_residual;
-  std::vector<LeastSquaresSummary> least_squares;  // Kelvin-Voigt and Poynting-Thomson
+  // The least-squares fits as fit/ returns them; one its inputs refused
+  // holds only its reason (FitStatus::Ran). None: the run's fits were not made.
+  std::optional<KelvinVoigtLeastSquaresFit> kelvin_voigt_least_squares;
+  std::optional<PoyntingThomsonLeastSquaresFit> poynting_thomson;
 
   // What the results file keeps beside the two-point fit's fields, in its
   // group, when it succeeded (options/result_fields.h); the model's peak
@@ -558,7 +512,8 @@ struct SessionResult {
   std::vector<RunResult> runs;
   std::vector<CellCalibration> calibrations;  // --only calibration: every calibration
   std::optional<SessionKelvinVoigt> kelvin_voigt;
-  std::vector<LeastSquaresSummary> joint_fits;  // one parameter set for all runs
+  // Poynting-Thomson with one parameter set for all runs (empty: not made).
+  std::vector<PoyntingThomsonLeastSquaresFit> joint_fits;
   std::optional<ModelComparison> model_comparison;
   // The contact laws fitted across the runs, maxima and contact times together
   // (fit/contact_law_fit.h): Kelvin-Voigt, Hertz, Hunt-Crossley (n = 3/2 and free).

@@ -128,27 +128,11 @@ Table ParameterTable(const SessionResult& r, const UnitLabels& u) {
   return t;
 }
 
-const LeastSquaresSummary* FindFit(const std::vector<LeastSquaresSummary>& fits,
-                                   const std::string& model) {
-  for (const LeastSquaresSummary& f : fits) {
-    if (f.model == model) return &f;
-  }
-  return nullptr;
-}
-
-const Estimate* FindParameter(const LeastSquaresSummary& fit, const std::string& name) {
-  for (const NamedEstimate& p : fit.parameters) {
-    if (p.name == name) return &p.estimate;
-  }
-  return nullptr;
-}
-
 // A value with its standard error, "undetermined" where the data do not fix
-// it; `scale` converts it for display (1e6: s to us).
-Cell Determined(const LeastSquaresSummary& fit, const std::string& name, int digits,
+// it, "-" where the fit did not run; `scale` converts it for display (1e6: s to us).
+Cell Determined(const FitStatus& status, const std::optional<Estimate>& e, int digits,
                 double scale = 1.0) {
-  const Estimate* e = FindParameter(fit, name);
-  if (e == nullptr) return "-";
+  if (!status.Ran() || !e) return "-";
   const Estimate shown{e->value * scale, e->sigma * scale};
   if (!std::isfinite(e->sigma)) return Cell{"undetermined", shown.value, shown.sigma, -1};
   return WithSigma(shown, digits);
@@ -174,10 +158,12 @@ Table KelvinVoigtLeastSquaresTable(const SessionResult& r, const UnitLabels& u) 
                "Birge ratio",
                "Status"};
   for (const RunResult& run : r.runs) {
-    const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "kelvin_voigt_least_squares");
-    if (fit == nullptr) continue;
-    t.rows.push_back({run.id, Determined(*fit, "zeta", 5), Determined(*fit, "restitution", 4),
-                      Determined(*fit, "stiffness", 0), Determined(*fit, "damping", 3),
+    const auto& fit = run.fits.kelvin_voigt_least_squares;
+    if (!fit) continue;
+    const FitStatus& status = fit->status;
+    t.rows.push_back({run.id, Determined(status, fit->damping_ratio, 5),
+                      Determined(status, fit->restitution, 4),
+                      Determined(status, fit->stiffness, 0), Determined(status, fit->damping, 3),
                       Sig(fit->chi2, 3), Count(fit->dof), Sig(fit->scatter.birge_ratio, 3),
                       fit->ok ? ScatterStatus(fit->scatter) : fit->reason});
   }
@@ -203,33 +189,36 @@ Table PoyntingThomsonTable(const SessionResult& r, const UnitLabels& u) {
   // One short sentence per fit; the advice the fits share said once, below;
   // each fit's full account (which combinations, with their values) folded.
   std::set<std::string> advice;
-  const auto row = [&](const std::string& name, const LeastSquaresSummary& fit) {
-    std::string identifiability = fit.ok ? fit.termination : fit.reason;
-    if (fit.identifiable) {
+  const auto row = [&](const std::string& name, const PoyntingThomsonLeastSquaresFit& fit) {
+    const Identifiability& id = fit.identifiability;
+    std::string identifiability = fit.ok ? fit.status.message : fit.reason;
+    if (id.identifiable) {
       identifiability = "K1, K2 and C determined";
       if (fit.scatter.excess) {
         identifiability +=
             fmt::format(" (scatter {:.3g} x the sigmas: scale the ±)", fit.scatter.birge_ratio);
       }
-    } else if (!fit.identifiability.empty()) {
-      identifiability = fmt::format("{} of 3 combinations determined", fit.rank);
-      if (const auto last = fit.identifiability.rfind(". "); last != std::string::npos) {
-        advice.insert(fit.identifiability.substr(last + 2));
+    } else if (!id.message.empty()) {
+      identifiability = fmt::format("{} of 3 combinations determined", id.rank);
+      if (const auto last = id.message.rfind(". "); last != std::string::npos) {
+        advice.insert(id.message.substr(last + 2));
       }
-      t.details.push_back(fmt::format("{}: {}", name, fit.identifiability));
+      t.details.push_back(fmt::format("{}: {}", name, id.message));
     }
-    t.rows.push_back({name, Determined(fit, "stiffness_1", 0), Determined(fit, "stiffness_2", 0),
-                      Determined(fit, "damping", 3), Determined(fit, "restitution", 4),
-                      Determined(fit, "contact_time", 2, 1e6), identifiability});
+    const FitStatus& status = fit.status;
+    t.rows.push_back({name, Determined(status, fit.stiffness1, 0),
+                      Determined(status, fit.stiffness2, 0), Determined(status, fit.damping, 3),
+                      Determined(status, fit.restitution, 4),
+                      Determined(status, fit.contact_time, 2, 1e6), identifiability});
   };
   for (const RunResult& run : r.runs) {
-    if (const LeastSquaresSummary* fit = FindFit(run.fits.least_squares, "poynting_thomson")) {
-      row(run.id, *fit);
+    if (run.fits.poynting_thomson) {
+      row(run.id, *run.fits.poynting_thomson);
       t.row_kinds.push_back("run");
     }
   }
-  if (const LeastSquaresSummary* fit = FindFit(r.joint_fits, "poynting_thomson")) {
-    row("all runs (joint)", *fit);
+  for (const PoyntingThomsonLeastSquaresFit& fit : r.joint_fits) {
+    row("all runs (joint)", fit);
     t.row_kinds.push_back("joint");
   }
   t.notes = {
@@ -691,31 +680,38 @@ std::string JoinedList(const std::vector<std::string>& items) {
   return text;
 }
 
+// A least-squares fit as the check list weighs it: named ("run 0.405", "the
+// joint fit"), with its status, scatter and identifiability.
+struct CheckedFit {
+  std::string name;
+  bool ok;
+  const std::string& reason;
+  const ScatterCheck& scatter;
+  const Identifiability& identifiability;
+};
+
+template <typename Fit>
+CheckedFit Checked(std::string name, const Fit& fit) {
+  return {std::move(name), fit.ok, fit.reason, fit.scatter, fit.identifiability};
+}
+
 // The least-squares fits of one model (per run, and the joint fit): failures
 // one by one, excess scatter and undetermined parameters each in one item.
-void CheckLeastSquares(const SessionResult& r, const std::string& model, const std::string& label,
+void CheckLeastSquares(const std::vector<CheckedFit>& fits, const std::string& label,
                        const std::string& table, std::vector<CheckItem>& items) {
-  std::vector<std::pair<std::string, const LeastSquaresSummary*>> fits;
-  for (const RunResult& run : r.runs) {
-    if (const LeastSquaresSummary* f = FindFit(run.fits.least_squares, model)) {
-      fits.emplace_back("run " + run.id, f);
-    }
-  }
-  if (const LeastSquaresSummary* f = FindFit(r.joint_fits, model)) {
-    fits.emplace_back("the joint fit", f);
-  }
   std::vector<std::string> scattered, undetermined;
   double widest = 0.0;
-  for (const auto& [name, fit] : fits) {
-    if (!fit->ok && fit->identifiability.empty()) {
-      items.push_back({fmt::format("{}: {} failed: {}", name, label, fit->reason), table, ""});
+  for (const CheckedFit& fit : fits) {
+    const Identifiability& id = fit.identifiability;
+    if (!fit.ok && id.message.empty()) {
+      items.push_back({fmt::format("{}: {} failed: {}", fit.name, label, fit.reason), table, ""});
       continue;
     }
-    if (fit->scatter.excess) {
-      scattered.push_back(name);
-      widest = std::max(widest, fit->scatter.birge_ratio);
+    if (fit.scatter.excess) {
+      scattered.push_back(fit.name);
+      widest = std::max(widest, fit.scatter.birge_ratio);
     }
-    if (!fit->identifiable && !fit->identifiability.empty()) undetermined.push_back(name);
+    if (!id.identifiable && !id.message.empty()) undetermined.push_back(fit.name);
   }
   // Every fit, or the ones named.
   const auto which = [&](const std::vector<std::string>& names) {
@@ -899,9 +895,21 @@ std::vector<CheckItem> CheckList(const SessionResult& r) {
                        "rebound_anomalies", ""});
     }
   }
-  CheckLeastSquares(r, "kelvin_voigt_least_squares", "Kelvin-Voigt least squares",
-                    "kelvin_voigt_least_squares", items);
-  CheckLeastSquares(r, "poynting_thomson", "Poynting-Thomson", "poynting_thomson", items);
+  std::vector<CheckedFit> kelvin_voigt, poynting_thomson;
+  for (const RunResult& run : r.runs) {
+    if (const auto& fit = run.fits.kelvin_voigt_least_squares) {
+      kelvin_voigt.push_back(Checked("run " + run.id, *fit));
+    }
+    if (const auto& fit = run.fits.poynting_thomson) {
+      poynting_thomson.push_back(Checked("run " + run.id, *fit));
+    }
+  }
+  for (const PoyntingThomsonLeastSquaresFit& fit : r.joint_fits) {
+    poynting_thomson.push_back(Checked("the joint fit", fit));
+  }
+  CheckLeastSquares(kelvin_voigt, "Kelvin-Voigt least squares", "kelvin_voigt_least_squares",
+                    items);
+  CheckLeastSquares(poynting_thomson, "Poynting-Thomson", "poynting_thomson", items);
   if (r.model_comparison) {
     for (const ModelComparisonRow& m : r.model_comparison->models) {
       if (!m.ok) {
@@ -938,8 +946,9 @@ std::vector<Table> BuildTables(const SessionResult& r) {
   std::vector<Table> tables;
   if (!r.runs.empty()) tables = {DeviationTable(r, u), ParameterTable(r, u)};
   const bool any_least_squares =
-      std::any_of(r.runs.begin(), r.runs.end(),
-                  [](const RunResult& run) { return !run.fits.least_squares.empty(); });
+      std::any_of(r.runs.begin(), r.runs.end(), [](const RunResult& run) {
+        return run.fits.kelvin_voigt_least_squares || run.fits.poynting_thomson;
+      });
   if (any_least_squares) {
     tables.push_back(KelvinVoigtLeastSquaresTable(r, u));
     tables.push_back(PoyntingThomsonTable(r, u));

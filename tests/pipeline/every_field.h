@@ -25,11 +25,20 @@ namespace impactlab::testing {
 
 // Every result type with a field list, the session's own last.
 using ListedResults =
-    std::tuple<BarRebounds, CellCalibration, ContactLawFit, LeastSquaresSummary, LogChannelResult,
-               PhotoOverlay, StageSeconds, RunMeasurement, RunFits, RunResult,
-               KelvinVoigtTwoPointFit, SessionKelvinVoigt, DampingLine, ModelComparisonRow,
-               ModelComparison, LogSourceResult, LogComparisonRow, LogResult, RunPrediction,
-               Apparatus, Specimen, SessionResult>;
+    std::tuple<BarRebounds, CellCalibration, ContactLawFit, KelvinVoigtLeastSquaresFit,
+               PoyntingThomsonLeastSquaresFit, LogChannelResult, PhotoOverlay, StageSeconds,
+               RunMeasurement, RunFits, RunResult, KelvinVoigtTwoPointFit, SessionKelvinVoigt,
+               DampingLine, ModelComparisonRow, ModelComparison, LogSourceResult, LogComparisonRow,
+               LogResult, RunPrediction, Apparatus, Specimen, SessionResult>;
+
+template <typename Field>
+constexpr bool IsColumnField = false;
+template <typename Rows, typename Member>
+constexpr bool IsColumnField<ColumnField<Rows, Member>> = true;
+template <typename Listed>
+constexpr bool IsSquareField = false;
+template <typename T>
+constexpr bool IsSquareField<StoredAs<Storage::kSquare, T>> = true;
 
 // Calls visit.template operator()<Result>() for every listed result type.
 template <typename Visit>
@@ -49,7 +58,9 @@ void FillEveryField(Result& result) {
     auto& field = FieldOf(listed);
     using Field = std::remove_cvref_t<decltype(field)>;
     const double v = 0.5 + k++;
-    if constexpr (std::is_same_v<Field, double>) {
+    if constexpr (IsSquareField<std::remove_cvref_t<decltype(listed)>>) {
+      field = {v, 0.25, 0.25, 2 * v};
+    } else if constexpr (std::is_same_v<Field, double>) {
       field = v;
     } else if constexpr (std::is_same_v<Field, std::optional<double>>) {
       field = v;
@@ -65,6 +76,9 @@ void FillEveryField(Result& result) {
       field = {{v, v / 8}, {-v, v / 4}};
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
       field.values = {v, 0.25, 0.25, 2 * v};
+    } else if constexpr (IsColumnField<Field>) {
+      field.rows.resize(3);
+      for (std::size_t i = 0; i < 3; ++i) field.rows[i].*field.member = v * (i + 1.0);
     } else if constexpr (std::is_same_v<Field, std::string>) {
       field = fmt::format("text {}", v);
     } else if constexpr (std::is_same_v<Field, bool>) {
@@ -96,6 +110,8 @@ std::vector<std::string> EveryField(const Result& result, const std::string& pre
       for (const Estimate& e : field) text += fmt::format("{} ± {}; ", e.value, e.sigma);
     } else if constexpr (std::is_same_v<Field, SquareMatrix>) {
       text = fmt::format("{}", fmt::join(field.values, " "));
+    } else if constexpr (IsColumnField<Field>) {
+      for (const auto& row : field.rows) text += fmt::format("{} ", row.*field.member);
     } else {
       text = fmt::format("{}", field);
     }

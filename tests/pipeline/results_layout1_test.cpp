@@ -10,6 +10,7 @@
 
 #include "io/hdf5_file.h"
 #include "pipeline/results_file.h"
+#include "tests/pipeline/every_field.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -42,24 +43,16 @@ bool Same(const std::vector<NamedEstimate>& a, const std::vector<NamedEstimate>&
   return true;
 }
 
-void CheckSame(const LeastSquaresSummary& a, const LeastSquaresSummary& b) {
-  INFO("least-squares fit " << a.model);
-  CHECK(a.model == b.model);
-  CHECK(a.ok == b.ok);
-  CHECK(a.converged == b.converged);
-  CHECK(a.reason == b.reason);
-  CHECK(a.termination == b.termination);
-  CHECK(a.identifiable == b.identifiable);
-  CHECK(a.rank == b.rank);
-  CHECK(a.identifiability == b.identifiability);
-  CHECK(Same(a.parameters, b.parameters));
-  CHECK(Same(a.chi2, b.chi2));
-  CHECK(a.dof == b.dof);
-  CHECK(Same(a.seconds, b.seconds));
-  CHECK(Same(a.predicted_xmax, b.predicted_xmax));
-  CHECK(Same(a.normalized_residuals, b.normalized_residuals));
-  CHECK(a.covariance_names == b.covariance_names);
-  CHECK(Same(a.correlation, b.correlation));
+// Every field the file keeps of a least-squares fit (its list, its status,
+// the correlation's rows).
+template <typename Fit>
+void CheckSame(const std::optional<Fit>& a, const std::optional<Fit>& b) {
+  REQUIRE(a.has_value() == b.has_value());
+  if (!a) return;
+  CHECK(a->ok == b->ok);
+  CHECK(a->reason == b->reason);
+  CHECK(a->covariance.names == b->covariance.names);
+  CHECK(testing::EveryField(*a) == testing::EveryField(*b));
 }
 
 void CheckSame(const RunResult& a, const RunResult& b) {
@@ -103,10 +96,8 @@ void CheckSame(const RunResult& a, const RunResult& b) {
       CHECK(Same(p.predicted_xmax[i], q.predicted_xmax[i]));
     }
   }
-  REQUIRE(a.fits.least_squares.size() == b.fits.least_squares.size());
-  for (std::size_t i = 0; i < a.fits.least_squares.size(); ++i) {
-    CheckSame(a.fits.least_squares[i], b.fits.least_squares[i]);
-  }
+  CheckSame(a.fits.kelvin_voigt_least_squares, b.fits.kelvin_voigt_least_squares);
+  CheckSame(a.fits.poynting_thomson, b.fits.poynting_thomson);
 }
 
 void CheckSame(const ModelComparison& a, const ModelComparison& b) {
@@ -168,7 +159,9 @@ void CheckSame(const SessionResult& a, const SessionResult& b) {
     }
   }
   REQUIRE(a.joint_fits.size() == b.joint_fits.size());
-  for (std::size_t i = 0; i < a.joint_fits.size(); ++i) CheckSame(a.joint_fits[i], b.joint_fits[i]);
+  for (std::size_t i = 0; i < a.joint_fits.size(); ++i) {
+    CheckSame(std::optional(a.joint_fits[i]), std::optional(b.joint_fits[i]));
+  }
   REQUIRE(a.model_comparison.has_value() == b.model_comparison.has_value());
   if (a.model_comparison) CheckSame(*a.model_comparison, *b.model_comparison);
   REQUIRE(a.predictions.size() == b.predictions.size());
@@ -206,16 +199,19 @@ TEST_CASE("results_layout1: a layout-1 file reads with its values where they wer
   REQUIRE(run.fits.kelvin_voigt.has_value());
   CHECK(run.fits.kelvin_voigt->stiffness->value == Approx(460000).epsilon(0.05));
   CHECK(run.fits.model_response.time_s.size() == run.fits.model_response.value.size());
-  REQUIRE(run.fits.least_squares.size() == 2);
-  const LeastSquaresSummary& kv = run.fits.least_squares[0];
-  CHECK(kv.model == "kelvin_voigt_least_squares");
+  REQUIRE(run.fits.kelvin_voigt_least_squares);
+  const KelvinVoigtLeastSquaresFit& kv = *run.fits.kelvin_voigt_least_squares;
   CHECK(kv.ok);
-  CHECK_THAT(kv.termination, Catch::StartsWith("Function tolerance reached"));
-  CHECK(kv.correlation.size() == kv.covariance_names.size() * kv.covariance_names.size());
-  const LeastSquaresSummary& pt = run.fits.least_squares[1];
+  CHECK_THAT(kv.status.message, Catch::StartsWith("Function tolerance reached"));
+  CHECK(kv.covariance.names == std::vector<std::string>{"zeta", "v0"});
+  CHECK(kv.covariance.correlation.size() == 4);
+  REQUIRE(run.fits.poynting_thomson);
+  const PoyntingThomsonLeastSquaresFit& pt = *run.fits.poynting_thomson;
   CHECK(!pt.ok);
   CHECK_THAT(pt.reason, Catch::StartsWith("not identifiable"));
-  CHECK(pt.correlation.size() == 16);
+  CHECK(pt.status.Ran());
+  CHECK(pt.covariance.correlation.size() == 16);
+  CHECK(pt.model.stiffness1 == pt.stiffness1.value);
 
   const RunResult& rising = r.runs[3];
   CHECK(!rising.ok);
@@ -225,7 +221,7 @@ TEST_CASE("results_layout1: a layout-1 file reads with its values where they wer
   CHECK_THAT(rising.fits.kelvin_voigt->reason, Catch::StartsWith("rebound 1 (0.18) exceeds"));
 
   REQUIRE(r.joint_fits.size() == 1);
-  CHECK(r.joint_fits[0].correlation.size() == 36);
+  CHECK(r.joint_fits[0].covariance.correlation.size() == 36);
   REQUIRE(r.model_comparison.has_value());
   CHECK(r.model_comparison->models.size() == 3);
   REQUIRE(r.predictions.size() == 1);

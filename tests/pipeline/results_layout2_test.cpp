@@ -80,19 +80,20 @@ std::set<std::string> AttributeNames(const fs::path& file, const std::string& ob
 
 // Every correlation of `fit` at `g`: n x n, its values as the fit's, each row
 // named as an estimate of the fit (or, Poynting-Thomson, a run's speed).
-void CheckCorrelation(const fs::path& file, const std::string& g, const LeastSquaresSummary& fit,
+template <typename Fit>
+void CheckCorrelation(const fs::path& file, const std::string& g, const Fit& fit,
                       const std::vector<std::string>& run_ids) {
   INFO(g);
-  const std::size_t n = fit.covariance_names.size();
+  const std::size_t n = fit.covariance.names.size();
   REQUIRE(n > 0);
   CHECK(Dimensions(file, g + "/correlation") == std::vector<hsize_t>{n, n});
   const Hdf5File f = Hdf5File::OpenReadOnly(file);
-  CHECK(f.ReadVector(g + "/correlation") == fit.correlation);
+  CHECK(f.ReadVector(g + "/correlation") == fit.covariance.correlation);
   const std::vector<std::string> rows =
       ReadStringsAttribute(file, g + "/correlation", "parameter_names");
   REQUIRE(rows.size() == n);
   std::set<std::string> estimates;
-  for (const NamedEstimate& p : fit.parameters) estimates.insert(p.name);
+  for (const std::string& p : f.ReadStrings(g + "/parameter_names")) estimates.insert(p);
   for (const std::string& id : run_ids) estimates.insert("rebound0_speed_" + id);
   for (const std::string& row : rows) {
     INFO(row);
@@ -109,9 +110,12 @@ TEST_CASE(
   std::vector<std::string> run_ids;
   for (const RunResult& run : r.runs) run_ids.push_back(run.id);
   for (const RunResult& run : r.runs) {
-    for (const LeastSquaresSummary& fit : run.fits.least_squares) {
-      CheckCorrelation(path, "/runs/" + run.id + "/fit/" + fit.model, fit, run_ids);
-    }
+    const std::string g = "/runs/" + run.id + "/fit/";
+    REQUIRE(run.fits.kelvin_voigt_least_squares);
+    REQUIRE(run.fits.poynting_thomson);
+    CheckCorrelation(path, g + "kelvin_voigt_least_squares", *run.fits.kelvin_voigt_least_squares,
+                     run_ids);
+    CheckCorrelation(path, g + "poynting_thomson", *run.fits.poynting_thomson, run_ids);
   }
   REQUIRE(r.joint_fits.size() == 1);
   CheckCorrelation(path, "/session/joint_fits/poynting_thomson", r.joint_fits[0], run_ids);
@@ -121,6 +125,13 @@ TEST_CASE(
   CHECK(ReadStringsAttribute(path, "/runs/0.405/fit/kelvin_voigt_least_squares/correlation",
                              "parameter_names") ==
         std::vector<std::string>{"zeta", "rebound0_speed"});
+  // Read back, the rows are named as the fits name them.
+  const SessionResult read = ReadResults(path);
+  CHECK(read.runs.front().fits.poynting_thomson->covariance.names ==
+        r.runs.front().fits.poynting_thomson->covariance.names);
+  CHECK(read.runs.front().fits.kelvin_voigt_least_squares->covariance.names ==
+        std::vector<std::string>{"zeta", "v0"});
+  CHECK(read.joint_fits.front().covariance.names == r.joint_fits.front().covariance.names);
 }
 
 TEST_CASE("results_layout2: per-rebound arrays carry the rebounds' numbers as a dimension scale") {
@@ -246,10 +257,9 @@ SessionResult WithNothingToSay() {
   run.measured.xmax = {0.1};
   run.measured.xmax_sigma = {0.0};
   run.reason = "one maximum";
-  LeastSquaresSummary fit;
-  fit.model = "poynting_thomson";
+  PoyntingThomsonLeastSquaresFit fit;  // refused by its inputs: no solver message
   fit.reason = "needs two maxima";
-  run.fits.least_squares = {fit};
+  run.fits.poynting_thomson = fit;
   r.runs = {rejected, run};
   return r;
 }
@@ -270,11 +280,12 @@ TEST_CASE("results_layout2: what does not apply is not written") {
   REQUIRE(read.runs.size() == 2);
   CHECK(read.runs[0].reason == WithNothingToSay().runs[0].reason);
   CHECK(read.runs[0].initial_displacement == 0.0);
-  REQUIRE(read.runs[1].fits.least_squares.size() == 1);
-  const LeastSquaresSummary& pt = read.runs[1].fits.least_squares[0];
+  REQUIRE(read.runs[1].fits.poynting_thomson);
+  CHECK_FALSE(read.runs[1].fits.kelvin_voigt_least_squares);
+  const PoyntingThomsonLeastSquaresFit& pt = *read.runs[1].fits.poynting_thomson;
   CHECK_FALSE(pt.ok);
   CHECK(pt.reason == "needs two maxima");
-  CHECK(pt.parameters.empty());
+  CHECK_FALSE(pt.status.Ran());
 }
 
 }  // namespace

@@ -245,9 +245,10 @@ std::set<std::string> DocumentedNames(const std::string& text) {
   return names;
 }
 
-// A copy of the thesis's typed-in session with two more runs: one whose fit
-// pair shows no dissipation (the fit fails) and one whose pair is level (the
-// fit succeeds with a caveat).
+// A copy of the thesis's typed-in session with three more runs: one whose fit
+// pair shows no dissipation (the fit fails), one whose pair is level (the fit
+// succeeds with a caveat), and one of two maxima without uncertainties (its
+// least-squares Kelvin-Voigt fit is exact, a caveat too).
 fs::path TypedInSession(const fs::path& dir) {
   fs::create_directories(dir);
   std::ofstream(dir / "session.toml")
@@ -264,6 +265,12 @@ initial_displacement = 0.3
 rebounds = [0.15, 0.15, 0.1]
 fit_rebounds = [0, 1]
 rebound_uncertainty = 0.0005
+
+[[run]]
+id = "pair"
+initial_displacement = 0.3
+rebounds = [0.15, 0.1]
+fit_rebounds = [0, 1]
 )";
   return dir;
 }

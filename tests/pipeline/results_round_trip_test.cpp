@@ -44,8 +44,9 @@ struct SessionFields {
     Add(c, where);
     if (c.overlay) Add(*c.overlay, where + "/digitized");
   }
-  void AddLeastSquares(const LeastSquaresSummary& fit, const std::string& where) {
-    if (!fit.parameters.empty()) Add(fit, where + "/" + fit.model);
+  template <typename Fit>
+  void AddLeastSquares(const std::optional<Fit>& fit, const std::string& where) {
+    if (fit && fit->status.Ran()) Add(*fit, where);
   }
   void AddRun(const RunResult& run) {
     const std::string g = "runs/" + run.id;
@@ -65,7 +66,8 @@ struct SessionFields {
       Add(*run.fits.kelvin_voigt, g + "/fit/kelvin_voigt");
       Add(run.fits, g + "/fit/kelvin_voigt");
     }
-    for (const LeastSquaresSummary& fit : run.fits.least_squares) AddLeastSquares(fit, g + "/fit");
+    AddLeastSquares(run.fits.kelvin_voigt_least_squares, g + "/fit/kelvin_voigt_least_squares");
+    AddLeastSquares(run.fits.poynting_thomson, g + "/fit/poynting_thomson");
   }
   void AddLog(const LogResult& log) {
     const std::string g = "logs/" + log.id;
@@ -89,7 +91,9 @@ struct SessionFields {
         Add(*r.kelvin_voigt->damping_line, "session/kelvin_voigt/damping_line");
       }
     }
-    for (const LeastSquaresSummary& fit : r.joint_fits) AddLeastSquares(fit, "session/joint_fits");
+    for (const PoyntingThomsonLeastSquaresFit& fit : r.joint_fits) {
+      AddLeastSquares(std::optional(fit), "session/joint_fits/poynting_thomson");
+    }
     if (r.model_comparison) {
       Add(*r.model_comparison, "session/model_comparison");
       for (const ModelComparisonRow& m : r.model_comparison->models) {

@@ -443,9 +443,11 @@ TEST_CASE("reuse: a changed setting re-measures exactly the runs it touches") {
   fit.overrides = CommandLineSettings({{"fit.kelvin_voigt.solver.max_iterations", "1"}});
   const SessionResult refit = ReduceSession(session, fit);
   CHECK(Remeasured(refit) == Ids{"typed"});
-  REQUIRE(refit.runs[0].fits.least_squares.size() == first.runs[0].fits.least_squares.size());
-  CHECK(first.runs[0].fits.least_squares[0].converged);
-  CHECK_FALSE(refit.runs[0].fits.least_squares[0].converged);  // one iteration is not enough
+  REQUIRE(first.runs[0].fits.kelvin_voigt_least_squares);
+  REQUIRE(refit.runs[0].fits.kelvin_voigt_least_squares);
+  CHECK(first.runs[0].fits.kelvin_voigt_least_squares->status.converged);
+  // One iteration is not enough.
+  CHECK_FALSE(refit.runs[0].fits.kelvin_voigt_least_squares->status.converged);
 }
 
 TEST_CASE("settings: manifest -> options -> results file -> options, for every result") {
