@@ -34,11 +34,7 @@ TEST_CASE(
   constexpr double kRiseDiv = 2.3, kFallDiv = 8.62;
   constexpr double kPulseY = -2.675;
   const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 1600;
-  options.seed = 3;
-  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(1600, 3));
   // A pencil arrow from the upper right, its tip 0.15 division short of the
   // fall's upper corner: a stroke 8 px wide, as bright as the trace.
   testing::Scratch(photo.image, photo, {kFallDiv + 0.75, kPulseY + 0.9},

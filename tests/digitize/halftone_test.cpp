@@ -42,12 +42,7 @@ cv::Mat1b PrintedOnBlankPaper(const cv::Mat& photo, double period_px, double ang
 TEST_CASE("halftone: a figure printed on blank paper has its screen found, at any period and angle",
           "[digitize][halftone]") {
   const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 2000;
-  options.seed = 9;
-  options.grey = true;
-  const RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(2000, 9, true));
   REQUIRE_FALSE(digitize::FindHalftoneScreen(photo.image).has_value());
   for (const double period_px : {3.2, 4.6, 7.0}) {
     for (const double angle_deg : {0.0, 15.0, 45.0}) {

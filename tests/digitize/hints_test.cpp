@@ -114,11 +114,7 @@ void BrightScratch(cv::Mat& image, const RenderedPhoto& photo, cv::Point2d from_
 
 TEST_CASE("digitize hints: the corners hint reads a photo turned beyond the lattice search") {
   const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 2000;
-  options.seed = 3;
-  const RenderedPhoto rendered = RenderOscillograph(run.scene, options);
+  const RenderedPhoto rendered = RenderOscillograph(run.scene, testing::CleanOptions(2000, 3));
   for (const double degrees : {40.0, -42.0}) {
     CAPTURE(degrees);
     const TurnedPhoto turned = Turn(rendered, degrees);
@@ -182,11 +178,7 @@ TEST_CASE("digitize hints: points on a trace keep its tracking off a bright scra
   // its dashes (digitize/trace_track.cpp), a continuous trace's cannot.
   testing::RunScene run = testing::StandardRunScene();
   for (ScreenTrace& trace : run.scene.traces) trace.mode = BeamMode::kContinuous;
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 2000;
-  options.seed = 5;
-  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(2000, 5));
   // A scratch leaving the left trace where it falls towards an impact and
   // running on straight, brighter than the trace: the tracking takes the
   // brighter, straighter line.

@@ -21,12 +21,7 @@ namespace impactlab {
 namespace {
 
 RenderedPhoto RunPhoto(const testing::RunScene& run, unsigned seed) {
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 2000;
-  options.seed = seed;
-  options.grey = true;
-  return RenderOscillograph(run.scene, options);
+  return RenderOscillograph(run.scene, testing::CleanOptions(2000, seed, true));
 }
 
 // Samples further than 3 px from the trace's true centre line.
@@ -97,11 +92,7 @@ TEST_CASE("digitize marks: what a chopped trace's first reading followed unbroke
   // a ring's arc so, and failed). Had the beam drawn continuously, an
   // unbroken run would be its own course, however thick.
   const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options;
-  options.style = PhotoStyle::kClean;
-  options.width_px = 2000;
-  options.seed = 5;
-  options.grey = true;
+  RenderOptions options = testing::CleanOptions(2000, 5, true);
   options.chop_dash_div = 0.13;
   options.chop_duty = 0.4;
   RenderedPhoto photo = RenderOscillograph(run.scene, options);

@@ -61,6 +61,18 @@ struct RunScene {
 inline constexpr double kContactTimePerDiv = 50e-6;
 inline constexpr double kContactStartS = 0.01;
 
+// The clean style's render options (no print, no wear) at `width_px`, drawn
+// from `seed`, one grey channel when `grey`: what a test varies is set on
+// top.
+inline RenderOptions CleanOptions(int width_px, unsigned seed, bool grey = false) {
+  RenderOptions options;
+  options.style = PhotoStyle::kClean;
+  options.width_px = width_px;
+  options.seed = seed;
+  options.grey = grey;
+  return options;
+}
+
 // A run photo as the thesis's: the right and left displacement traces chopped
 // on one beam in their own bands, the contact pulse on a delayed sweep below.
 inline RunScene StandardRunScene() {

@@ -42,10 +42,7 @@ TEST_CASE("trace track: a scratch running on beyond the face is not the dotted t
   // the trace.
   const testing::RunScene run = testing::StandardRunScene();
   for (const auto& [level, thickness] : {std::pair{0.5, 1}, std::pair{0.35, 3}}) {
-    RenderOptions options;
-    options.style = PhotoStyle::kClean;
-    options.width_px = 2000;
-    options.seed = 5;
+    RenderOptions options = testing::CleanOptions(2000, 5);
     options.chop_dash_div = 0.12;
     options.chop_duty = 0.22;
     options.beam_fwhm_div = 0.025;
