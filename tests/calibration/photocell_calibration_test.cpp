@@ -1,6 +1,7 @@
 #include "calibration/photocell_calibration.h"
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include <catch2/catch.hpp>
@@ -133,18 +134,24 @@ TEST_CASE("photocell: the curve's band is honest when the trace's errors are cor
   CHECK(correlated < 2.0);
 }
 
+// The nonlinear cell's sweep (2 mV noise) with `misread(X / X0)` volts added
+// to each sample.
+Trace SweepMisreadBy(double x0, unsigned seed, const std::function<double(double)>& misread) {
+  Trace trace = Sweep(x0, NonlinearCell, 0.002, 2e-4, seed);
+  for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
+    trace.volts[i] += misread(ReleaseSwingDisplacement(kPendulum, x0, trace.time_s[i]) / x0);
+  }
+  return trace;
+}
+
 // A sweep whose trace was misread over a stretch, as when the digitizer
 // follows a hand mark or a grid line beside the trace for a division or so:
 // the volts there bulge by up to `bulge` V (a smooth bump over X in
 // [0.45, 0.6] X0), which a high order follows.
 Trace MisreadSweep(double x0, double bulge, unsigned seed) {
-  Trace trace = Sweep(x0, NonlinearCell, 0.002, 2e-4, seed);
-  for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
-    const double s = ReleaseSwingDisplacement(kPendulum, x0, trace.time_s[i]) / x0;
-    if (s > 0.45 && s < 0.6)
-      trace.volts[i] += bulge * std::pow(std::sin(M_PI * (s - 0.45) / 0.15), 2);
-  }
-  return trace;
+  return SweepMisreadBy(x0, seed, [&](double s) {
+    return s > 0.45 && s < 0.6 ? bulge * std::pow(std::sin(M_PI * (s - 0.45) / 0.15), 2) : 0.0;
+  });
 }
 
 TEST_CASE(
@@ -272,12 +279,7 @@ TEST_CASE(
 // the samples with X in [from, to] X0 read `offset` V off the cell's curve,
 // with the trace's own noise.
 Trace SweepOnAMark(double x0, double from, double to, double offset, unsigned seed) {
-  Trace trace = Sweep(x0, NonlinearCell, 0.002, 2e-4, seed);
-  for (std::size_t i = 0; i < trace.time_s.size(); ++i) {
-    const double s = ReleaseSwingDisplacement(kPendulum, x0, trace.time_s[i]) / x0;
-    if (s >= from && s <= to) trace.volts[i] += offset;
-  }
-  return trace;
+  return SweepMisreadBy(x0, seed, [&](double s) { return s >= from && s <= to ? offset : 0.0; });
 }
 
 TEST_CASE(
