@@ -41,6 +41,10 @@ bool GraticuleOptions::Check(std::string* error) const {
     return Fail(error,
                 fmt::format("max_residual_widths must lie in [0, 2], got {}", max_residual_widths));
   }
+  if (!InRange(max_residual_div, 0.0, 0.2)) {
+    return Fail(error,
+                fmt::format("max_residual_div must lie in [0, 0.2], got {}", max_residual_div));
+  }
   if (!InRange(max_rotation_deg, 0.0, 40.0)) {
     return Fail(error,
                 fmt::format("max_rotation_deg must lie in [0, 40], got {}", max_rotation_deg));

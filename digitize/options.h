@@ -57,6 +57,13 @@ struct GraticuleOptions {
   // by a good part of a division whatever the lines' width.
   double max_residual_px = 1.0;
   double max_residual_widths = 0.2;
+  // ... or above this share of a division where more: a large photo of a
+  // faint grid measures its lines to a pixel or two, while a lattice in the
+  // wrong place misses them by a good part of a division. On a halftone
+  // print no more than a fifth of its screen's period: the screen's rows of
+  // dots lie within half a period of any line, so a lattice anywhere along
+  // them finds "lines" it misses by a period / sqrt(12) RMS.
+  double max_residual_div = 0.02;
   // Largest rotation of the screen in the photo searched for, degrees.
   double max_rotation_deg = 20.0;
   // Manual hint (the manifest's `graticule_corners`, docs/manifest.md): the
@@ -78,6 +85,8 @@ struct GraticuleOptions {
     visit("max_residual_px", self.max_residual_px, "grid fit refused above this RMS residual, px");
     visit("max_residual_widths", self.max_residual_widths,
           "or above this many grid line widths where more, 1");
+    visit("max_residual_div", self.max_residual_div,
+          "or above this share of a division where more, div");
     visit("max_rotation_deg", self.max_rotation_deg, "largest screen rotation searched, deg");
   }
 
