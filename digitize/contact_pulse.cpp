@@ -706,40 +706,54 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     return std::nullopt;
   }
 
-  // Runs of samples at each level, in order; the first rest -> pulse -> rest.
+  // Runs of samples at each level, in order: every rest -> pulse -> rest.
   const double middle = 0.5 * (low + high);
   auto at_pulse = [&](double v) { return (v > middle) == (pulse_level > middle); };
   constexpr int kRun = 3;  // samples in a row that make a level
-  int rise_after = -1, rise_before = -1, fall_after = -1, fall_before = -1;
   const int n = static_cast<int>(screen.size());
   auto run_at = [&](int from, bool pulse) {
-    if (from + kRun > n) return false;
+    if (from < 0 || from + kRun > n) return false;
     for (int k = from; k < from + kRun; ++k) {
       if (at_pulse(screen[k].y) != pulse) return false;
     }
     return true;
   };
+  struct Pulse {
+    int rise_before = -1, rise_after = -1, fall_before = -1, fall_after = -1;
+    std::ptrdiff_t at_level = 0;  // its samples at the pulse's level
+  };
+  std::vector<Pulse> pulses;
   for (int i = kRun - 1; i + 1 < n; ++i) {
-    if (rise_after < 0) {
+    Pulse* open = !pulses.empty() && pulses.back().fall_after < 0 ? &pulses.back() : nullptr;
+    if (!open) {
       if (!at_pulse(screen[i].y) && run_at(i + 1, true) && run_at(i - kRun + 1, false)) {
-        rise_before = i, rise_after = i + 1;
+        pulses.push_back({i, i + 1, -1, -1, 0});
       }
     } else if (!at_pulse(screen[i + 1].y) && at_pulse(screen[i].y) && run_at(i + 1, false)) {
-      fall_before = i, fall_after = i + 1;
-      break;
+      open->fall_before = i, open->fall_after = i + 1;
     }
   }
-  if (rise_after < 0 || fall_after < 0) return std::nullopt;
-  // The bars touch once in a sweep: the pulse found must hold most of the
-  // samples at the pulse's level. Where it does not (a label written across
-  // the trace's rest level reads as a short pulse of its own), its edges
-  // would be timed on whatever drew them; the sampled trace's measure then
-  // says why (rebounds/contact_pulse.cpp).
+  if (!pulses.empty() && pulses.back().fall_after < 0) pulses.pop_back();
+  if (pulses.empty()) return std::nullopt;
+  // The bars touch once in a sweep: the pulse is the one holding most of
+  // the samples at the pulse's level. A label written across the trace's
+  // rest level reads as a short pulse of its own, before the contact's or
+  // after it (randomised seed 1022's run 0.405, "x0 = .405" written along
+  // the rest level up to the rise): it is passed over. Where no pulse holds
+  // most of them, its edges would be timed on whatever drew them; the
+  // sampled trace's measure then says why (rebounds/contact_pulse.cpp).
+  for (Pulse& p : pulses) {
+    p.at_level = std::count_if(screen.begin() + p.rise_after, screen.begin() + p.fall_after,
+                               [&](const cv::Point2d& q) { return at_pulse(q.y); });
+  }
+  const Pulse& pulse =
+      *std::max_element(pulses.begin(), pulses.end(),
+                        [](const Pulse& a, const Pulse& b) { return a.at_level < b.at_level; });
   const auto at_pulse_count = std::count_if(screen.begin(), screen.end(),
                                             [&](const cv::Point2d& p) { return at_pulse(p.y); });
-  const auto in_pulse = std::count_if(screen.begin() + rise_after, screen.begin() + fall_after,
-                                      [&](const cv::Point2d& p) { return at_pulse(p.y); });
-  if (2 * in_pulse < at_pulse_count) return std::nullopt;
+  if (2 * pulse.at_level < at_pulse_count) return std::nullopt;
+  int rise_before = pulse.rise_before, rise_after = pulse.rise_after;
+  int fall_before = pulse.fall_before, fall_after = pulse.fall_after;
   // The edge lies between the last sample at the level the beam leaves and
   // the first at the level it reaches. A sample on the right side of the
   // middle but far off its level is no sample of the level: a hand mark or

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -50,27 +51,45 @@ ContactPulseMeasurement MeasureContactPulse(const Trace& trace) {
                                  std::max(v0, v1) > pulse.high_volts - 3.0 * noise;
     return Estimate{t, one_sample_jump ? (t1 - t0) / std::sqrt(12.0) : resolved_sigma};
   };
-  std::size_t i = 0;
-  while (i + 1 < n && !(trace.volts[i] < mid && trace.volts[i + 1] >= mid)) ++i;
-  if (i + 1 >= n) return refused("the contact trace has no rising edge");
-  pulse.rise_s = edge(i);
-  std::size_t j = i + 1;
-  while (j + 1 < n && !(trace.volts[j] >= mid && trace.volts[j + 1] < mid)) ++j;
-  if (j + 1 >= n) return refused("the contact pulse does not end within the trace");
-  // The bars touch once in a sweep: the first pulse must hold most of the
+  // Every pulse: a rising crossing of `mid` and the falling one after it.
+  struct Crossings {
+    std::size_t rise = 0, fall = 0;  // the samples before each crossing
+    std::ptrdiff_t at_level = 0;     // samples at the pulse's level between them
+  };
+  std::vector<Crossings> pulses;
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const bool rising = trace.volts[k] < mid && trace.volts[k + 1] >= mid;
+    const bool falling = trace.volts[k] >= mid && trace.volts[k + 1] < mid;
+    if (rising) pulses.push_back({k, n, 0});
+    if (falling && !pulses.empty() && pulses.back().fall == n) pulses.back().fall = k;
+  }
+  if (pulses.empty()) return refused("the contact trace has no rising edge");
+  if (pulses.back().fall == n) {
+    if (pulses.size() == 1) return refused("the contact pulse does not end within the trace");
+    pulses.pop_back();
+  }
+  // The bars touch once in a sweep: the pulse is the one holding most of the
   // samples at the pulse's level, or what it times is something else (a
-  // label across the trace read as a pulse of its own, a trace misread).
+  // label across the trace read as a pulse of its own, before the contact's
+  // or after it, is passed over; a trace misread is refused).
+  for (Crossings& p : pulses) {
+    p.at_level = std::count_if(trace.volts.begin() + static_cast<std::ptrdiff_t>(p.rise + 1),
+                               trace.volts.begin() + static_cast<std::ptrdiff_t>(p.fall + 1),
+                               [&](double v) { return v >= mid; });
+  }
+  const Crossings& chosen = *std::max_element(
+      pulses.begin(), pulses.end(),
+      [](const Crossings& a, const Crossings& b) { return a.at_level < b.at_level; });
   const auto high =
       std::count_if(trace.volts.begin(), trace.volts.end(), [&](double v) { return v >= mid; });
-  const auto in_pulse = std::count_if(trace.volts.begin() + static_cast<std::ptrdiff_t>(i + 1),
-                                      trace.volts.begin() + static_cast<std::ptrdiff_t>(j + 1),
-                                      [&](double v) { return v >= mid; });
-  if (2 * in_pulse < high) {
+  if (2 * chosen.at_level < high) {
     return refused(
         fmt::format("the contact trace is at its pulse level in more than one stretch: the "
-                    "first pulse holds {} of its {} samples there",
-                    in_pulse, high));
+                    "longest pulse holds {} of its {} samples there",
+                    chosen.at_level, high));
   }
+  const std::size_t i = chosen.rise, j = chosen.fall;
+  pulse.rise_s = edge(i);
   pulse.fall_s = edge(j);
   pulse.width_s = {pulse.fall_s.value - pulse.rise_s.value,
                    std::hypot(pulse.rise_s.sigma, pulse.fall_s.sigma)};

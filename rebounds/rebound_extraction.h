@@ -137,7 +137,10 @@ struct ContactPulseMeasurement {
   ContactPulse pulse;  // when ok
 };
 
-// Finds the first complete pulse. Edges are located where the trace crosses
+// Finds the pulse: of the complete ones, that holding most of the samples at
+// the pulse level (the bars touch once in a sweep; a label across the rest
+// level reads as a short pulse of its own), refused when none holds most of
+// them. Edges are located where the trace crosses
 // the level halfway between its low and high states, by linear interpolation
 // between the samples that straddle it.
 ContactPulseMeasurement MeasureContactPulse(const Trace& trace);

@@ -80,4 +80,36 @@ TEST_CASE(
   CHECK(std::abs(width.value - truth_s) < 3.0 * width.sigma);
 }
 
+// A label written across the rest level before the rise (randomised seed
+// 1022's run 0.405: "x0 = .405" along the rest level up to the rise) reads
+// as a short stretch at the pulse's level. The bars touch once in a sweep:
+// the pulse holding most of the samples at that level is the contact's,
+// and the label's stretch is passed over, not taken for the pulse (it was
+// refused as "at its pulse level in more than one stretch").
+TEST_CASE("digitize: a label's short stretch at the pulse level before the rise is passed over") {
+  cv::setNumThreads(1);
+  constexpr double kRiseDiv = 3.1, kFallDiv = 7.4;
+  constexpr double kPulseY = -2.675;
+  const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
+  const RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(1600, 5));
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "labelled.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
+  REQUIRE(traces.size() == 3);
+  DigitizedTrace contact = traces[2];
+  REQUIRE(contact.settings.impact);
+  // The tracking as on seed 1022: from 1.2 to 1.5 divisions the samples on
+  // the label's strokes, at the pulse's level.
+  for (cv::Point2d& p : contact.screen_div) {
+    if (p.x > 1.2 && p.x < 1.5) p.y = kPulseY;
+  }
+  const std::optional<ContactPulseFit> fit = MeasurePulse(prepared, graticule, contact);
+  REQUIRE(fit);
+  const double px_per_s = graticule.px_per_div / kContactTimePerDiv;
+  const double truth_s = (kFallDiv - kRiseDiv) * kContactTimePerDiv;
+  const double error_px = (fit->pulse.width_s.value - truth_s) * px_per_s;
+  INFO("width " << fit->pulse.width_s.value * 1e6 << " us, truth " << truth_s * 1e6 << " us");
+  CHECK(std::abs(error_px) < 1.0);
+}
+
 }  // namespace impactlab

@@ -459,7 +459,7 @@ TEST_CASE("contact_pulse: a flat trace is refused, saying it shows no step") {
   CHECK_THAT(measured.reason, Catch::Contains("no step"));
 }
 
-TEST_CASE("contact_pulse: a short stretch at the pulse's level before the pulse is refused") {
+TEST_CASE("contact_pulse: a short stretch at the pulse's level before the pulse is passed over") {
   // A label written across the rest level reads as 15 us at the pulse's
   // level, 50 us before the 353 us pulse: timing the first would say 15 us.
   Trace trace;
@@ -470,9 +470,24 @@ TEST_CASE("contact_pulse: a short stretch at the pulse's level before the pulse 
     trace.volts.push_back(label || pulse ? 2.5 : 0.1);
   }
   const ContactPulseMeasurement measured = MeasureContactPulse(trace);
+  REQUIRE(measured.ok);
+  CHECK(measured.pulse.width_s.value == Approx(353e-6).margin(1e-6));
+}
+
+TEST_CASE(
+    "contact_pulse: a trace at its pulse level in stretches none of which dominates is "
+    "refused") {
+  // Three stretches of 150 us: which is the contact the samples cannot say.
+  Trace trace;
+  for (int us = 0; us < 1000; ++us) {
+    const bool high = (us >= 100 && us < 250) || (us >= 400 && us < 550) || (us >= 700 && us < 850);
+    trace.time_s.push_back(us * 1e-6);
+    trace.volts.push_back(high ? 2.5 : 0.1);
+  }
+  const ContactPulseMeasurement measured = MeasureContactPulse(trace);
   CHECK_FALSE(measured.ok);
   CHECK_THAT(measured.reason,
-             Catch::Contains("more than one stretch") && Catch::Contains("15 of its 368"));
+             Catch::Contains("more than one stretch") && Catch::Contains("150 of its 450"));
 }
 
 // Issue 14: a wrong unit or a typo in the time axis (time_per_div = 1e8, a
