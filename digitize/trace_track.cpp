@@ -33,6 +33,36 @@ constexpr double kAwayDiv = 0.1;
 // the trace (StrayExcursions); the course is sought again without the
 // candidates within kStrayClearDiv of it (a label's strokes stacked).
 constexpr double kStrayJumpDiv = 1.0, kStrayClearDiv = 0.5;
+// The same across a gap the course bridged on course (a mark taken out of
+// the ridge image, a faint stretch): the dynamic programming lets a course
+// jump there, and most cheaply where it begins, with no slope yet to keep.
+// A stretch it lands on beside the trace (a hair, a ring's arc, a grid line,
+// a thinner line of its own ink) is then reached or left without a restart
+// and without the division-long jumps StrayExcursions looks for. A trace's
+// own course is continuous: across a gap the slopes either side extrapolate
+// it to within a few hundredths of a division, so a jump across one of more
+// than kGapJumpDiv is not the trace's (see GapExcursions).
+constexpr double kGapJumpDiv = 0.2;
+// The stretches either side (each kGapSideDiv long, its slope fitted over
+// up to that; beside an end piece four strip columns will do) bridge an
+// excursion of up to kGapExcursionDiv; one at the course's first or last
+// end of up to kGapEndDiv is judged against the rest of the course, at
+// least kGapEndShare times longer, when the two run alongside each other:
+// their slopes within kGapEndSlope, divisions per division.
+constexpr double kGapSideDiv = 0.15, kGapExcursionDiv = 2.0, kGapEndDiv = 1.0;
+constexpr double kGapEndShare = 3.0, kGapEndSlope = 0.5;
+// An inner excursion is judged only where it meets its gaps less steeply
+// than this, divisions per division.
+constexpr double kGapSteep = 2.5;
+// Only a course that sees the trace in this share of its columns at least is
+// judged so: a continuous trace's, broken at grid lines and marks.
+constexpr double kGapMinOccupied = 0.75;
+// The course sought again without an excursion may differ from the first
+// within this of it, divisions, and nowhere else.
+constexpr double kGapNearDiv = 0.5;
+// Only the candidates within kGapClearDiv of an excursion are withdrawn:
+// the trace may run a few tenths of a division beside what was taken.
+constexpr double kGapClearDiv = 0.1;
 // A course is sought again at most this many times without what one check
 // (lines beyond the face, strays) found on it: the course sought anew may
 // take another such line or stray (a second scratch, a ring's other arc).
@@ -524,6 +554,186 @@ class ThroughLines {
   double noise_floor_;
 };
 
+// A course's pieces between gaps and restarts, [first, end) into `chosen`.
+struct CoursePiece {
+  std::size_t first = 0, end = 0;
+};
+
+// The candidates of excursions a continuous trace's course made across gaps
+// it bridged: one to three pieces, reached or left by a jump that neither
+// side's slope explains (more than `jump_rows`), that lie off the curve
+// bridging the pieces either side (a cubic with their end slopes) by more
+// than `jump_rows` at their median; or, at the course's first or last end,
+// a short piece reached by such a jump from a course far longer than it.
+// A trace's own pieces lie on that bridge and join across short gaps
+// without jumps.
+std::vector<Chosen> GapExcursions(const std::vector<Chosen>& chosen,
+                                  const std::vector<std::vector<Node>>& nodes, double px_per_div,
+                                  double jump_rows) {
+  const auto row_of = [&](std::size_t i) { return nodes[chosen[i].column][chosen[i].index].row; };
+  std::vector<CoursePiece> pieces;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    if (i == 0 || chosen[i].link == CoarsePath::kRestart ||
+        chosen[i].column - chosen[i - 1].column > 1) {
+      pieces.push_back({i, i});
+    }
+    pieces.back().end = i + 1;
+  }
+  const auto span = [&](const CoursePiece& p) {
+    return chosen[p.end - 1].column - chosen[p.first].column;
+  };
+  const auto span_of = [&](std::size_t from, std::size_t to) {  // pieces [from, to)
+    return chosen[pieces[to - 1].end - 1].column - chosen[pieces[from].first].column;
+  };
+  // The row and slope (rows per column) at one end of a piece, from a
+  // straight line through its columns within kGapSideDiv of that end.
+  const double side_columns = kGapSideDiv * px_per_div;
+  struct End {
+    int column = 0;
+    double row = 0.0, slope = 0.0;
+  };
+  const auto end_of = [&](const CoursePiece& p, bool last) {
+    const int at = chosen[last ? p.end - 1 : p.first].column;
+    double n = 0.0, sc = 0.0, sr = 0.0, scc = 0.0, scr = 0.0;
+    for (std::size_t i = p.first; i < p.end; ++i) {
+      const double dc = chosen[i].column - at;
+      if (std::abs(dc) > side_columns) continue;
+      const double r = row_of(i);
+      n += 1.0, sc += dc, sr += r, scc += dc * dc, scr += dc * r;
+    }
+    const double det = n * scc - sc * sc;
+    End e;
+    e.column = at;
+    e.slope = det > 0.0 ? (n * scr - sc * sr) / det : 0.0;
+    e.row = (sr - e.slope * sc) / n;
+    return e;
+  };
+  // How far a piece's end lands from where the other pointed, whichever
+  // side explains it better (rows).
+  const auto jump = [&](const End& from, const End& to) {
+    const int dc = to.column - from.column;
+    return std::min(std::abs(to.row - (from.row + from.slope * dc)),
+                    std::abs(from.row - (to.row - to.slope * dc)));
+  };
+  // A slope needs a few columns: kGapSideDiv either side of an inner
+  // excursion, whose bridge it sets over up to kGapExcursionDiv; beside an
+  // end piece, whose jump it extrapolates over a gap alone, four columns
+  // where those are fewer.
+  const auto long_enough = [&](const CoursePiece& p) { return span(p) >= side_columns; };
+  const auto long_enough_at_end = [&](const CoursePiece& p) {
+    return span(p) >= std::min(side_columns, 4.0);
+  };
+  std::vector<Chosen> stray;
+  const auto take = [&](std::size_t from, std::size_t to) {
+    stray.insert(stray.end(), chosen.begin() + static_cast<std::ptrdiff_t>(pieces[from].first),
+                 chosen.begin() + static_cast<std::ptrdiff_t>(pieces[to - 1].end));
+  };
+  const std::size_t count = pieces.size();
+  if (count < 2) return stray;
+  // A chopped or sparse course is all gaps: its dashes join across the
+  // chopper's blanking, where a swing moves the beam by more than a slope
+  // from a dash's few columns extrapolates (ForeignRuns judges those).
+  const double occupied =
+      static_cast<double>(chosen.size()) / (chosen.back().column - chosen.front().column + 1);
+  if (occupied < kGapMinOccupied) return stray;
+  // The middle: pieces [i, j) between two long enough pieces.
+  for (std::size_t i = 1; i + 1 < count; ++i) {
+    if (!long_enough(pieces[i - 1])) continue;
+    for (std::size_t j = i + 1; j <= std::min(i + 3, count - 1); ++j) {
+      if (!long_enough(pieces[j])) continue;
+      if (span_of(i, j) > kGapExcursionDiv * px_per_div) break;
+      const End before = end_of(pieces[i - 1], true), after = end_of(pieces[j], false);
+      const End first = end_of(pieces[i], false), last = end_of(pieces[j - 1], true);
+      // A stretch that leaves or reaches a gap steeply is a fast swing whose
+      // flank the beam drew too faintly to be seen (a rebound between two
+      // impacts), whatever its slope fitted so near the gap extrapolates.
+      if (std::max(std::abs(first.slope), std::abs(last.slope)) > kGapSteep) continue;
+      const double in = jump(before, first);
+      const double out = jump(last, after);
+      if (std::max(in, out) <= jump_rows) continue;
+      // The pieces either side must agree across it: where one of them is
+      // the excursion (a hair leaving the trace where it crosses it), the
+      // bridge is no measure of the trace.
+      if (jump(before, after) > jump_rows) continue;
+      // The bridge: a cubic from `before` to `after` with their slopes.
+      const double width = after.column - before.column;
+      std::vector<float> off;
+      for (std::size_t k = pieces[i].first; k < pieces[j - 1].end; ++k) {
+        const double t = (chosen[k].column - before.column) / width, t2 = t * t, t3 = t2 * t;
+        const double bridge = (2 * t3 - 3 * t2 + 1) * before.row +
+                              (t3 - 2 * t2 + t) * width * before.slope +
+                              (-2 * t3 + 3 * t2) * after.row + (t3 - t2) * width * after.slope;
+        off.push_back(static_cast<float>(std::abs(row_of(k) - bridge)));
+      }
+      if (MedianOf(off) <= jump_rows) continue;
+      take(i, j);
+      i = j;
+      break;
+    }
+  }
+  // An end piece is judged only when it runs beside the course it joins,
+  // about as steep as it (kGapEndSlope): a line alongside the trace. Where
+  // the slopes differ, the gap may be a fast flank the beam drew too faintly
+  // (a run's release level and its first swing down), which no slope
+  // extrapolates.
+  const auto beside = [&](const End& from, const End& to) {
+    return std::abs(from.slope - to.slope) <= kGapEndSlope && jump(from, to) > jump_rows;
+  };
+  // Where the course has none, its ends: the middle's excursions judged
+  // first, since a true end piece is left by a jump where the course beyond
+  // it strays (the rest is judged in the next round).
+  if (!stray.empty()) return stray;
+  // The ends: a short first (last) few pieces reached by an unexplained jump
+  // from the rest of the course, far longer.
+  const int total = span_of(0, count);
+  std::size_t inner_from = 1;  // the pieces the first end took
+  for (std::size_t j = 1; j <= std::min<std::size_t>(3, count - 1); ++j) {
+    if (span_of(0, j) > kGapEndDiv * px_per_div) break;
+    if (!long_enough_at_end(pieces[j])) continue;
+    if (kGapEndShare * span_of(0, j) > total - span_of(0, j)) break;
+    if (!beside(end_of(pieces[j - 1], true), end_of(pieces[j], false))) continue;
+    take(0, j);
+    inner_from = j + 1;
+    break;
+  }
+  for (std::size_t j = 1; j <= std::min<std::size_t>(3, count - 1); ++j) {
+    const std::size_t from = count - j;  // pieces [from, count)
+    if (from < inner_from) break;
+    if (span_of(from, count) > kGapEndDiv * px_per_div) break;
+    if (!long_enough_at_end(pieces[from - 1])) continue;
+    if (kGapEndShare * span_of(from, count) > total - span_of(from, count)) break;
+    if (!beside(end_of(pieces[from - 1], true), end_of(pieces[from], false))) continue;
+    take(from, count);
+    break;
+  }
+  return stray;
+}
+
+// Whether courses `a` (on the candidates `a_nodes`) and `b` (on `b_nodes`)
+// take the same columns at the same rows everywhere farther than `near`
+// columns from the candidates `around`.
+bool SameAwayFrom(const std::vector<Chosen>& a, const std::vector<std::vector<Node>>& a_nodes,
+                  const std::vector<Chosen>& b, const std::vector<std::vector<Node>>& b_nodes,
+                  const std::vector<Chosen>& around, int near) {
+  std::vector<bool> close(a_nodes.size(), false);
+  for (const Chosen& c : around) {
+    const int from = std::max(0, c.column - near);
+    const int to = std::min(static_cast<int>(close.size()) - 1, c.column + near);
+    for (int k = from; k <= to; ++k) close[static_cast<std::size_t>(k)] = true;
+  }
+  const auto away = [&](const std::vector<Chosen>& course,
+                        const std::vector<std::vector<Node>>& nodes) {
+    std::vector<std::pair<int, double>> out;
+    for (const Chosen& c : course) {
+      if (!close[static_cast<std::size_t>(c.column)]) {
+        out.emplace_back(c.column, nodes[c.column][c.index].row);
+      }
+    }
+    return out;
+  };
+  return away(a, a_nodes) == away(b, b_nodes);
+}
+
 }  // namespace
 
 TrackGrid MakeTrackGrid(const PreparedPhoto& photo, const GraticuleFit& graticule,
@@ -677,6 +887,32 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       [&](const Node& n) { return std::abs(n.row - row) <= reach; });
       }
       chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
+      kept = std::move(cleared);
+    }
+    // Then the excursions reached or left by jumps across gaps the course
+    // bridged on course.
+    for (int round = 0; round < kRounds; ++round) {
+      const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
+      const std::vector<Chosen> stray =
+          GapExcursions(chosen, before, grid.px_per_div, kGapJumpDiv * grid.px_per_div);
+      if (stray.empty()) break;
+      std::vector<std::vector<Node>> cleared = before;
+      const double reach = std::max(1.5, kGapClearDiv * grid.px_per_div);
+      for (const Chosen& c : stray) {
+        const double row = before[c.column][c.index].row;
+        std::erase_if(cleared[c.column],
+                      [&](const Node& n) { return std::abs(n.row - row) <= reach; });
+      }
+      std::vector<Chosen> again = BestCourse(cleared, grid, level, step_trace, max_gap);
+      // The course sought again is taken only where it changed about the
+      // excursions: a jump judged on a trace's own faint, broken stretch
+      // can send the whole course elsewhere, and the course it had there
+      // was its best.
+      if (!SameAwayFrom(chosen, before, again, cleared, stray,
+                        static_cast<int>(std::lround(kGapNearDiv * grid.px_per_div)))) {
+        break;
+      }
+      chosen = std::move(again);
       kept = std::move(cleared);
     }
   }

@@ -1,6 +1,8 @@
 // The coarse tracking (digitize/trace_track.cpp) against lines that are not
-// the beam's: a scratch that runs on beyond the CRT's face.
+// the beam's: a scratch that runs on beyond the CRT's face, a line beside
+// the trace that the course reaches or leaves by a jump across a gap.
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -30,7 +32,59 @@ std::size_t TrackFarOff(const std::vector<double>& misses, double limit_px) {
       std::count_if(misses.begin(), misses.end(), [&](double d) { return d > limit_px; }));
 }
 
+// A calibration's release swing: 0.05 s/div, the release level flat over the
+// sweep's first division, the bar at equilibrium at 7.5 divisions.
+testing::RunScene ReleaseSwingScene() {
+  testing::RunScene run;
+  ScreenTrace trace{"calibration",         {}, {}, testing::Settings(0.05, 0.2, -2.0, {-3.5, 3.5}),
+                    BeamMode::kContinuous, 0};
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = 0.5 * i / 2000;
+    trace.time_s.push_back(t);
+    trace.volts.push_back(testing::PhotocellVolts(t, 1.0, 1.5, 0.8, 0.0));
+  }
+  run.scene.traces = {trace};
+  run.requests.push_back({trace.name, trace.settings});
+  return run;
+}
+
+// The trace's screen y at screen x (divisions), from the scene's truth.
+double ReleaseSwingY(const testing::RunScene& run, double x_div) {
+  const ScreenTrace& trace = run.scene.traces[0];
+  const double t = x_div * trace.settings.time_per_div;
+  return trace.settings.zero_div +
+         testing::PhotocellVolts(t, 1.0, 1.5, 0.8, 0.0) / trace.settings.volts_per_div;
+}
+
 }  // namespace
+
+TEST_CASE("trace track: a line the course begins on and leaves by a jump across a gap") {
+  // The trace's first 0.7 division hidden (a blot, glare burnt out) and a
+  // brighter line 0.35 division beside that stretch, ending where the trace
+  // reappears: a course begins on the line and steps across the gap onto the
+  // trace, on course, with no slope yet to keep it from jumping. The trace is
+  // continuous, so a jump its slope does not explain is not its own: the line
+  // is no part of the course, whichever side of the trace it lies.
+  const testing::RunScene run = ReleaseSwingScene();
+  for (const double side : {0.35, -0.35}) {
+    RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(1600, 7));
+    const double y0 = ReleaseSwingY(run, 0.0), y1 = ReleaseSwingY(run, 0.7);
+    const double px_per_div =
+        photo.ImageFromScreen({1.0, 0.0}).x - photo.ImageFromScreen({0.0, 0.0}).x;
+    const int blot_px = static_cast<int>(std::lround(0.15 * px_per_div));
+    testing::Scratch(photo.image, photo, {-0.1, y0}, {0.7, y1}, 0.0, blot_px);
+    testing::Scratch(photo.image, photo, {0.02, y0 + side}, {0.68, y1 + side}, 1.0, 3);
+    const DigitizeResult result =
+        DigitizePhoto({photo.image, "line-at-start.png"}, {10, 8}, run.requests, {});
+    REQUIRE(result.ok);
+    const std::vector<double> misses = TrackMisses(result.traces[0], photo);
+    const std::size_t far = TrackFarOff(misses, 3.0);
+    INFO("line " << side << " division beside the hidden start: " << misses.size() << " samples, "
+                 << far << " more than 3 px off the trace");
+    CHECK(misses.size() > 500);
+    CHECK(far == 0);
+  }
+}
 
 TEST_CASE("trace track: a scratch running on beyond the face is not the dotted trace's course") {
   // Sparse dots (a fifth of each 0.12-division chopper slot) crossed by a
