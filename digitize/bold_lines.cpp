@@ -7,6 +7,17 @@
 
 namespace impactlab::digitize {
 
+namespace {
+
+cv::Mat1f OpenedBy(const cv::Mat1f& image, int side) {
+  cv::Mat1f opened;
+  cv::morphologyEx(image, opened, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  return opened;
+}
+
+}  // namespace
+
 int BoldOpeningPx(const PreparedPhoto& photo, const GraticuleFit& graticule) {
   // Half a division keeps a printed trace a third of a division bold (the
   // widest seen) while a cell of the grid, a division wide, is still ground.
@@ -18,11 +29,30 @@ int BoldOpeningPx(const PreparedPhoto& photo, const GraticuleFit& graticule) {
 PreparedPhoto WithBoldLines(const PreparedPhoto& photo, const GraticuleFit& graticule) {
   const int side = BoldOpeningPx(photo, graticule);
   PreparedPhoto bold = photo;
-  cv::Mat1f opened;
-  cv::morphologyEx(photo.working, opened, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
-  bold.ridge = photo.working - opened;
+  bold.ridge = photo.working - OpenedBy(photo.working, side);
+  bold.ridge_opening_px = side;
   return bold;
+}
+
+int WideOpeningPx(const PreparedPhoto& photo, const GraticuleFit& graticule) {
+  // An opening by a square clips a line to the level at which it is as wide
+  // as the square: at twice its full width at half maximum a grid line's
+  // profile (a Gaussian's, or a saturated core's with its flanks) is down
+  // to its foot, while a trace three or more times as wide keeps most of
+  // its height.
+  const double line_px = graticule.line_width_px / photo.shrink;
+  const int side = 2 * static_cast<int>(std::ceil(line_px)) + 1;
+  const int wide = std::max(side, kRidgeOpeningPx);
+  return wide < BoldOpeningPx(photo, graticule) ? wide : 0;
+}
+
+PreparedPhoto WithWideLines(const PreparedPhoto& photo, const GraticuleFit& graticule) {
+  const int side = WideOpeningPx(photo, graticule);
+  PreparedPhoto wide = photo;
+  wide.ridge_opening_px = BoldOpeningPx(photo, graticule);
+  wide.ridge =
+      OpenedBy(photo.working, side) - OpenedBy(photo.working, BoldOpeningPx(photo, graticule));
+  return wide;
 }
 
 }  // namespace impactlab::digitize

@@ -107,6 +107,13 @@ std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepare
       return ExtractTracesBesideMarks(digitize::WithBoldLines(prepared, graticule), graticule,
                                       requests, options, result);
     } catch (const InputError&) {
+      // Read again below on the lines wider than the grid's.
+    }
+    if (digitize::WideOpeningPx(prepared, graticule) == 0) throw;
+    try {
+      return ExtractTracesBesideMarks(digitize::WithWideLines(prepared, graticule), graticule,
+                                      requests, options, result);
+    } catch (const InputError&) {
       throw thin_failure;
     }
   }

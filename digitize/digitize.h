@@ -104,6 +104,7 @@ struct PreparedPhoto {
   int shrink = 1;            // a working pixel covers shrink x shrink photo pixels
   cv::Mat1f working;         // grey "ink" in [0, 1]: traces and lines bright whatever the polarity
   cv::Mat1f ridge;           // thin bright structure of `working` (white top-hat)
+  int ridge_opening_px = 5;  // `ridge` keeps what is narrower than this square (bold_lines.h)
   double prepare_ms = 0.0;   // time spent here, milliseconds
 
   // Photo pixel of a working pixel's centre, and back.

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "digitize/beam_spread.h"
+#include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
 #include "digitize/ink_sampler.h"
 #include "digitize/line_profile.h"
@@ -470,7 +471,37 @@ DigitizedTrace MeasureTrace(const PreparedPhoto& photo, const GraticuleFit& grat
     widths.push_back(s.fwhm_px);
     first_heights.push_back(s.height);
   }
-  const double width_px = std::max(1.0, Median(widths));
+  double width_px = std::max(1.0, Median(widths));
+  // A bold trace (a line printed in a report's figure) fills a profile
+  // reaching only a few pixels past the search: its background is then read
+  // on its own flanks and its width comes out about the profile's, and most
+  // of its samples are later dropped as wider than that. Where the trace was
+  // tracked on a ridge image of bold lines (a reading of thin lines failed)
+  // and its width measured reaches that far, the first look is taken again
+  // on a profile that reaches well past the width (at most half a division:
+  // a grid line and the next trace lie beyond), while it keeps growing. A
+  // reading of thin lines is measured as before.
+  const bool bold_reading = photo.ridge_opening_px > digitize::kRidgeOpeningPx;
+  for (int round = 0; bold_reading && round < 3; ++round) {
+    const double reach_px = settings.half_length_px - settings.search_px;
+    if (width_px < 0.8 * reach_px) break;
+    const double wider = std::min(1.5 * width_px, 0.5 * px_per_div);
+    if (wider <= reach_px) break;
+    settings.half_length_px = settings.search_px + wider;
+    widths.clear();
+    first_heights.clear();
+    const std::vector<Sample> look =
+        MeasureAlong(ink, graticule, course, grid, settings, 10.0 * step_div);
+    for (const Sample& s : look) {
+      widths.push_back(s.fwhm_px);
+      first_heights.push_back(s.height);
+    }
+    // A profile that reaches past a bold line reads it wider; one that
+    // reads it no wider (or not at all) says the first width stood.
+    const double measured = Median(widths);
+    if (!(measured > width_px)) break;
+    width_px = measured;
+  }
   if (WritesFastSomewhere(first_look, 10.0 * step_div)) {
     settings.typical_height = Median(first_heights);
   }
