@@ -124,12 +124,12 @@ struct JointModelFit {
   // (options/result_fields.h); the status (ok and reason), the parameters by
   // name and the Birge ratio (from chi2 and dof) are stored by the file's own
   // layout, the covariance as this correlation times the parameters' errors.
-  // Not kept, as they follow from what is: the name (the group's), chi2/dof,
+  // Not kept: the name (the group's) and chi2/dof, which follow from what is;
   // each run's ln e (per-run's are its parameters; the others' follow from
-  // the parameters and the runs' speeds), the runs' fitted speeds (nuisance
-  // parameters, left out of the correlation too) and the weighted mean of ln e;
-  // nor the solver's details (FitStatus: a failed solve's message is its
-  // reason): each dataset more lengthens every reduce.
+  // the parameters and the runs' speeds); the runs' fitted speeds (nuisance
+  // parameters, left out of the correlation too), the weighted mean of ln e
+  // and the solver's details (FitStatus: a failed solve's message is its
+  // reason), as each dataset more lengthens every reduce.
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("maxima", self.maxima, Quantity::kDimensionless, "N, the maxima fitted");
