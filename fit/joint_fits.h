@@ -127,9 +127,9 @@ struct JointModelFit {
   // Not kept: the name (the group's) and chi2/dof, which follow from what is;
   // each run's ln e (per-run's are its parameters; the others' follow from
   // the parameters and the runs' speeds); the runs' fitted speeds (nuisance
-  // parameters, left out of the correlation too), the weighted mean of ln e
-  // and the solver's details (FitStatus: a failed solve's message is its
-  // reason), as each dataset more lengthens every reduce.
+  // parameters, left out of the correlation too) and the solver's details
+  // (FitStatus: a failed solve's message is its reason), as each dataset
+  // more lengthens every reduce.
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("maxima", self.maxima, Quantity::kDimensionless, "N, the maxima fitted");
@@ -141,6 +141,8 @@ struct JointModelFit {
     visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
     visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
           "the weighted standard deviation of the runs' ln e");
+    visit("log_restitution_mean", IfAny(self.log_restitution_mean), Quantity::kDimensionless,
+          "their weighted mean, which per-run gives an unseen run");
     visit("reference_speed", IfAny(self.reference_speed), Quantity::kSpeed,
           "linear-in-speed: u_ref, the runs' mean impact speed");
     LeaveOneOut::VisitFields(self.leave_one_out, visit);
