@@ -149,11 +149,18 @@ CampaignSession TabulateSession(const SessionResult& source, const std::string& 
     }
   }
   if (r.model_comparison) {
-    for (const ModelComparisonRow& m : r.model_comparison->models) {
-      if (!m.ok) continue;
-      for (const NamedEstimate& p : m.parameters) {
-        add("restitution " + m.model, p.name, p.estimate, p.units);
+    const auto add_model = [&](const std::string& model, bool ok,
+                               const std::vector<NamedEstimate>& parameters) {
+      if (!ok) return;
+      for (const NamedEstimate& p : parameters) {
+        add("restitution " + model, p.name, p.estimate, p.units);
       }
+    };
+    for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+      add_model(m.fit.name, m.fit.ok, m.fit.parameters);
+    }
+    for (const ComparedContactLaw& m : r.model_comparison->contact_laws) {
+      add_model(m.fit.law, m.fit.ok, m.fit.parameters);
     }
   }
 

@@ -35,6 +35,7 @@
 #include "fit/kelvin_voigt_two_point.h"
 #include "fit/least_squares.h"
 #include "model/pendulum.h"
+#include "options/result_fields.h"
 
 namespace impactlab {
 
@@ -69,6 +70,21 @@ struct LeaveOneOut {
   int maxima = 0;               // held-out maxima predicted (rebound 0 is the start, not counted)
   std::vector<double> run_rms_normalized;   // per held-out run, in run order
   std::vector<double> run_log_restitution;  // ln e used for each held-out run
+
+  // What the results file keeps of it, as a model's list takes it in
+  // (options/result_fields.h), under the names a contact law's leave-one-out
+  // has. Not kept: the per-run RMS and ln e (the comparison judges by the
+  // total; each dataset more lengthens every reduce).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("leave_one_out_ok", self.ok, Quantity::kDimensionless,
+          "1 when every held-out run was predicted");
+    visit("leave_one_out_maxima", self.maxima, Quantity::kDimensionless,
+          "held-out maxima predicted (0: not made)");
+    visit("leave_one_out_rms_normalized", IfAny(self.rms_normalized), Quantity::kDimensionless,
+          "leave one run out: RMS of (predicted - measured)/sigma, when made");
+    visit("leave_one_out_rms", IfAny(self.rms_length), Quantity::kLength, "the same in length");
+  }
 };
 
 struct JointModelFit {
@@ -103,6 +119,38 @@ struct JointModelFit {
   // The model's ln e for a run released from `initial_displacement` on
   // `pendulum` (per-run: the weighted mean of the runs' ln e).
   double LogRestitutionFor(const Pendulum& pendulum, double initial_displacement) const;
+
+  // What the results file keeps of a model that was fitted
+  // (options/result_fields.h); the status (ok and reason), the parameters by
+  // name and the Birge ratio (from chi2 and dof) are stored by the file's own
+  // layout, the covariance as this correlation times the parameters' errors.
+  // Not kept: the name (the group's) and chi2/dof, which follow from what is;
+  // each run's ln e (per-run's are its parameters; the others' follow from
+  // the parameters and the runs' speeds); the runs' fitted speeds (nuisance
+  // parameters, left out of the correlation too) and the solver's details
+  // (FitStatus: a failed solve's message is its reason), as each dataset
+  // more lengthens every reduce.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("maxima", self.maxima, Quantity::kDimensionless, "N, the maxima fitted");
+    visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
+          "k, the per-run speeds included");
+    visit("dof", self.dof, Quantity::kDimensionless, "N - k");
+    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
+    visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
+    visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
+    visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
+          "the weighted standard deviation of the runs' ln e");
+    visit("log_restitution_mean", IfAny(self.log_restitution_mean), Quantity::kDimensionless,
+          "their weighted mean, which per-run gives an unseen run");
+    visit("reference_speed", IfAny(self.reference_speed), Quantity::kSpeed,
+          "linear-in-speed: u_ref, the runs' mean impact speed");
+    LeaveOneOut::VisitFields(self.leave_one_out, visit);
+    visit("correlation", Square(self.covariance.correlation), Quantity::kDimensionless,
+          "the correlation of the model's parameters");
+    visit("correlation@parameter_names", self.covariance.names, Quantity::kDimensionless,
+          "its rows");
+  }
 };
 
 struct SessionModelComparison {

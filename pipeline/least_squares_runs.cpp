@@ -139,44 +139,56 @@ std::vector<LawRun> LawRunsOf(const LawInputs& in, const std::vector<const RunRe
   return out;
 }
 
-// A contact law's prediction of the maxima as a comparison row.
-ModelComparisonRow RowOf(const ContactLawFit& fit, const std::vector<LawRun>& runs) {
-  ModelComparisonRow row;
-  row.model = fit.law;
-  row.ok = fit.ok;
-  row.reason = fit.reason;
-  row.parameters = fit.parameters;
-  row.maxima = fit.maxima;
-  row.parameter_count = fit.parameter_count;
-  row.dof = fit.dof;
-  row.chi2 = fit.chi2;
-  row.aic = fit.aic;
-  row.bic = fit.bic;
-  row.loo_rms_normalized = fit.loo_rms_normalized;
-  row.loo_rms_length = fit.loo_rms_length;
-  // The spread of the law's ln e over the runs' rebound-0 speeds.
-  if (fit.ok && fit.law == "hunt-crossley" && !fit.parameters.empty()) {
-    const double chi = fit.parameters.front().estimate.value;
-    std::vector<double> q;
-    for (std::size_t i = 0; i < runs.size() && i < fit.run_rebound0_speed.size(); ++i) {
-      q.push_back(std::log(HuntCrossleyRestitution(chi * fit.run_rebound0_speed[i].value)));
-    }
-    double mean = 0.0, ss = 0.0;
-    for (double x : q) mean += x / static_cast<double>(q.size());
-    for (double x : q) ss += (x - mean) * (x - mean);
-    row.log_restitution_spread = q.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(q.size()));
+// The standard deviation of a contact law's ln e over the runs' fitted
+// rebound-0 speeds: the spread a restitution model reports of its runs' ln e.
+// Of the laws compared only Hunt-Crossley's e depends on the speed, e(chi v);
+// elastic Hertz keeps e = 1, a spread of 0.
+double LogRestitutionSpread(const ContactLawFit& fit) {
+  if (!fit.ok || fit.law != "hunt-crossley" || fit.parameters.empty()) return 0.0;
+  const double chi = fit.parameters.front().estimate.value;
+  std::vector<double> q;
+  for (const Estimate& v : fit.run_rebound0_speed) {
+    q.push_back(std::log(HuntCrossleyRestitution(chi * v.value)));
   }
-  return row;
+  double mean = 0.0, ss = 0.0;
+  for (double x : q) mean += x / static_cast<double>(q.size());
+  for (double x : q) ss += (x - mean) * (x - mean);
+  return q.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(q.size()));
 }
 
-const ModelComparisonRow* Row(const ModelComparison& c, const std::string& model) {
-  for (const ModelComparisonRow& m : c.models) {
+// What the comparison judges each model by, whichever fit it is.
+struct Judged {
+  const std::string& model;
+  bool ok;
+  int maxima, parameter_count, dof;
+  double chi2, loo_rms_normalized;
+  std::string* verdict;
+  const std::vector<NamedEstimate>& parameters;
+};
+
+std::vector<Judged> JudgedModels(ModelComparison& c) {
+  std::vector<Judged> out;
+  for (ComparedRestitutionModel& m : c.restitution_models) {
+    const JointModelFit& f = m.fit;
+    out.push_back({f.name, f.ok, f.maxima, f.parameter_count, f.dof, f.chi2,
+                   f.leave_one_out.rms_normalized, &m.verdict, f.parameters});
+  }
+  for (ComparedContactLaw& m : c.contact_laws) {
+    const ContactLawFit& f = m.fit;
+    out.push_back({f.law, f.ok, f.maxima, f.parameter_count, f.dof, f.chi2, f.loo_rms_normalized,
+                   &m.verdict, f.parameters});
+  }
+  return out;
+}
+
+const Judged* Row(const std::vector<Judged>& models, const std::string& model) {
+  for (const Judged& m : models) {
     if (m.model == model && m.ok) return &m;
   }
   return nullptr;
 }
 
-const NamedEstimate* ParameterOf(const ModelComparisonRow& m, const std::string& name) {
+const NamedEstimate* ParameterOf(const Judged& m, const std::string& name) {
   for (const NamedEstimate& p : m.parameters) {
     if (p.name == name) return &p;
   }
@@ -190,10 +202,10 @@ const NamedEstimate* ParameterOf(const ModelComparisonRow& m, const std::string&
 // ratio, as an F-test would), so that understated errors do not turn small
 // differences into rejections. Verdicts on the BIC difference from the best
 // (Kass and Raftery): < 2 comparable, < 10 disfavoured, else rejected.
-void Judge(ModelComparison& c, bool leave_one_out) {
-  const ModelComparisonRow* general = nullptr;
-  const ModelComparisonRow* best_loo = nullptr;
-  for (const ModelComparisonRow& m : c.models) {
+void Judge(ModelComparison& c, const std::vector<Judged>& models, bool leave_one_out) {
+  const Judged* general = nullptr;
+  const Judged* best_loo = nullptr;
+  for (const Judged& m : models) {
     if (!m.ok) continue;
     if (!general || m.parameter_count > general->parameter_count) general = &m;
     if (!leave_one_out) continue;
@@ -203,23 +215,23 @@ void Judge(ModelComparison& c, bool leave_one_out) {
   if (!general) return;
   const ScatterCheck scatter = CheckScatter(general->chi2, general->dof);
   const double scale = scatter.Scale() * scatter.Scale();
-  const auto bic = [&](const ModelComparisonRow& m) {
+  const auto bic = [&](const Judged& m) {
     return m.chi2 / scale +
            m.parameter_count * std::log(static_cast<double>(std::max(1, m.maxima)));
   };
-  const ModelComparisonRow* best = nullptr;
-  for (const ModelComparisonRow& m : c.models) {
+  const Judged* best = nullptr;
+  for (const Judged& m : models) {
     if (m.ok && (!best || bic(m) < bic(*best))) best = &m;
   }
   c.best_by_bic = best->model;
-  for (ModelComparisonRow& m : c.models) {
+  for (const Judged& m : models) {
     if (!m.ok) {
-      m.verdict = "failed";
+      *m.verdict = "failed";
       continue;
     }
     const double delta = bic(m) - bic(*best);
     const char* word = delta < 2.0 ? "comparable" : delta < 10.0 ? "disfavoured" : "rejected";
-    m.verdict = &m == best ? "best" : fmt::format("{} (dBIC = {:.3g})", word, delta);
+    *m.verdict = &m == best ? "best" : fmt::format("{} (dBIC = {:.3g})", word, delta);
   }
   if (scatter.excess) {
     c.evidence.push_back(fmt::format(
@@ -233,11 +245,11 @@ void Judge(ModelComparison& c, bool leave_one_out) {
 // What the speed dependence of e says about the laws: the data's slope of
 // ln e against impact speed (linear-in-speed, its sigma scaled by its Birge
 // ratio) against the slope Hunt-Crossley needs at these speeds.
-void Evidence(ModelComparison& c, const std::vector<const RunResult*>& runs,
-              const Pendulum& pendulum) {
-  const ModelComparisonRow* linear = Row(c, "linear-in-speed");
-  const ModelComparisonRow* hc = Row(c, "hunt-crossley");
-  const ModelComparisonRow* hertz = Row(c, "hertz");
+void Evidence(ModelComparison& c, const std::vector<Judged>& models,
+              const std::vector<const RunResult*>& runs, const Pendulum& pendulum) {
+  const Judged* linear = Row(models, "linear-in-speed");
+  const Judged* hc = Row(models, "hunt-crossley");
+  const Judged* hertz = Row(models, "hertz");
   if (linear) {
     const NamedEstimate* b = ParameterOf(*linear, "b");
     if (b) {
@@ -275,11 +287,12 @@ void Evidence(ModelComparison& c, const std::vector<const RunResult*>& runs,
     }
   }
   if (hertz) {
-    c.evidence.push_back(fmt::format(
-        "The elastic Hertz law keeps e = 1: the maxima' decay {} it (verdict: {}).",
-        hertz->verdict.rfind("rejected", 0) == 0 ? "rejects" : "does not reject", hertz->verdict));
+    c.evidence.push_back(
+        fmt::format("The elastic Hertz law keeps e = 1: the maxima' decay {} it (verdict: {}).",
+                    hertz->verdict->rfind("rejected", 0) == 0 ? "rejects" : "does not reject",
+                    *hertz->verdict));
   }
-  if (Row(c, "common")) {
+  if (Row(models, "common")) {
     c.evidence.push_back(
         "Every linear law (Kelvin-Voigt, Poynting-Thomson) keeps e the same at every speed: its "
         "prediction of the maxima is the \"common\" model.");
@@ -310,46 +323,31 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
   try {
     JointFitOptions joint_options = fit.restitution_models;
     joint_options.leave_one_out = leave_one_out;
-    const SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
+    SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
     ModelComparison out;
-    out.run_ids = c.run_names;
-    for (const JointModelFit& m : c.models) {
-      ModelComparisonRow row;
-      row.model = m.name;
-      row.ok = m.ok;
-      row.reason = m.reason;
-      row.parameters = m.parameters;
-      row.covariance = m.covariance;
-      row.maxima = m.maxima;
-      row.parameter_count = m.parameter_count;
-      row.dof = m.dof;
-      row.chi2 = m.chi2;
-      row.aic = m.aic;
-      row.bic = m.bic;
-      row.log_restitution_spread = m.log_restitution_spread;
-      row.loo_rms_normalized = m.leave_one_out.rms_normalized;
-      row.loo_rms_length = m.leave_one_out.rms_length;
-      out.models.push_back(std::move(row));
-    }
+    out.run_ids = std::move(c.run_names);
+    for (JointModelFit& m : c.models) out.restitution_models.push_back({std::move(m), ""});
     // The laws' predictions of the same maxima (no contact times: the same data).
     const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
     ContactLawFitOptions options = fit.contact_laws;
     options.separation = inputs.separation;
     options.use_contact_times = false;
     options.leave_one_out = leave_one_out;
-    options.intervals = false;  // a row has none
+    options.intervals = false;  // the comparison judges by the fit, not the parameters' ranges
     for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
+      ComparedContactLaw law;
       try {
-        out.models.push_back(RowOf(FitContactLaw(kind, law_runs, options), law_runs));
+        law.fit = FitContactLaw(kind, law_runs, options);
       } catch (const std::exception& e) {
-        ModelComparisonRow row;
-        row.model = ContactLawName(kind);
-        row.reason = e.what();
-        out.models.push_back(std::move(row));
+        law.fit.law = ContactLawName(kind);
+        law.fit.reason = e.what();
       }
+      law.log_restitution_spread = LogRestitutionSpread(law.fit);
+      out.contact_laws.push_back(std::move(law));
     }
-    Judge(out, leave_one_out);
-    Evidence(out, comparable, inputs.pendulum);
+    const std::vector<Judged> models = JudgedModels(out);
+    Judge(out, models, leave_one_out);
+    Evidence(out, models, comparable, inputs.pendulum);
     return out;
   } catch (const std::exception& e) {
     *why = fmt::format("model comparison skipped: {}", e.what());

@@ -7,30 +7,8 @@
 namespace impactlab {
 namespace {
 
-LogChannelResult SummariseChannel(const ChannelAnalysis& c) {
-  LogChannelResult out;
-  out.channel = c.name;
-  out.units = c.units;
-  out.dominant_frequency_hz = c.dominant_frequency_hz;
-  out.damping_ratio = c.damping_ratio;
-  out.frequency_source = c.frequency_source;
-  out.frequency_mismatch = c.frequency_mismatch;
-  out.notes = c.notes;
-  out.series_time_s = c.series.time_s;
-  out.series_value = c.series.value;
-  // The ring-down's spectrum is what the frequency is read from; else the whole record's.
-  for (const char* segment : {"post_impact", "whole"}) {
-    for (const SegmentSpectrum& s : c.spectra) {
-      if (s.segment == segment && out.spectrum_frequency_hz.empty()) {
-        out.spectrum_frequency_hz = s.spectrum.frequency_hz;
-        out.spectrum_psd = s.spectrum.psd;
-      }
-    }
-  }
-  return out;
-}
-
-LogSourceResult SummariseSource(const SourceAnalysis& s, const char* name) {
+// The source's channels are moved out of `s`, kept as the analysis returned them.
+LogSourceResult SummariseSource(SourceAnalysis& s, const char* name) {
   LogSourceResult out;
   out.source = name;
   if (s.impact.found) {
@@ -39,14 +17,23 @@ LogSourceResult SummariseSource(const SourceAnalysis& s, const char* name) {
   } else {
     out.impact_method = s.impact.reason;
   }
-  for (const ChannelAnalysis& c : s.channels) out.channels.push_back(SummariseChannel(c));
+  out.channels = std::move(s.channels);
   return out;
 }
 
 }  // namespace
 
+const SegmentSpectrum* KeptSpectrum(const ChannelAnalysis& c) {
+  for (const char* segment : {"post_impact", "whole"}) {
+    for (const SegmentSpectrum& s : c.spectra) {
+      if (s.segment == segment && !s.spectrum.frequency_hz.empty()) return &s;
+    }
+  }
+  return nullptr;
+}
+
 LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
-  const LogAnalysis a = AnalyseLog(log, LogFileRecords(log, options.read), options);
+  LogAnalysis a = AnalyseLog(log, LogFileRecords(log, options.read), options);
   LogResult out;
   out.id = a.log_id;
   out.ok = a.ok;

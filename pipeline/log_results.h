@@ -1,5 +1,6 @@
 // The session's encoder/accelerometer logs, analysed for `reduce`
-// (signal/log_analysis.h) and summarised for the results file.
+// (signal/log_analysis.h): each source's channels as the analysis returns
+// them, its impact as the sources' comparison places it.
 #pragma once
 
 #include "io/session.h"
@@ -11,5 +12,10 @@ namespace impactlab {
 // Never throws for bad data: a log that cannot be analysed is a result with
 // its status (file, line and reason).
 LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options);
+
+// The one spectrum of a channel the results file keeps and the report
+// plots: the post-impact segment's, which the dominant frequency is read
+// from, else the whole record's; null when neither was computed.
+const SegmentSpectrum* KeptSpectrum(const ChannelAnalysis& c);
 
 }  // namespace impactlab

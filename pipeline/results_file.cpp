@@ -13,6 +13,7 @@
 #include "io/hdf5_file.h"
 #include "io/manifest.h"
 #include "io/result_fields_hdf5.h"
+#include "pipeline/log_results.h"
 #include "pipeline/setting_key_internal.h"
 
 namespace impactlab {
@@ -399,90 +400,13 @@ Fit ReadLeastSquares(const In& in, const std::string& g) {
   return fit;
 }
 
-void WriteModelComparison(Out& out, const ModelComparison& c) {
+// A contact law's layout beside its list (fit/contact_law_fit.h): its
+// estimates with their stated and Birge-scaled standard errors, each
+// interval's ends and method (`interval_methods` too when none was made, where
+// `intervals` were asked), the leave-one-out RMS where it ran.
+void WriteContactLawLayout(Out& out, const std::string& g, const ContactLawFit& fit,
+                           bool intervals) {
   Hdf5File& f = out.f;
-  const std::string g = "/session/model_comparison";
-  WriteFields(f, out.x, g, c, out.u);
-  for (const ModelComparisonRow& m : c.models) {
-    const std::string h = g + "/" + m.model;
-    f.CreateGroup(h);
-    f.SetAttribute(h, "status", m.ok ? std::string("ok") : "failed: " + m.reason);
-    if (!m.Ran()) {  // its status and verdict only
-      f.SetAttribute(h, "verdict", m.verdict);
-      continue;
-    }
-    WriteFields(f, out.x, h, m, out.u);
-    WriteNamedEstimates(out, h, m.parameters);
-    f.WriteScalar(h + "/birge_ratio", CheckScatter(m.chi2, m.dof).birge_ratio, "1");
-    // The covariance as the correlation (dimensionless, where a and b of
-    // linear-in-speed are not): times the parameters' standard errors.
-    if (const std::size_t n = m.covariance.names.size();
-        n > 0 && m.covariance.correlation.size() == n * n) {
-      out.x.WriteMatrix(h + "/correlation", n, n, m.covariance.correlation, "1");
-      out.x.SetStringsAttribute(h + "/correlation", "parameter_names", m.covariance.names);
-    }
-  }
-}
-
-// The covariance from the correlation and the parameters' standard errors.
-ParameterCovariance ReadModelCovariance(const Hdf5File& f, const std::string& h,
-                                        const std::vector<NamedEstimate>& parameters) {
-  ParameterCovariance c;
-  c.names = ReadStringsAttribute(f.path(), h + "/correlation", "parameter_names");
-  c.correlation = f.ReadVector(h + "/correlation");
-  const std::size_t n = c.names.size();
-  if (c.correlation.size() != n * n) {
-    throw InputError({f.path(), h + "/correlation", std::nullopt},
-                     fmt::format("not {} x {}", n, n));
-  }
-  std::vector<double> sigma;
-  for (const std::string& name : c.names) {
-    const auto it = std::find_if(parameters.begin(), parameters.end(),
-                                 [&](const NamedEstimate& p) { return p.name == name; });
-    if (it == parameters.end()) {
-      throw InputError({f.path(), h + "/correlation", std::nullopt},
-                       fmt::format("names '{}', not a parameter of the model", name));
-    }
-    sigma.push_back(it->estimate.sigma);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < n; ++j) {
-      c.matrix.push_back(c.correlation[i * n + j] * sigma[i] * sigma[j]);
-    }
-  }
-  return c;
-}
-
-ModelComparison ReadModelComparison(const Hdf5File& f) {
-  const std::string g = "/session/model_comparison";
-  ModelComparison c;
-  ReadFields(f, g, c);
-  for (const std::string& model : f.Children(g)) {
-    const std::string h = g + "/" + model;
-    if (!f.IsGroup(h)) continue;
-    ModelComparisonRow m;
-    m.model = model;
-    const std::string status = f.ReadStringAttribute(h, "status");
-    m.ok = status == "ok";
-    if (!m.ok) m.reason = ReasonOf(status);
-    ReadFields(f, h, m);
-    if (f.Exists(h + "/parameter_names")) m.parameters = ReadNamedEstimates(f, h);
-    if (f.Exists(h + "/correlation")) m.covariance = ReadModelCovariance(f, h, m.parameters);
-    c.models.push_back(std::move(m));
-  }
-  return c;
-}
-
-// A contact law fitted across the runs (fit/contact_law_fit.h): its estimates
-// with their stated and Birge-scaled standard errors, the chi^2 split, the
-// criteria and the identifiability sentence.
-void WriteContactLaw(Out& out, const ContactLawFit& fit) {
-  Hdf5File& f = out.f;
-  const std::string g = "/session/contact_laws/" + fit.law;
-  f.CreateGroup(g);
-  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
-  if (fit.parameters.empty() && fit.maxima == 0) return;  // it did not run
-  WriteFields(f, out.x, g, fit, out.u);
   WriteNamedEstimates(out, g, fit.parameters);
   WriteScaledErrors(out, g, fit.parameters, fit.scatter.Scale());
   std::vector<std::string> methods;
@@ -494,22 +418,15 @@ void WriteContactLaw(Out& out, const ContactLawFit& fit) {
     methods.push_back(std::string(in.profile ? "profile" : "linear") +
                       (in.at_bound ? ", at a bound" : ""));
   }
-  f.WriteStrings(g + "/interval_methods", methods);
+  if (intervals || !methods.empty()) f.WriteStrings(g + "/interval_methods", methods);
   if (fit.loo_ok || fit.loo_maxima > 0) {  // left out: fewer than three runs, or not asked
     f.WriteScalar(g + "/leave_one_out_rms_normalized", fit.loo_rms_normalized, "1");
     f.WriteScalar(g + "/leave_one_out_rms", fit.loo_rms_length, out.u.length);
   }
 }
 
-ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
-  const std::string g = "/session/contact_laws/" + law;
-  ContactLawFit fit;
-  fit.law = law;
-  const std::string status = f.ReadStringAttribute(g, "status");
-  fit.ok = status == "ok";
-  if (!fit.ok) fit.reason = ReasonOf(status);
-  if (!f.Exists(g + "/chi2")) return fit;
-  ReadFields(f, g, fit);
+// What WriteContactLawLayout wrote, into a law its list was read into.
+void ReadContactLawLayout(const Hdf5File& f, const std::string& g, ContactLawFit& fit) {
   fit.parameters = ReadNamedEstimates(f, g);
   // Each interval's ends and method, beside the rises its list read.
   const std::vector<std::string> methods = f.Exists(g + "/interval_methods")
@@ -529,34 +446,191 @@ ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
   fit.loo_rms_length = f.ReadScalarIfPresent(g + "/leave_one_out_rms").value_or(0.0);
   // Files written before leave_one_out_ok was kept: ok where the RMS is.
   if (!f.HasAttribute(g, "leave_one_out_ok")) fit.loo_ok = fit.ok && loo.has_value();
+}
+
+// The comparison's models, each a group: its status, and for one that was
+// fitted its list (the verdict and the fit's own fields) and its layout; one
+// that was not has its verdict only. A restitution model's layout is its
+// parameters and the Birge ratio (from chi2 and dof), a contact law's as in
+// /session/contact_laws (fitted without intervals).
+void WriteModelComparison(Out& out, const ModelComparison& c) {
+  Hdf5File& f = out.f;
+  const std::string g = "/session/model_comparison";
+  WriteFields(f, out.x, g, c, out.u);
+  const auto start = [&](const auto& m, bool ok, const std::string& reason) {
+    const std::string h = g + "/" + m.Name();
+    f.CreateGroup(h);
+    f.SetAttribute(h, "status", ok ? std::string("ok") : "failed: " + reason);
+    if (!m.Ran()) f.SetAttribute(h, "verdict", m.verdict);
+    return h;
+  };
+  for (const ComparedRestitutionModel& m : c.restitution_models) {
+    const std::string h = start(m, m.fit.ok, m.fit.reason);
+    if (!m.Ran()) continue;
+    WriteFields(f, out.x, h, m, out.u);
+    WriteNamedEstimates(out, h, m.fit.parameters);
+    f.WriteScalar(h + "/birge_ratio", CheckScatter(m.fit.chi2, m.fit.dof).birge_ratio, "1");
+  }
+  for (const ComparedContactLaw& m : c.contact_laws) {
+    const std::string h = start(m, m.fit.ok, m.fit.reason);
+    if (!m.Ran()) continue;
+    WriteFields(f, out.x, h, m, out.u);
+    WriteContactLawLayout(out, h, m.fit, false);
+  }
+}
+
+// A restitution model's covariance from its correlation (which its list
+// read, with its rows' names) and the parameters' standard errors.
+void ReadModelCovariance(const Hdf5File& f, const std::string& h, JointModelFit& m) {
+  ParameterCovariance& c = m.covariance;
+  const std::size_t n = c.names.size();
+  if (c.correlation.size() != n * n) {
+    throw InputError({f.path(), h + "/correlation", std::nullopt},
+                     fmt::format("not {} x {}", n, n));
+  }
+  std::vector<double> sigma;
+  for (const std::string& name : c.names) {
+    const auto it = std::find_if(m.parameters.begin(), m.parameters.end(),
+                                 [&](const NamedEstimate& p) { return p.name == name; });
+    if (it == m.parameters.end()) {
+      throw InputError({f.path(), h + "/correlation", std::nullopt},
+                       fmt::format("names '{}', not a parameter of the model", name));
+    }
+    sigma.push_back(it->estimate.sigma);
+  }
+  c.matrix.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      c.matrix.push_back(c.correlation[i * n + j] * sigma[i] * sigma[j]);
+    }
+  }
+}
+
+bool IsContactLawName(const std::string& name) {
+  for (ContactLawKind kind :
+       {ContactLawKind::kKelvinVoigt, ContactLawKind::kHertz, ContactLawKind::kHuntCrossley,
+        ContactLawKind::kHuntCrossleyExponent, ContactLawKind::kHertzDamper}) {
+    if (name == ContactLawName(kind)) return true;
+  }
+  return false;
+}
+
+// The comparison as WriteModelComparison wrote it, or as files before it kept
+// the fits did (a row of the same names per model: their lists read what
+// there is; a restitution model's leave-one-out was ok where its RMS is).
+ModelComparison ReadModelComparison(const Hdf5File& f) {
+  const std::string g = "/session/model_comparison";
+  ModelComparison c;
+  ReadFields(f, g, c);
+  for (const std::string& model : f.Children(g)) {
+    const std::string h = g + "/" + model;
+    if (!f.IsGroup(h)) continue;
+    const std::string status = f.ReadStringAttribute(h, "status");
+    const bool ok = status == "ok";
+    const std::string reason = ok ? "" : ReasonOf(status);
+    if (IsContactLawName(model)) {
+      ComparedContactLaw m;
+      m.fit.law = model;
+      m.fit.ok = ok;
+      m.fit.reason = reason;
+      ReadFields(f, h, m);
+      if (f.Exists(h + "/parameter_names")) ReadContactLawLayout(f, h, m.fit);
+      // Written before the comparison kept the law's scatter check: as the
+      // fit makes it, from its chi2 and dof.
+      if (m.Ran() && !f.HasAttribute(h, "excess_scatter")) {
+        m.fit.scatter = CheckScatter(m.fit.chi2, m.fit.dof);
+      }
+      c.contact_laws.push_back(std::move(m));
+      continue;
+    }
+    ComparedRestitutionModel m;
+    m.fit.name = model;
+    m.fit.ok = ok;
+    m.fit.reason = reason;
+    ReadFields(f, h, m);
+    if (f.Exists(h + "/parameter_names")) m.fit.parameters = ReadNamedEstimates(f, h);
+    if (f.Exists(h + "/correlation")) ReadModelCovariance(f, h, m.fit);
+    if (!f.HasAttribute(h, "leave_one_out_ok")) {
+      m.fit.leave_one_out.ok = f.Exists(h + "/leave_one_out_rms_normalized");
+    }
+    c.restitution_models.push_back(std::move(m));
+  }
+  return c;
+}
+
+// A contact law fitted across the runs (fit/contact_law_fit.h): its status,
+// and for one that ran its list and its layout.
+void WriteContactLaw(Out& out, const ContactLawFit& fit) {
+  Hdf5File& f = out.f;
+  const std::string g = "/session/contact_laws/" + fit.law;
+  f.CreateGroup(g);
+  f.SetAttribute(g, "status", fit.ok ? std::string("ok") : "failed: " + fit.reason);
+  if (fit.parameters.empty() && fit.maxima == 0) return;  // it did not run
+  WriteFields(f, out.x, g, fit, out.u);
+  WriteContactLawLayout(out, g, fit, true);
+}
+
+ContactLawFit ReadContactLaw(const Hdf5File& f, const std::string& law) {
+  const std::string g = "/session/contact_laws/" + law;
+  ContactLawFit fit;
+  fit.law = law;
+  const std::string status = f.ReadStringAttribute(g, "status");
+  fit.ok = status == "ok";
+  if (!fit.ok) fit.reason = ReasonOf(status);
+  if (!f.Exists(g + "/chi2")) return fit;
+  ReadFields(f, g, fit);
+  ReadContactLawLayout(f, g, fit);
   return fit;
 }
 
-void WriteLogChannel(Out& out, const std::string& k, const LogChannelResult& c) {
+void WriteLogChannel(Out& out, const std::string& k, const ChannelAnalysis& c) {
   Hdf5File& f = out.f;
   f.CreateGroup(k);
   WriteFields(f, out.x, k, c, out.u);
-  if (!c.spectrum_frequency_hz.empty()) {
-    WriteCurve(out, k + "/spectrum/frequency", c.spectrum_frequency_hz, "Hz", k + "/spectrum/psd",
-               c.spectrum_psd, "(" + c.units + ")^2/Hz");
+  if (const SegmentSpectrum* s = KeptSpectrum(c)) {
+    WriteCurve(out, k + "/spectrum/frequency", s->spectrum.frequency_hz, "Hz", k + "/spectrum/psd",
+               s->spectrum.psd, "(" + c.units + ")^2/Hz");
+    f.SetAttribute(k + "/spectrum", "segment", s->segment);
   }
-  f.WriteStrings(k + "/notes", c.notes);
-  if (!c.series_time_s.empty()) {
-    WriteCurve(out, k + "/series/time", c.series_time_s, "s", k + "/series/value", c.series_value,
+  if (!c.series.time_s.empty()) {
+    WriteCurve(out, k + "/series/time", c.series.time_s, "s", k + "/series/value", c.series.value,
                c.units);
   }
 }
 
-LogChannelResult ReadLogChannel(const Hdf5File& f, const std::string& k,
-                                const std::string& channel) {
-  LogChannelResult c;
-  c.channel = channel;
+// The kind a channel's units are of (the analysis's UnitsOf, inverted).
+LogChannelKind ChannelKindOf(const std::string& units) {
+  return units == "rad"     ? LogChannelKind::kAngle
+         : units == "m/s^2" ? LogChannelKind::kAcceleration
+                            : LogChannelKind::kOther;
+}
+
+ChannelAnalysis ReadLogChannel(const Hdf5File& f, const std::string& k,
+                               const std::string& channel) {
+  ChannelAnalysis c;
+  c.name = channel;
   ReadFields(f, k, c);
-  c.spectrum_frequency_hz = ReadVectorIfPresent(f, k + "/spectrum/frequency");
-  c.spectrum_psd = ReadVectorIfPresent(f, k + "/spectrum/psd");
-  c.notes = f.ReadStrings(k + "/notes");
-  c.series_time_s = ReadVectorIfPresent(f, k + "/series/time");
-  c.series_value = ReadVectorIfPresent(f, k + "/series/value");
+  c.kind = ChannelKindOf(c.units);
+  // Layout 1 wrote an empty spectrum where none was computed.
+  if (std::vector<double> frequency = ReadVectorIfPresent(f, k + "/spectrum/frequency");
+      !frequency.empty()) {
+    SegmentSpectrum s;
+    if (f.HasAttribute(k + "/spectrum", "segment")) {
+      s.segment = f.ReadStringAttribute(k + "/spectrum", "segment");
+    } else {
+      // Written before the segment was kept: the post-impact one, unless the
+      // analysis noted that no impact was found.
+      const bool no_impact = std::any_of(c.notes.begin(), c.notes.end(), [](const std::string& n) {
+        return n.starts_with("no impact found");
+      });
+      s.segment = no_impact ? "whole" : "post_impact";
+    }
+    s.spectrum.frequency_hz = std::move(frequency);
+    s.spectrum.psd = ReadVectorIfPresent(f, k + "/spectrum/psd");
+    c.spectra.push_back(std::move(s));
+  }
+  c.series.time_s = ReadVectorIfPresent(f, k + "/series/time");
+  c.series.value = ReadVectorIfPresent(f, k + "/series/value");
   return c;
 }
 
@@ -569,7 +643,7 @@ void WriteLog(Out& out, const LogResult& log) {
   for (const LogSourceResult& s : log.sources) {
     const std::string h = g + "/" + s.source;
     WriteFields(f, out.x, h, s, out.u);
-    for (const LogChannelResult& c : s.channels) WriteLogChannel(out, h + "/" + c.channel, c);
+    for (const ChannelAnalysis& c : s.channels) WriteLogChannel(out, h + "/" + c.name, c);
   }
   if (log.sources.size() < 2) return;
   f.CreateGroup(g + "/comparison");
@@ -584,8 +658,8 @@ void WriteLog(Out& out, const LogResult& log) {
 // A channel's units as its sources' analyses have them.
 std::string ChannelUnitsOf(const LogResult& log, const std::string& channel) {
   for (const LogSourceResult& s : log.sources) {
-    for (const LogChannelResult& c : s.channels) {
-      if (c.channel == channel) return c.units;
+    for (const ChannelAnalysis& c : s.channels) {
+      if (c.name == channel) return c.units;
     }
   }
   return "";

@@ -1,9 +1,9 @@
 // What reducing a session produces: one RunResult per run, the cross-run
 // Kelvin-Voigt analysis and the predictions, the stages' results as they
 // return them where they have field lists (the least-squares fits, the
-// contact laws). The results file (results_file.h) stores what each result's
-// list keeps (options/result_fields.h; a list says what it leaves out); the
-// report formats it and never recomputes it.
+// contact laws, the restitution models, the log channels' analyses). The results file
+// (results_file.h) stores what each result's list keeps (options/result_fields.h; a list says what
+// it leaves out); the report formats it and never recomputes it.
 #pragma once
 
 #include <optional>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fit/contact_law_fit.h"
+#include "fit/joint_fits.h"
 #include "fit/kelvin_voigt_least_squares.h"
 #include "fit/kelvin_voigt_session.h"
 #include "fit/kelvin_voigt_two_point.h"
@@ -22,6 +23,7 @@
 #include "options/settings.h"
 #include "pipeline/products.h"
 #include "rebounds/bar_rebounds.h"
+#include "signal/log_analysis.h"
 
 namespace impactlab {
 
@@ -337,40 +339,14 @@ struct SessionKelvinVoigt {
   }
 };
 
-// An encoder/accelerometer log (signal/log_analysis.h), as the results file keeps it.
-struct LogChannelResult {
-  std::string channel;  // the manifest's name, e.g. "a1"
-  std::string units;    // of the channel's values: "rad", "m/s^2" or "SI"
-  std::optional<Estimate> dominant_frequency_hz;
-  std::optional<Estimate> damping_ratio;
-  std::string frequency_source;     // "fit", "fft post_impact" or "fft whole"
-  bool frequency_mismatch = false;  // the FFT peak and the fitted frequency disagree
-  std::vector<double> spectrum_frequency_hz, spectrum_psd;  // post-impact (or whole), for plots
-  std::vector<double> series_time_s, series_value;          // the channel over time, decimated
-  std::vector<std::string> notes;
-
-  // What the results file keeps as fields (options/result_fields.h); the
-  // spectrum, the series and the notes are stored by the file's own layout.
-  template <typename Self, typename Visit>
-  static void VisitFields(Self& self, Visit&& visit) {
-    visit("channel_units", self.units, Quantity::kDimensionless,
-          "the channel's values' units: rad, m/s^2 or SI");
-    visit("frequency_source", self.frequency_source, Quantity::kDimensionless,
-          "fit, fft post_impact or fft whole");
-    visit("frequency_mismatch", self.frequency_mismatch, Quantity::kDimensionless,
-          "1 when the FFT peak and the fitted frequency disagree");
-    visit("dominant_frequency", self.dominant_frequency_hz, Quantity::kHertz,
-          "the channel's dominant frequency (none: no oscillation)");
-    visit("damping_ratio", self.damping_ratio, Quantity::kDimensionless,
-          "its mode's damping ratio");
-  }
-};
-
+// An encoder/accelerometer log's source (signal/log_analysis.h): its impact
+// as compared, and its channels' analyses as the log stage returns them
+// (ChannelAnalysis lists what the file keeps of one).
 struct LogSourceResult {
   std::string source;  // "experiment" or "simulation"
   std::optional<Estimate> impact_time_s;
   std::string impact_method;  // or why no impact was found
-  std::vector<LogChannelResult> channels;
+  std::vector<ChannelAnalysis> channels;
 
   // What the results file keeps as fields (options/result_fields.h); the
   // source names the group, and each channel is a group of its own.
@@ -431,53 +407,68 @@ struct LogResult {
   }
 };
 
-// Which restitution model predicts unseen runs best (fit/joint_fits.h).
-struct ModelComparisonRow {
-  std::string model;  // "per-run", "common", "linear-in-speed"
-  bool ok = false;
-  std::string reason;                     // why, when !ok
-  std::vector<NamedEstimate> parameters;  // per-run speeds excluded
-  // Of `parameters`, in their own units (the restitution models'; the
-  // contact laws' rows have theirs under /session/contact_laws).
-  ParameterCovariance covariance;
-  int maxima = 0, parameter_count = 0, dof = 0;
-  double chi2 = 0.0, aic = 0.0, bic = 0.0;
-  double log_restitution_spread = 0.0;  // weighted std of the runs' ln e
-  double loo_rms_normalized = 0.0;      // leave-one-run-out, RMS (predicted - measured)/sigma
-  double loo_rms_length = 0.0;          // the same in length units
-  // How the model fares against the best (lowest BIC): "best", "comparable",
-  // "disfavoured" or "rejected" with its BIC difference (Kass-Raftery's 2, 10).
+// A restitution model fitted jointly to the runs' maxima (fit/joint_fits.h),
+// as CompareRestitutionModels returns it, and the comparison's verdict on it.
+struct ComparedRestitutionModel {
+  JointModelFit fit;
+  // How the model fares against the best of every model compared (lowest
+  // BIC): "best", "comparable", "disfavoured" or "rejected" with its BIC
+  // difference (Kass-Raftery's 2, 10); "failed".
   std::string verdict;
 
-  // Whether the model was fitted: one that did not run holds only its
-  // status and verdict.
-  bool Ran() const { return ok || !parameters.empty() || maxima > 0; }
+  const std::string& Name() const { return fit.name; }
+  // Whether it was fitted (every model that reached the solver counts its maxima).
+  bool Ran() const { return fit.maxima > 0; }
 
   // What the results file keeps as fields of a model that ran
-  // (options/result_fields.h); the status, the parameters by name and the
-  // Birge ratio (from chi2 and dof) are stored by the file's own layout.
+  // (options/result_fields.h): the verdict and the fit's own list; the
+  // status by the file's own layout.
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("verdict", self.verdict, Quantity::kDimensionless,
           "best, comparable, disfavoured or rejected with the BIC difference; failed");
-    visit("maxima", self.maxima, Quantity::kDimensionless, "N, the maxima fitted");
-    visit("parameter_count", self.parameter_count, Quantity::kDimensionless,
-          "k, the per-run speeds included");
-    visit("dof", self.dof, Quantity::kDimensionless, "N - k");
-    visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
-    visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
-    visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
-    visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
-          "the weighted standard deviation of the runs' ln e");
-    visit("leave_one_out_rms_normalized", IfAny(self.loo_rms_normalized), Quantity::kDimensionless,
-          "leave one run out: RMS of (predicted - measured)/sigma, when made");
-    visit("leave_one_out_rms", IfAny(self.loo_rms_length), Quantity::kLength, "the same in length");
+    JointModelFit::VisitFields(self.fit, visit);
   }
 };
 
+// A contact law's prediction of the same maxima (fit/contact_law_fit.h,
+// fitted to the maxima alone, without intervals), as FitContactLaw returns
+// it; what the comparison measures of it beside the restitution models' own;
+// and the verdict.
+struct ComparedContactLaw {
+  ContactLawFit fit;
+  // The standard deviation of the law's ln e over the runs' fitted rebound-0
+  // speeds, the restitution models' log_restitution_spread for a law (0 for
+  // one whose e is the same at every speed, as elastic Hertz's 1). Set where
+  // the law is fitted for the comparison (pipeline/least_squares_runs.cpp).
+  double log_restitution_spread = 0.0;
+  std::string verdict;  // as ComparedRestitutionModel's
+
+  const std::string& Name() const { return fit.law; }
+  // Whether it was fitted (one whose inputs were refused holds only its reason).
+  bool Ran() const { return !fit.parameters.empty() || fit.maxima > 0; }
+
+  // What the results file keeps as fields of a law that ran
+  // (options/result_fields.h): the verdict, the spread and the law's own
+  // list; the status, the parameters and the leave-one-out RMS as a
+  // contact law's layout stores them.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("verdict", self.verdict, Quantity::kDimensionless,
+          "best, comparable, disfavoured or rejected with the BIC difference; failed");
+    visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
+          "the standard deviation of the law's ln e at the runs' fitted rebound-0 speeds");
+    ContactLawFit::VisitFields(self.fit, visit);
+  }
+};
+
+// Which model of the restitution predicts unseen runs best: the restitution
+// models and the contact laws' predictions of the same maxima, each as its
+// fit returned it with the comparison's verdict, and the comparison's reading.
 struct ModelComparison {
   std::vector<std::string> run_ids;
-  std::vector<ModelComparisonRow> models;
+  std::vector<ComparedRestitutionModel> restitution_models;  // per-run, common, linear-in-speed
+  std::vector<ComparedContactLaw> contact_laws;              // hunt-crossley, hertz
   std::string best_by_leave_one_out;
   std::string best_by_bic;
   // The reading: sentences on what the data support and reject, with the

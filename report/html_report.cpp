@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "calibration/photocell_calibration.h"
+#include "pipeline/log_results.h"
 #include "report/dygraph_plot.h"
 #include "report/figure_file_name.h"
 #include "report/html_escape.h"
@@ -262,17 +263,17 @@ std::string LogFigures(const LogResult& log, Figures& figures) {
   const char* colours[] = {kBlue, kOrange};
   const LogSourceResult* first = log.sources.empty() ? nullptr : &log.sources.front();
   if (first == nullptr) return out;
-  for (const LogChannelResult& c : first->channels) {
+  for (const ChannelAnalysis& c : first->channels) {
     Plot history;
-    history.title = fmt::format("Log {}: {} over time", log.id, c.channel);
+    history.title = fmt::format("Log {}: {} over time", log.id, c.name);
     history.x_label = "time (s)";
-    history.y_label = fmt::format("{} ({})", c.channel, c.units);
+    history.y_label = fmt::format("{} ({})", c.name, c.units);
     for (std::size_t k = 0; k < log.sources.size(); ++k) {
-      for (const LogChannelResult& d : log.sources[k].channels) {
-        if (d.channel == c.channel && !d.series_time_s.empty()) {
+      for (const ChannelAnalysis& d : log.sources[k].channels) {
+        if (d.name == c.name && !d.series.time_s.empty()) {
           history.series.push_back({log.sources[k].source,
-                                    d.series_time_s,
-                                    d.series_value,
+                                    d.series.time_s,
+                                    d.series.value,
                                     {},
                                     PlotSeries::Style::kLine,
                                     colours[k % 2]});
@@ -283,18 +284,20 @@ std::string LogFigures(const LogResult& log, Figures& figures) {
       out += figures.Add(history, fmt::format("{} of experiment and simulation on their own "
                                               "time axes; the impact offset is in the table "
                                               "above.",
-                                              c.channel));
+                                              c.name));
     }
     Plot plot;
-    plot.title = fmt::format("Log {}: spectrum of {}", log.id, c.channel);
+    plot.title = fmt::format("Log {}: spectrum of {}", log.id, c.name);
     plot.x_label = "frequency (Hz)";
     plot.y_label = fmt::format("log10 PSD (({})²/Hz)", c.units);
     for (std::size_t k = 0; k < log.sources.size(); ++k) {
-      for (const LogChannelResult& d : log.sources[k].channels) {
-        if (d.channel != c.channel || d.spectrum_psd.empty()) continue;
-        PlotSeries series{log.sources[k].source,    d.spectrum_frequency_hz, {}, {},
-                          PlotSeries::Style::kLine, colours[k % 2]};
-        for (double p : d.spectrum_psd) series.y.push_back(std::log10(std::max(p, 1e-300)));
+      for (const ChannelAnalysis& d : log.sources[k].channels) {
+        const SegmentSpectrum* kept = KeptSpectrum(d);
+        if (d.name != c.name || kept == nullptr || kept->spectrum.psd.empty()) continue;
+        PlotSeries series{
+            log.sources[k].source, kept->spectrum.frequency_hz, {}, {}, PlotSeries::Style::kLine,
+            colours[k % 2]};
+        for (double p : kept->spectrum.psd) series.y.push_back(std::log10(std::max(p, 1e-300)));
         plot.series.push_back(std::move(series));
       }
     }
@@ -302,7 +305,7 @@ std::string LogFigures(const LogResult& log, Figures& figures) {
       out += figures.Add(plot, fmt::format("Post-impact spectra of {}, experiment and "
                                            "simulation overlaid (the dominant peaks are in the "
                                            "table above).",
-                                           c.channel));
+                                           c.name));
     }
   }
   return out;

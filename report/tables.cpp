@@ -252,16 +252,30 @@ Table ModelComparisonTable(const ModelComparison& c, const UnitLabels& u) {
                "LOO rms / sigma",
                fmt::format("LOO rms ({})", u.length),
                "Verdict"};
-  for (const ModelComparisonRow& m : c.models) {
-    if (!m.ok) {
+  // A model's row from its fit's own figures (the restitution models' and the
+  // laws' name them differently).
+  const auto add = [&](const std::string& model, bool ok, const std::string& reason, int k,
+                       double chi2, int dof, double aic, double bic, double spread,
+                       double loo_normalized, double loo_length, const std::string& verdict) {
+    if (!ok) {
       t.rows.push_back(
-          {m.model + " (failed)", "-", "-", "-", "-", "-", "-", "-", "-", "failed: " + m.reason});
-      continue;
+          {model + " (failed)", "-", "-", "-", "-", "-", "-", "-", "-", "failed: " + reason});
+      return;
     }
-    t.rows.push_back({m.model, Count(m.parameter_count), Sig(m.chi2, 4), Count(m.dof),
-                      Sig(m.aic, 5), Sig(m.bic, 5), Sig(m.log_restitution_spread, 3),
-                      loo ? Sig(m.loo_rms_normalized, 4) : Cell("-"),
-                      loo ? Sig(m.loo_rms_length, 4) : Cell("-"), m.verdict});
+    t.rows.push_back({model, Count(k), Sig(chi2, 4), Count(dof), Sig(aic, 5), Sig(bic, 5),
+                      Sig(spread, 3), loo ? Sig(loo_normalized, 4) : Cell("-"),
+                      loo ? Sig(loo_length, 4) : Cell("-"), verdict});
+  };
+  for (const ComparedRestitutionModel& m : c.restitution_models) {
+    const JointModelFit& f = m.fit;
+    add(f.name, f.ok, f.reason, f.parameter_count, f.chi2, f.dof, f.aic, f.bic,
+        f.log_restitution_spread, f.leave_one_out.rms_normalized, f.leave_one_out.rms_length,
+        m.verdict);
+  }
+  for (const ComparedContactLaw& m : c.contact_laws) {
+    const ContactLawFit& f = m.fit;
+    add(f.law, f.ok, f.reason, f.parameter_count, f.chi2, f.dof, f.aic, f.bic,
+        m.log_restitution_spread, f.loo_rms_normalized, f.loo_rms_length, m.verdict);
   }
   t.notes = {loo ? fmt::format("Best at predicting an unseen run: {}; lowest BIC: {}.",
                                c.best_by_leave_one_out, c.best_by_bic)
@@ -281,13 +295,19 @@ Table ModelParameterTable(const ModelComparison& c, const UnitLabels& u) {
   t.name = "model_comparison_parameters";
   t.caption = "Restitution models: the fitted parameters";
   t.columns = {"Model", "Parameter", "Value", "Scaled std error", "Units"};
-  for (const ModelComparisonRow& m : c.models) {
-    if (!m.ok) continue;
-    const double scale = CheckScatter(m.chi2, m.dof).Scale();
-    for (const NamedEstimate& p : m.parameters) {
-      t.rows.push_back({m.model, p.name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, scale),
+  const auto add = [&](const std::string& model, const std::vector<NamedEstimate>& parameters,
+                       double scale) {
+    for (const NamedEstimate& p : parameters) {
+      t.rows.push_back({model, p.name, WithSigma(p.estimate, 4), ScaledSigma(p.estimate, scale),
                         Cell::Unit(UnitOfKind(p.units, u))});
     }
+  };
+  for (const ComparedRestitutionModel& m : c.restitution_models) {
+    // A joint model keeps chi2 and dof, not their scatter check.
+    if (m.fit.ok) add(m.fit.name, m.fit.parameters, CheckScatter(m.fit.chi2, m.fit.dof).Scale());
+  }
+  for (const ComparedContactLaw& m : c.contact_laws) {
+    if (m.fit.ok) add(m.fit.law, m.fit.parameters, m.fit.scatter.Scale());
   }
   t.notes = {
       "± the stated standard error; \"scaled\": times the Birge ratio sqrt(chi2/dof), "
@@ -407,7 +427,7 @@ Cell OptionalWithSigma(const std::optional<Estimate>& e, int digits) {
 
 // A log channel's flags in a few words each (its notes say more):
 // signal/log_analysis.h writes the notes these begin with.
-std::vector<std::string> ChannelFlags(const LogChannelResult& c) {
+std::vector<std::string> ChannelFlags(const ChannelAnalysis& c) {
   const auto noted = [&](std::string_view prefix) {
     return std::any_of(c.notes.begin(), c.notes.end(),
                        [&](const std::string& n) { return n.rfind(prefix, 0) == 0; });
@@ -432,16 +452,16 @@ struct ChannelFlag {
 std::vector<ChannelFlag> LogFlags(const LogResult& log) {
   std::vector<ChannelFlag> out;
   if (log.sources.empty()) return out;
-  for (const LogChannelResult& first : log.sources.front().channels) {
+  for (const ChannelAnalysis& first : log.sources.front().channels) {
     const std::size_t begin = out.size();
     for (const LogSourceResult& s : log.sources) {
-      for (const LogChannelResult& c : s.channels) {
-        if (c.channel != first.channel) continue;
+      for (const ChannelAnalysis& c : s.channels) {
+        if (c.name != first.name) continue;
         for (const std::string& flag : ChannelFlags(c)) {
           const auto at = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(begin), out.end(),
                                        [&](const ChannelFlag& f) { return f.flag == flag; });
           if (at == out.end()) {
-            out.push_back({c.channel, flag, {s.source}});
+            out.push_back({c.name, flag, {s.source}});
           } else {
             at->sources.push_back(s.source);
           }
@@ -487,7 +507,7 @@ std::string OffsetBasis(const LogResult& log) {
       ce, cs);
 }
 
-Cell FrequencyCell(const LogChannelResult* c) {
+Cell FrequencyCell(const ChannelAnalysis* c) {
   if (c == nullptr) return "-";
   return c->dominant_frequency_hz ? WithSigma(*c->dominant_frequency_hz, 4) : Cell("none");
 }
@@ -510,11 +530,11 @@ Table LogTable(const LogResult& log) {
                "Units",
                "Flags"};
   const auto channel_of = [&](const std::string& source,
-                              const std::string& name) -> const LogChannelResult* {
+                              const std::string& name) -> const ChannelAnalysis* {
     for (const LogSourceResult& s : log.sources) {
       if (s.source != source) continue;
-      for (const LogChannelResult& c : s.channels) {
-        if (c.channel == name) return &c;
+      for (const ChannelAnalysis& c : s.channels) {
+        if (c.name == name) return &c;
       }
     }
     return nullptr;
@@ -522,23 +542,22 @@ Table LogTable(const LogResult& log) {
   const std::vector<ChannelFlag> flags = LogFlags(log);
   for (const LogSourceResult& s : log.sources) {
     if (s.source != "experiment") continue;
-    for (const LogChannelResult& c : s.channels) {
-      const LogChannelResult* sim = channel_of("simulation", c.channel);
-      const auto row =
-          std::find_if(log.comparison.begin(), log.comparison.end(),
-                       [&](const LogComparisonRow& r) { return r.channel == c.channel; });
+    for (const ChannelAnalysis& c : s.channels) {
+      const ChannelAnalysis* sim = channel_of("simulation", c.name);
+      const auto row = std::find_if(log.comparison.begin(), log.comparison.end(),
+                                    [&](const LogComparisonRow& r) { return r.channel == c.name; });
       const bool compared = row != log.comparison.end();
       // A channel with a dominant frequency in one source only has no
       // difference (NaN in the results file): a dash, not "+nan".
       const bool differed = compared && std::isfinite(row->difference_hz);
       std::string flagged;
       for (const ChannelFlag& f : flags) {
-        if (f.channel != c.channel) continue;
+        if (f.channel != c.name) continue;
         const std::string sources = SourcesText(f.sources, log);
         flagged +=
             (flagged.empty() ? "" : "; ") + f.flag + (sources.empty() ? "" : " (" + sources + ")");
       }
-      t.rows.push_back({c.channel, FrequencyCell(&c), sim ? FrequencyCell(sim) : Cell("-"),
+      t.rows.push_back({c.name, FrequencyCell(&c), sim ? FrequencyCell(sim) : Cell("-"),
                         differed ? Signed(row->difference_hz, 3) : Cell("-"),
                         differed ? Signed(row->difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
@@ -587,11 +606,11 @@ Table LogNotesTable(const LogResult& log) {
   t.caption = fmt::format("Log {}: what the analysis noted, channel by channel", log.id);
   t.columns = {"Channel", "Source", "Note"};
   if (log.sources.empty()) return t;
-  for (const LogChannelResult& first : log.sources.front().channels) {
+  for (const ChannelAnalysis& first : log.sources.front().channels) {
     for (const LogSourceResult& s : log.sources) {
-      for (const LogChannelResult& c : s.channels) {
-        if (c.channel != first.channel) continue;
-        for (const std::string& note : c.notes) t.rows.push_back({c.channel, s.source, note});
+      for (const ChannelAnalysis& c : s.channels) {
+        if (c.name != first.name) continue;
+        for (const std::string& note : c.notes) t.rows.push_back({c.name, s.source, note});
       }
     }
   }
@@ -911,11 +930,17 @@ std::vector<CheckItem> CheckList(const SessionResult& r) {
                     items);
   CheckLeastSquares(poynting_thomson, "Poynting-Thomson", "poynting_thomson", items);
   if (r.model_comparison) {
-    for (const ModelComparisonRow& m : r.model_comparison->models) {
-      if (!m.ok) {
-        items.push_back({fmt::format("model comparison: {} failed: {}", m.model, m.reason),
+    const auto failed = [&](const std::string& model, bool ok, const std::string& reason) {
+      if (!ok) {
+        items.push_back({fmt::format("model comparison: {} failed: {}", model, reason),
                          "model_comparison", ""});
       }
+    };
+    for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+      failed(m.fit.name, m.fit.ok, m.fit.reason);
+    }
+    for (const ComparedContactLaw& m : r.model_comparison->contact_laws) {
+      failed(m.fit.law, m.fit.ok, m.fit.reason);
     }
   }
   std::vector<std::string> scattered;

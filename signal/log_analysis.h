@@ -38,6 +38,7 @@
 #include "io/log_reader.h"
 #include "io/session.h"
 #include "model/estimate.h"
+#include "options/result_fields.h"
 #include "signal/damped_modes.h"
 #include "signal/decimate.h"
 #include "signal/impact_detection.h"
@@ -120,6 +121,31 @@ struct ChannelAnalysis {
 
   std::vector<SegmentSpectrum> spectra;  // whole, free_flight, post_impact (those that exist)
   DecimatedSeries series;                // the channel over time, decimated for plots
+
+  // What the results file keeps as fields (options/result_fields.h); the
+  // name names the channel's group, and the series and one spectrum (the
+  // post-impact segment's, which the frequency is read from, else the whole
+  // record's; pipeline/log_results.h KeptSpectrum) are stored by the file's
+  // own layout. Not kept: the kind (the units say it), the FFT peak, its
+  // resolution and the peaks (the spectrum shows them), the ring-down fit's
+  // modes, decays and solver figures, and the other segments' spectra (up
+  // to two more of about 2000 points, frequency and PSD: they would double
+  // the channel's stored arrays, which are most of a log's file and its write
+  // time, for plots the report does not draw).
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("channel_units", self.units, Quantity::kDimensionless,
+          "the channel's values' units: rad, m/s^2 or SI");
+    visit("frequency_source", self.frequency_source, Quantity::kDimensionless,
+          "fit, fft post_impact or fft whole");
+    visit("frequency_mismatch", self.frequency_mismatch, Quantity::kDimensionless,
+          "1 when the FFT peak and the fitted frequency disagree");
+    visit("dominant_frequency", self.dominant_frequency_hz, Quantity::kHertz,
+          "the channel's dominant frequency (none: no oscillation)");
+    visit("damping_ratio", self.damping_ratio, Quantity::kDimensionless,
+          "its mode's damping ratio");
+    visit("notes", self.notes, Quantity::kDimensionless, "what went wrong or is worth knowing");
+  }
 };
 
 struct SourceAnalysis {

@@ -66,8 +66,8 @@ TEST_CASE("A Hunt-Crossley session reduces to its law, preferred over the linear
 
   REQUIRE(result.model_comparison);
   CHECK(result.model_comparison->best_by_bic == "hunt-crossley");
-  for (const ModelComparisonRow& m : result.model_comparison->models) {
-    if (m.model == "common") CHECK(m.verdict.rfind("rejected", 0) == 0);
+  for (const ComparedRestitutionModel& m : result.model_comparison->restitution_models) {
+    if (m.fit.name == "common") CHECK(m.verdict.rfind("rejected", 0) == 0);
   }
 }
 

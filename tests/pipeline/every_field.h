@@ -26,10 +26,11 @@ namespace impactlab::testing {
 // Every result type with a field list, the session's own last.
 using ListedResults =
     std::tuple<BarRebounds, CellCalibration, ContactLawFit, KelvinVoigtLeastSquaresFit,
-               PoyntingThomsonLeastSquaresFit, LogChannelResult, PhotoOverlay, StageSeconds,
+               PoyntingThomsonLeastSquaresFit, ChannelAnalysis, PhotoOverlay, StageSeconds,
                RunMeasurement, RunFits, RunResult, KelvinVoigtTwoPointFit, SessionKelvinVoigt,
-               DampingLine, ModelComparisonRow, ModelComparison, LogSourceResult, LogComparisonRow,
-               LogResult, RunPrediction, Apparatus, Specimen, SessionResult>;
+               DampingLine, ComparedRestitutionModel, ComparedContactLaw, ModelComparison,
+               LogSourceResult, LogComparisonRow, LogResult, RunPrediction, Apparatus, Specimen,
+               SessionResult>;
 
 template <typename Field>
 constexpr bool IsColumnField = false;

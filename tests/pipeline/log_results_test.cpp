@@ -21,9 +21,9 @@ const LogResult& Sample() {
   return result;
 }
 
-const LogChannelResult& ChannelOf(const LogSourceResult& source, const std::string& name) {
-  for (const LogChannelResult& c : source.channels) {
-    if (c.channel == name) return c;
+const ChannelAnalysis& ChannelOf(const LogSourceResult& source, const std::string& name) {
+  for (const ChannelAnalysis& c : source.channels) {
+    if (c.name == name) return c;
   }
   FAIL("no channel " << name);
   return source.channels.front();
@@ -37,14 +37,14 @@ TEST_CASE("log_results: a channel with no oscillation has no dominant frequency,
     INFO(source.source);
     // q1, link 1's angle, turns on after the impact: no fitted mode completes
     // a period while it decays (the fit's best there, 0.33 Hz, had zeta 0.95).
-    const LogChannelResult& q1 = ChannelOf(source, "q1");
+    const ChannelAnalysis& q1 = ChannelOf(source, "q1");
     CHECK_FALSE(q1.dominant_frequency_hz);
     CHECK_FALSE(q1.damping_ratio);
     CHECK_FALSE(q1.frequency_mismatch);
     REQUIRE_FALSE(q1.notes.empty());
     CHECK_THAT(q1.notes.front(), Catch::StartsWith("no oscillation: "));
     // The beams' accelerometers ring at the arm's mode: 10.85 and 11.56 Hz.
-    const LogChannelResult& a1 = ChannelOf(source, "a1");
+    const ChannelAnalysis& a1 = ChannelOf(source, "a1");
     REQUIRE(a1.dominant_frequency_hz);
     CHECK(a1.dominant_frequency_hz->value ==
           Approx(source.source == "experiment" ? 10.850 : 11.556).margin(0.02));

@@ -104,20 +104,20 @@ void CheckSame(const ModelComparison& a, const ModelComparison& b) {
   CHECK(a.run_ids == b.run_ids);
   CHECK(a.best_by_leave_one_out == b.best_by_leave_one_out);
   CHECK(a.best_by_bic == b.best_by_bic);
-  REQUIRE(a.models.size() == b.models.size());
-  for (std::size_t i = 0; i < a.models.size(); ++i) {
-    const ModelComparisonRow &p = a.models[i], &q = b.models[i];
-    INFO("model " << p.model);
-    CHECK(p.model == q.model);
-    CHECK(p.ok == q.ok);
-    CHECK(p.reason == q.reason);
-    CHECK(Same(p.parameters, q.parameters));
-    CHECK((p.maxima == q.maxima && p.parameter_count == q.parameter_count && p.dof == q.dof));
-    CHECK(Same(std::vector<double>{p.chi2, p.aic, p.bic, p.log_restitution_spread,
-                                   p.loo_rms_normalized, p.loo_rms_length},
-               std::vector<double>{q.chi2, q.aic, q.bic, q.log_restitution_spread,
-                                   q.loo_rms_normalized, q.loo_rms_length}));
-  }
+  // Every field the file keeps of each model: its list, its status, its parameters.
+  const auto same_models = [](const auto& x, const auto& y) {
+    REQUIRE(x.size() == y.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      INFO("model " << x[i].Name());
+      CHECK(x[i].Name() == y[i].Name());
+      CHECK(x[i].fit.ok == y[i].fit.ok);
+      CHECK(x[i].fit.reason == y[i].fit.reason);
+      CHECK(Same(x[i].fit.parameters, y[i].fit.parameters));
+      CHECK(testing::EveryField(x[i]) == testing::EveryField(y[i]));
+    }
+  };
+  same_models(a.restitution_models, b.restitution_models);
+  same_models(a.contact_laws, b.contact_laws);
 }
 
 // Everything ReadResults reads of a typed-in session.
@@ -223,7 +223,16 @@ TEST_CASE("results_layout1: a layout-1 file reads with its values where they wer
   REQUIRE(r.joint_fits.size() == 1);
   CHECK(r.joint_fits[0].covariance.correlation.size() == 36);
   REQUIRE(r.model_comparison.has_value());
-  CHECK(r.model_comparison->models.size() == 3);
+  REQUIRE(r.model_comparison->restitution_models.size() == 3);
+  CHECK(r.model_comparison->contact_laws.empty());
+  // Written before the restitution models kept their leave-one-out's
+  // completeness: complete where its RMS was written.
+  for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+    INFO(m.Name());
+    CHECK(m.fit.leave_one_out.ok == (m.fit.leave_one_out.rms_normalized > 0.0));
+    CHECK(m.fit.maxima > 0);
+    CHECK(m.verdict.empty());  // layout 1 had no verdicts
+  }
   REQUIRE(r.predictions.size() == 1);
   CHECK(r.predictions[0].target_run == "0.405");
 }

@@ -42,18 +42,21 @@ std::string ReadText(const fs::path& path) {
 // The names a results file may use for its ids: the page writes them as
 // placeholders.
 struct Vocabulary {
-  std::set<std::string> run_ids, channels, models;
+  std::set<std::string> run_ids, channels, models, laws;
 };
 
 void Add(Vocabulary& v, const SessionResult& r) {
   for (const RunResult& run : r.runs) v.run_ids.insert(run.id);
   for (const LogResult& log : r.logs) {
     for (const LogSourceResult& s : log.sources) {
-      for (const LogChannelResult& c : s.channels) v.channels.insert(c.channel);
+      for (const ChannelAnalysis& c : s.channels) v.channels.insert(c.name);
     }
   }
   if (r.model_comparison) {
-    for (const ModelComparisonRow& m : r.model_comparison->models) v.models.insert(m.model);
+    for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+      v.models.insert(m.Name());
+    }
+    for (const ComparedContactLaw& m : r.model_comparison->contact_laws) v.laws.insert(m.Name());
   }
 }
 
@@ -96,6 +99,7 @@ std::string GeneraliseComponent(const std::string& parent, const std::string& c,
     return "<cell>";
   }
   if (parent == "/session/model_comparison" && v.models.contains(c)) return "<model>";
+  if (parent == "/session/model_comparison" && v.laws.contains(c)) return "<law>";
   if (parent == "/session/contact_laws") return "<law>";
   if (parent == "/session/model_comparison/<model>") return GeneraliseRunSuffix(c, v);
   return c;
@@ -112,6 +116,7 @@ const std::vector<Template> kTemplates = {
     {"<least-squares fit>",
      {"/runs/<run id>/fit/kelvin_voigt_least_squares", "/runs/<run id>/fit/poynting_thomson",
       "/session/joint_fits/poynting_thomson"}},
+    {"<contact law>", {"/session/contact_laws/<law>", "/session/model_comparison/<law>"}},
 };
 
 // A generalised name with what lies inside a template's place written from

@@ -74,7 +74,7 @@ struct SessionFields {
     Add(log, g);
     for (const LogSourceResult& s : log.sources) {
       Add(s, g + "/" + s.source);
-      for (const LogChannelResult& c : s.channels) Add(c, g + "/" + s.source + "/" + c.channel);
+      for (const ChannelAnalysis& c : s.channels) Add(c, g + "/" + s.source + "/" + c.name);
     }
     for (const LogComparisonRow& c : log.comparison) Add(c, g + "/comparison/" + c.channel);
   }
@@ -96,8 +96,11 @@ struct SessionFields {
     }
     if (r.model_comparison) {
       Add(*r.model_comparison, "session/model_comparison");
-      for (const ModelComparisonRow& m : r.model_comparison->models) {
-        if (m.Ran()) Add(m, "session/model_comparison/" + m.model);
+      for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+        if (m.Ran()) Add(m, "session/model_comparison/" + m.Name());
+      }
+      for (const ComparedContactLaw& m : r.model_comparison->contact_laws) {
+        if (m.Ran()) Add(m, "session/model_comparison/" + m.Name());
       }
     }
     for (const ContactLawFit& law : r.contact_laws) {
@@ -184,18 +187,21 @@ TEST_CASE("results_round_trip: the restitution models' covariance survives the f
   WriteResults(reduced, dir.path() / "first.h5");
   const SessionResult first = ReadResults(dir.path() / "first.h5");
   REQUIRE(first.model_comparison);
-  REQUIRE(first.model_comparison->models.size() == reduced.model_comparison->models.size());
+  const std::vector<ComparedRestitutionModel>& reduced_models =
+      reduced.model_comparison->restitution_models;
+  const std::vector<ComparedRestitutionModel>& read_models =
+      first.model_comparison->restitution_models;
+  REQUIRE(read_models.size() == reduced_models.size());
   int compared = 0;
-  for (std::size_t i = 0; i < reduced.model_comparison->models.size(); ++i) {
-    const ModelComparisonRow &a = reduced.model_comparison->models[i],
-                             &b = first.model_comparison->models[i];
-    INFO(a.model);
+  for (std::size_t i = 0; i < reduced_models.size(); ++i) {
+    const JointModelFit &a = reduced_models[i].fit, &b = read_models[i].fit;
+    INFO(a.name);
     CHECK(b.covariance.names == a.covariance.names);
     REQUIRE(b.covariance.matrix.size() == a.covariance.matrix.size());
     for (std::size_t k = 0; k < a.covariance.matrix.size(); ++k) {
       CHECK(b.covariance.matrix[k] == Approx(a.covariance.matrix[k]).epsilon(1e-12).margin(1e-300));
     }
-    if (a.model == "linear-in-speed") {
+    if (a.name == "linear-in-speed") {
       // a and b are correlated: u_ref is the runs' mean speed, not the fit's centre.
       REQUIRE(a.covariance.names == std::vector<std::string>{"a", "b"});
       CHECK(a.covariance.matrix[1] != 0.0);

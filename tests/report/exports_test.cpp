@@ -115,16 +115,23 @@ TEST_CASE(
   REQUIRE(r.model_comparison);
   const Tidy models = TidyOf(Named(tables, "model_comparison_parameters"));
   std::size_t row = 0;
-  for (const ModelComparisonRow& m : r.model_comparison->models) {
-    if (!m.ok) continue;
-    for (const NamedEstimate& p : m.parameters) {
-      INFO(m.model << " " << p.name);
-      CHECK(models.At(row, "Model") == m.model);
+  const auto check_model = [&](const std::string& model, bool ok,
+                               const std::vector<NamedEstimate>& parameters) {
+    if (!ok) return;
+    for (const NamedEstimate& p : parameters) {
+      INFO(model << " " << p.name);
+      CHECK(models.At(row, "Model") == model);
       CHECK(models.At(row, "Parameter") == p.name);
       CHECK(std::stod(models.At(row, "Value")) == p.estimate.value);
       CHECK(std::stod(models.At(row, "Value std_error")) == p.estimate.sigma);
       ++row;
     }
+  };
+  for (const ComparedRestitutionModel& m : r.model_comparison->restitution_models) {
+    check_model(m.fit.name, m.fit.ok, m.fit.parameters);
+  }
+  for (const ComparedContactLaw& m : r.model_comparison->contact_laws) {
+    check_model(m.fit.law, m.fit.ok, m.fit.parameters);
   }
   CHECK(row == models.rows.size());
   REQUIRE(!r.contact_laws.empty());
@@ -246,10 +253,10 @@ TEST_CASE("exports: a log channel with a frequency in one source only has no dif
   LogResult log;
   log.id = "case1";
   log.ok = true;
-  LogChannelResult measured;
-  measured.channel = "a2";
+  ChannelAnalysis measured;
+  measured.name = "a2";
   measured.units = "m/s^2";
-  LogChannelResult simulated = measured;
+  ChannelAnalysis simulated = measured;
   simulated.dominant_frequency_hz = Estimate{31.03, 0.10};
   log.sources = {{"experiment", {}, "", {measured}}, {"simulation", {}, "", {simulated}}};
   LogComparisonRow row;

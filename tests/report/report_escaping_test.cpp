@@ -58,8 +58,8 @@ SessionResult Hostile() {
   LogSourceResult source;
   source.source = "experiment";
   source.impact_method = kPipes + "\n" + kScript;
-  LogChannelResult channel;
-  channel.channel = kSvg + kPipes;
+  ChannelAnalysis channel;
+  channel.name = kSvg + kPipes;
   channel.units = "^^5c" + kInputPipe;
   channel.dominant_frequency_hz = Estimate{12.5, 0.1};
   source.channels.push_back(channel);
