@@ -17,6 +17,63 @@
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
+namespace {
+
+// A calibration photo of the randomised generator (the quick preset, seed
+// `seed`), its manifest entry and the true centre line of its trace.
+struct GeneratedCalibration {
+  Calibration calibration;
+  nlohmann::json truth;  // the photo's truth
+  std::vector<cv::Point2d> centre_px;
+  Photo photo;
+};
+
+GeneratedCalibration LoadGeneratedCalibration(const testing::TempDir& dir, unsigned seed,
+                                              const std::string& id) {
+  SynthOptions synth;
+  synth.preset = "quick";
+  synth.style = PhotoStyle::kRandomised;
+  synth.seed = seed;
+  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  GeneratedCalibration g;
+  bool found = false;
+  for (const Calibration& c : summary.manifest.calibrations) {
+    if (c.id == id) g.calibration = c, found = true;
+  }
+  REQUIRE(found);
+  for (const auto& c : summary.truth["calibrations"]) {
+    if (c["id"] == id) g.truth = c["photo"];
+  }
+  REQUIRE(g.truth.is_object());
+  for (const auto& p : g.truth["traces"][0]["points_t_x_y_px"]) {
+    g.centre_px.push_back({p[1].get<double>(), p[2].get<double>()});
+  }
+  g.photo = LoadPhoto(dir.path() / "s" / g.truth["file"].get<std::string>());
+  return g;
+}
+
+// How a digitized trace lies against the true centre line: its samples more
+// than `far_px` off, and the RMS distance, px.
+struct AgainstTruth {
+  std::size_t far = 0;
+  double rms_px = 0.0;
+};
+
+AgainstTruth ScoreAgainst(const std::vector<cv::Point2d>& centre_px, const DigitizedTrace& trace,
+                          double far_px) {
+  AgainstTruth score;
+  std::size_t hint = 0;
+  double sum_sq = 0.0;
+  for (const cv::Point2d& p : trace.centre_px) {
+    const double d = testing::DistanceToPolyline(centre_px, p, hint);
+    if (d > far_px) ++score.far;
+    sum_sq += d * d;
+  }
+  score.rms_px = std::sqrt(sum_sq / trace.centre_px.size());
+  return score;
+}
+
+}  // namespace
 
 // Randomised seed 1001 (the generator's handling on, as in bench_robustness),
 // calibration L-0.713: a figure scanned at 1102 px (a working pixel is two),
@@ -28,28 +85,9 @@ namespace impactlab {
 // line to a tenth of the trace's width, where the thin reading found none.
 TEST_CASE("digitize: a bold printed trace wider than the ridge image's square is read") {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = 1001;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
-  const Calibration* calibration = nullptr;
-  for (const Calibration& c : summary.manifest.calibrations) {
-    if (c.id == "L-0.713") calibration = &c;
-  }
-  REQUIRE(calibration != nullptr);
-  const nlohmann::json* truth = nullptr;
-  for (const auto& c : summary.truth["calibrations"]) {
-    if (c["id"] == "L-0.713") truth = &c["photo"];
-  }
-  REQUIRE(truth != nullptr);
-  REQUIRE((*truth)["look"]["reproduction"] == "halftone");
-  std::vector<cv::Point2d> centre_px;
-  for (const auto& p : (*truth)["traces"][0]["points_t_x_y_px"]) {
-    centre_px.push_back({p[1].get<double>(), p[2].get<double>()});
-  }
-
-  const Photo photo = LoadPhoto(dir.path() / "s" / (*truth)["file"].get<std::string>());
+  const GeneratedCalibration g = LoadGeneratedCalibration(dir, 1001, "L-0.713");
+  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
+  const Photo& photo = g.photo;
   const DigitizeOptions options;
   const PreparedPhoto prepared = PreparePhoto(photo, options.graticule);
   const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, options.graticule);
@@ -57,17 +95,10 @@ TEST_CASE("digitize: a bold printed trace wider than the ridge image's square is
   CHECK(digitize::BoldOpeningPx(prepared, graticule) > 2 * digitize::kRidgeOpeningPx);
 
   const DigitizeResult result =
-      DigitizePhoto(photo, {10, 8}, TraceRequestsOf(*calibration), options);
+      DigitizePhoto(photo, {10, 8}, TraceRequestsOf(g.calibration), options);
   REQUIRE(result.traces.size() == 1);
   const DigitizedTrace& trace = result.traces[0];
-  std::size_t hint = 0, far = 0;
-  double sum_sq = 0.0;
-  for (const cv::Point2d& p : trace.centre_px) {
-    const double d = testing::DistanceToPolyline(centre_px, p, hint);
-    if (d > 3.0) ++far;
-    sum_sq += d * d;
-  }
-  const double rms = std::sqrt(sum_sq / trace.centre_px.size());
+  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, 3.0);
   INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
                               << " more than 3 px off the truth, RMS " << rms << " px");
   // Measured: 253 samples over 46 % of the sweep, 16 more than 3 px off (a
@@ -91,28 +122,9 @@ TEST_CASE("digitize: a bold printed trace wider than the ridge image's square is
 // too wide). Its samples lie on the generator's centre line.
 TEST_CASE("digitize: a bold printed trace lying along a grid line is told from it by its width") {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = 1021;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
-  const Calibration* calibration = nullptr;
-  for (const Calibration& c : summary.manifest.calibrations) {
-    if (c.id == "R-0.405") calibration = &c;
-  }
-  REQUIRE(calibration != nullptr);
-  const nlohmann::json* truth = nullptr;
-  for (const auto& c : summary.truth["calibrations"]) {
-    if (c["id"] == "R-0.405") truth = &c["photo"];
-  }
-  REQUIRE(truth != nullptr);
-  REQUIRE((*truth)["look"]["reproduction"] == "halftone");
-  std::vector<cv::Point2d> centre_px;
-  for (const auto& p : (*truth)["traces"][0]["points_t_x_y_px"]) {
-    centre_px.push_back({p[1].get<double>(), p[2].get<double>()});
-  }
-
-  const Photo photo = LoadPhoto(dir.path() / "s" / (*truth)["file"].get<std::string>());
+  const GeneratedCalibration g = LoadGeneratedCalibration(dir, 1021, "R-0.405");
+  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
+  const Photo& photo = g.photo;
   const DigitizeOptions options;
   const PreparedPhoto prepared = PreparePhoto(photo, options.graticule);
   const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, options.graticule);
@@ -122,7 +134,7 @@ TEST_CASE("digitize: a bold printed trace lying along a grid line is told from i
         digitize::BoldOpeningPx(prepared, graticule));
 
   const DigitizeResult result =
-      DigitizePhoto(photo, {10, 8}, TraceRequestsOf(*calibration), options);
+      DigitizePhoto(photo, {10, 8}, TraceRequestsOf(g.calibration), options);
   INFO(result.Failure());
   REQUIRE(result.ok);
   REQUIRE(result.traces.size() == 1);
@@ -130,14 +142,7 @@ TEST_CASE("digitize: a bold printed trace lying along a grid line is told from i
   // Off the truth by more than a fifth of the trace's width, as in the test
   // above (3 px of a 16 px trace).
   const double far_px = 0.2 * trace.width_px;
-  std::size_t hint = 0, far = 0;
-  double sum_sq = 0.0;
-  for (const cv::Point2d& p : trace.centre_px) {
-    const double d = testing::DistanceToPolyline(centre_px, p, hint);
-    if (d > far_px) ++far;
-    sum_sq += d * d;
-  }
-  const double rms = std::sqrt(sum_sq / trace.centre_px.size());
+  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
   INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
                               << " more than " << far_px << " px off the truth, RMS " << rms
                               << " px, width " << trace.width_px << " px against the grid's "
