@@ -48,10 +48,10 @@ int WideOpeningPx(const PreparedPhoto& photo, const GraticuleFit& graticule) {
 
 PreparedPhoto WithWideLines(const PreparedPhoto& photo, const GraticuleFit& graticule) {
   const int side = WideOpeningPx(photo, graticule);
+  const int bold_side = BoldOpeningPx(photo, graticule);
   PreparedPhoto wide = photo;
-  wide.ridge_opening_px = BoldOpeningPx(photo, graticule);
-  wide.ridge =
-      OpenedBy(photo.working, side) - OpenedBy(photo.working, BoldOpeningPx(photo, graticule));
+  wide.ridge_opening_px = bold_side;
+  wide.ridge = OpenedBy(photo.working, side) - OpenedBy(photo.working, bold_side);
   return wide;
 }
 
