@@ -1,7 +1,5 @@
 #include "pipeline/log_results.h"
 
-#include <fmt/format.h>
-
 #include "signal/log_analysis.h"
 
 namespace impactlab {
@@ -41,30 +39,7 @@ LogResult ReduceLog(const Log& log, const LogAnalysisOptions& options) {
   if (!a.ok) return out;
   out.sources.push_back(SummariseSource(a.experiment, "experiment"));
   if (a.simulation) out.sources.push_back(SummariseSource(*a.simulation, "simulation"));
-  if (a.comparison) {
-    const LogComparison& c = *a.comparison;
-    out.impact_offset_s = c.impact_offset_s;
-    // The instants the offset compares, which are the same channel's in both
-    // sources where one found the impact in both.
-    if (!c.impact_channel.empty()) {
-      const SourceAnalysis* analysed[] = {&a.experiment, &*a.simulation};
-      const std::optional<Estimate>* compared[] = {&c.experiment_impact_s, &c.simulation_impact_s};
-      for (std::size_t k = 0; k < out.sources.size() && k < 2; ++k) {
-        LogSourceResult& s = out.sources[k];
-        s.impact_time_s = *compared[k];
-        if (analysed[k]->impact.method == c.impact_channel) continue;
-        s.impact_method = fmt::format(
-            "{}, the channel compared; this source's strongest jump is {}'s, at {:.5f} s",
-            c.impact_channel, analysed[k]->impact.method, analysed[k]->impact.time_s.value);
-      }
-    }
-    for (const ChannelComparison& row : c.channels) {
-      out.comparison.push_back({row.channel, row.units, row.experiment_frequency_hz,
-                                row.simulation_frequency_hz, row.frequency_difference_hz,
-                                row.frequency_difference_percent, row.rms_difference,
-                                row.rms_difference_unaligned});
-    }
-  }
+  out.comparison = std::move(a.comparison);
   return out;
 }
 

@@ -1,6 +1,6 @@
 // The session's encoder/accelerometer logs, analysed for `reduce`
-// (signal/log_analysis.h): each source's channels as the analysis returns
-// them, its impact as the sources' comparison places it.
+// (signal/log_analysis.h): each source's impact and channels and the
+// sources' comparison as the analysis returns them.
 #pragma once
 
 #include "io/session.h"

@@ -645,10 +645,9 @@ void WriteLog(Out& out, const LogResult& log) {
     WriteFields(f, out.x, h, s, out.u);
     for (const ChannelAnalysis& c : s.channels) WriteLogChannel(out, h + "/" + c.name, c);
   }
-  if (log.sources.size() < 2) return;
-  f.CreateGroup(g + "/comparison");
-  WriteFields(f, out.x, g, log, out.u);
-  for (const LogComparisonRow& c : log.comparison) {
+  if (!log.comparison) return;
+  WriteFields(f, out.x, g + "/comparison", *log.comparison, out.u);
+  for (const ChannelComparison& c : log.comparison->channels) {
     UnitLabels units = out.u;
     units.channel = c.units;
     WriteFields(f, out.x, g + "/comparison/" + c.channel, c, units);
@@ -665,6 +664,34 @@ std::string ChannelUnitsOf(const LogResult& log, const std::string& channel) {
   return "";
 }
 
+// The comparison of a log's sources at `h`; `log` holds its sources.
+LogComparison ReadLogComparison(const Hdf5File& f, const std::string& h, const LogResult& log) {
+  LogComparison comparison;
+  ReadFields(f, h, comparison);
+  for (const std::string& channel : f.Children(h)) {
+    const std::string k = h + "/" + channel;
+    if (!f.IsGroup(k)) continue;
+    ChannelComparison c;
+    c.channel = channel;
+    ReadFields(f, k, c);
+    // Written before the comparison kept its units: the channel's.
+    if (c.units.empty()) c.units = ChannelUnitsOf(log, channel);
+    comparison.channels.push_back(std::move(c));
+  }
+  // Written before the comparison kept its instants, the sources held the
+  // instants compared, each method beginning with the channel compared.
+  if (!comparison.experiment_impact_s && !comparison.simulation_impact_s &&
+      log.sources.size() == 2) {
+    comparison.experiment_impact_s = log.sources[0].impact_time_s;
+    comparison.simulation_impact_s = log.sources[1].impact_time_s;
+    const std::string& e = log.sources[0].impact_method;
+    const std::string& s = log.sources[1].impact_method;
+    const std::string channel = e.substr(0, e.find(','));
+    if (channel == s.substr(0, s.find(','))) comparison.impact_channel = channel;
+  }
+  return comparison;
+}
+
 LogResult ReadLog(const In& in, const std::string& id) {
   const Hdf5File& f = in.f;
   const std::string g = JoinPath({"logs", id});
@@ -674,7 +701,6 @@ LogResult ReadLog(const In& in, const std::string& id) {
   log.ok = status == "ok";
   if (!log.ok) log.reason = ReasonOf(status);
   log.settings = ReadSettings(in, g + "/settings");
-  ReadFields(f, g, log);
   for (const std::string& source : f.Children(g)) {
     const std::string h = g + "/" + source;
     if (source == "comparison" || source == "settings" || !f.IsGroup(h)) continue;
@@ -688,18 +714,7 @@ LogResult ReadLog(const In& in, const std::string& id) {
     log.sources.push_back(std::move(s));
   }
   const std::string h = g + "/comparison";
-  if (f.Exists(h)) {
-    for (const std::string& channel : f.Children(h)) {
-      const std::string k = h + "/" + channel;
-      if (!f.IsGroup(k)) continue;
-      LogComparisonRow c;
-      c.channel = channel;
-      ReadFields(f, k, c);
-      // Written before the row kept its units: the channel's.
-      if (c.units.empty()) c.units = ChannelUnitsOf(log, channel);
-      log.comparison.push_back(std::move(c));
-    }
-  }
+  if (f.Exists(h)) log.comparison = ReadLogComparison(f, h, log);
   return log;
 }
 

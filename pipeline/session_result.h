@@ -339,13 +339,15 @@ struct SessionKelvinVoigt {
   }
 };
 
-// An encoder/accelerometer log's source (signal/log_analysis.h): its impact
-// as compared, and its channels' analyses as the log stage returns them
-// (ChannelAnalysis lists what the file keeps of one).
+// An encoder/accelerometer log's source (signal/log_analysis.h): its own
+// impact instant (its strongest jump, which places its segments) and its
+// channels' analyses as the log stage returns them (ChannelAnalysis lists
+// what the file keeps of one). The instants the sources' comparison
+// compares are the comparison's (LogComparison).
 struct LogSourceResult {
   std::string source;  // "experiment" or "simulation"
   std::optional<Estimate> impact_time_s;
-  std::string impact_method;  // or why no impact was found
+  std::string impact_method;  // the channel that found it, or why no impact was found
   std::vector<ChannelAnalysis> channels;
 
   // What the results file keeps as fields (options/result_fields.h); the
@@ -353,36 +355,9 @@ struct LogSourceResult {
   template <typename Self, typename Visit>
   static void VisitFields(Self& self, Visit&& visit) {
     visit("impact_method", self.impact_method, Quantity::kDimensionless,
-          "how the impact was found, or why it was not");
-    visit("impact_time", self.impact_time_s, Quantity::kSeconds, "the impact instant, when found");
-  }
-};
-
-struct LogComparisonRow {
-  std::string channel, units;
-  Estimate experiment_frequency_hz, simulation_frequency_hz;
-  double difference_hz = 0.0, difference_percent = 0.0;  // simulation - experiment
-  double rms_difference = 0.0;            // after aligning the impacts, channel units
-  double rms_difference_unaligned = 0.0;  // channel units
-
-  // What the results file keeps as fields (options/result_fields.h), the
-  // channel's own units for the RMS differences; the channel names the group.
-  template <typename Self, typename Visit>
-  static void VisitFields(Self& self, Visit&& visit) {
-    visit("channel_units", self.units, Quantity::kDimensionless,
-          "the channel's units: rad, m/s^2 or SI");
-    visit("experiment_frequency", EvenEmpty(self.experiment_frequency_hz), Quantity::kHertz,
-          "the experiment's dominant frequency");
-    visit("simulation_frequency", EvenEmpty(self.simulation_frequency_hz), Quantity::kHertz,
-          "the simulation's");
-    visit("frequency_difference", self.difference_hz, Quantity::kHertz,
-          "simulation - experiment (NaN: either has none)");
-    visit("frequency_difference_percent", self.difference_percent, Quantity::kPercent,
-          "the same, % of the experiment's");
-    visit("rms_difference", self.rms_difference, Quantity::kChannel,
-          "RMS of simulation - experiment after aligning the impacts");
-    visit("rms_difference_unaligned", self.rms_difference_unaligned, Quantity::kChannel,
-          "the same as recorded");
+          "the channel whose jump places the impact, or why none was found");
+    visit("impact_time", self.impact_time_s, Quantity::kSeconds,
+          "the source's own impact instant, when found");
   }
 };
 
@@ -392,19 +367,9 @@ struct LogResult {
   bool ok = false;
   std::string reason;  // why, when !ok (file, line and key where they apply)
   std::vector<LogSourceResult> sources;
-  std::optional<Estimate> impact_offset_s;  // simulation - experiment
-  std::vector<LogComparisonRow> comparison;
+  std::optional<LogComparison> comparison;  // with a simulation, as the log stage returns it
 
   std::string Status() const { return ok ? "ok" : "failed: " + reason; }
-
-  // What the results file keeps as fields (options/result_fields.h); the
-  // status, the settings, the sources and the comparison's channels are
-  // stored by the file's own layout.
-  template <typename Self, typename Visit>
-  static void VisitFields(Self& self, Visit&& visit) {
-    visit("comparison/impact_offset", self.impact_offset_s, Quantity::kSeconds,
-          "simulation - experiment impact time");
-  }
 };
 
 // A restitution model fitted jointly to the runs' maxima (fit/joint_fits.h),

@@ -364,18 +364,19 @@ std::string Summary(const SessionResult& r, const UnitLabels& u) {
       continue;
     }
     std::string rows;
-    for (const LogComparisonRow& c : log.comparison) {
-      // A channel without a frequency in both sources is not compared (the
-      // check list says why).
-      if (!std::isfinite(c.difference_hz)) continue;
-      rows += fmt::format("{}{}: {:.5g} Hz measured, {:.5g} Hz simulated ({:+.2f} %)",
-                          rows.empty() ? "" : "; ", EscapeHtml(c.channel),
-                          c.experiment_frequency_hz.value, c.simulation_frequency_hz.value,
-                          c.difference_percent);
-    }
-    if (log.impact_offset_s) {
-      rows += fmt::format("; impact offset {:.4g} ± {:.2g} s", log.impact_offset_s->value,
-                          log.impact_offset_s->sigma);
+    if (log.comparison) {
+      for (const ChannelComparison& c : log.comparison->channels) {
+        // A channel without a frequency in both sources is not compared (the
+        // check list says why).
+        if (!std::isfinite(c.frequency_difference_hz)) continue;
+        rows += fmt::format("{}{}: {:.5g} Hz measured, {:.5g} Hz simulated ({:+.2f} %)",
+                            rows.empty() ? "" : "; ", EscapeHtml(c.channel),
+                            c.experiment_frequency_hz.value, c.simulation_frequency_hz.value,
+                            c.frequency_difference_percent);
+      }
+      if (const std::optional<Estimate>& offset = log.comparison->impact_offset_s) {
+        rows += fmt::format("; impact offset {:.4g} ± {:.2g} s", offset->value, offset->sigma);
+      }
     }
     lines.push_back(
         fmt::format("Log {}: {}.", EscapeHtml(log.id), rows.empty() ? "analysed" : rows));

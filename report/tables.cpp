@@ -481,30 +481,15 @@ std::string SourcesText(const std::vector<std::string>& sources, const LogResult
   return text;
 }
 
-// The part of an impact method that names the channel ("accelerometer a3"),
-// before any explanation (pipeline/log_results.cpp writes them so).
-std::string ImpactChannelOf(const std::string& method) {
-  return method.substr(0, method.find(','));
-}
-
-const LogSourceResult* SourceOf(const LogResult& log, const std::string& name) {
-  for (const LogSourceResult& s : log.sources) {
-    if (s.source == name) return &s;
-  }
-  return nullptr;
-}
-
 // What the impact offset compares: one channel in both sources, or which.
 std::string OffsetBasis(const LogResult& log) {
-  const LogSourceResult* e = SourceOf(log, "experiment");
-  const LogSourceResult* s = SourceOf(log, "simulation");
-  if (e == nullptr || s == nullptr) return "";
-  const std::string ce = ImpactChannelOf(e->impact_method), cs = ImpactChannelOf(s->impact_method);
-  if (ce == cs) return ce + " in both";
+  if (!log.comparison) return "";
+  if (!log.comparison->impact_channel.empty()) return log.comparison->impact_channel + " in both";
+  if (log.sources.size() < 2) return "";
   return fmt::format(
       "different channels: {} in the experiment, {} in the simulation (no channel found the "
       "impact in both)",
-      ce, cs);
+      log.sources[0].impact_method, log.sources[1].impact_method);
 }
 
 Cell FrequencyCell(const ChannelAnalysis* c) {
@@ -544,12 +529,16 @@ Table LogTable(const LogResult& log) {
     if (s.source != "experiment") continue;
     for (const ChannelAnalysis& c : s.channels) {
       const ChannelAnalysis* sim = channel_of("simulation", c.name);
-      const auto row = std::find_if(log.comparison.begin(), log.comparison.end(),
-                                    [&](const LogComparisonRow& r) { return r.channel == c.name; });
-      const bool compared = row != log.comparison.end();
+      const ChannelComparison* row = nullptr;
+      if (log.comparison) {
+        for (const ChannelComparison& r : log.comparison->channels) {
+          if (r.channel == c.name) row = &r;
+        }
+      }
+      const bool compared = row != nullptr;
       // A channel with a dominant frequency in one source only has no
       // difference (NaN in the results file): a dash, not "+nan".
-      const bool differed = compared && std::isfinite(row->difference_hz);
+      const bool differed = compared && std::isfinite(row->frequency_difference_hz);
       std::string flagged;
       for (const ChannelFlag& f : flags) {
         if (f.channel != c.name) continue;
@@ -558,8 +547,8 @@ Table LogTable(const LogResult& log) {
             (flagged.empty() ? "" : "; ") + f.flag + (sources.empty() ? "" : " (" + sources + ")");
       }
       t.rows.push_back({c.name, FrequencyCell(&c), sim ? FrequencyCell(sim) : Cell("-"),
-                        differed ? Signed(row->difference_hz, 3) : Cell("-"),
-                        differed ? Signed(row->difference_percent, 2) : Cell("-"),
+                        differed ? Signed(row->frequency_difference_hz, 3) : Cell("-"),
+                        differed ? Signed(row->frequency_difference_percent, 2) : Cell("-"),
                         OptionalWithSigma(c.damping_ratio, 4),
                         sim ? OptionalWithSigma(sim->damping_ratio, 4) : Cell("-"),
                         compared ? Sig(row->rms_difference, 4) : Cell("-"), Cell::Unit(c.units),
@@ -588,15 +577,26 @@ Table LogImpactTable(const LogResult& log) {
     t.rows.push_back({s.source, s.impact_time_s ? WithSigma(*s.impact_time_s, 5) : "not found",
                       s.impact_method});
   }
-  if (log.impact_offset_s) {
-    t.rows.push_back(
-        {"simulation - experiment", WithSigma(*log.impact_offset_s, 5), OffsetBasis(log)});
+  if (log.comparison && !log.comparison->impact_channel.empty()) {
+    // The instants compared, where they are not a source's own.
+    const LogComparison& c = *log.comparison;
+    const std::optional<Estimate>* compared[] = {&c.experiment_impact_s, &c.simulation_impact_s};
+    for (std::size_t k = 0; k < log.sources.size() && k < 2; ++k) {
+      const LogSourceResult& s = log.sources[k];
+      if (!*compared[k] || s.impact_method == c.impact_channel) continue;
+      t.rows.push_back({s.source + ", compared", WithSigma(**compared[k], 5), c.impact_channel});
+    }
+  }
+  if (log.comparison && log.comparison->impact_offset_s) {
+    t.rows.push_back({"simulation - experiment", WithSigma(*log.comparison->impact_offset_s, 5),
+                      OffsetBasis(log)});
   }
   t.notes = {
-      "The instants compared are one channel's in both sources, where a channel found the "
-      "impact in both: the accelerometer whose jump is strongest in the weaker source (else an "
-      "encoder). A source whose own strongest jump, which places its post-impact segment, is "
-      "another channel's says so. The offset aligns the histories for the RMS differences."};
+      "Each source's own instant is its strongest jump's, which places its post-impact "
+      "segment. The instants compared are one channel's in both sources, where a channel found "
+      "the impact in both: the accelerometer whose jump is strongest in the weaker source (else "
+      "an encoder); a source whose own instant is another channel's has a row \"compared\" "
+      "too. The offset aligns the histories for the RMS differences."};
   return t;
 }
 
@@ -787,7 +787,7 @@ void CheckLog(const LogResult& log, std::vector<CheckItem>& items) {
            impact_table, ""});
     }
   }
-  if (log.impact_offset_s) {
+  if (log.comparison && log.comparison->impact_offset_s) {
     const std::string basis = OffsetBasis(log);
     if (basis.rfind("different channels", 0) == 0) {
       items.push_back(

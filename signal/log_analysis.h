@@ -169,6 +169,32 @@ struct ChannelComparison {
   double rms_difference = 0.0;            // units; simulation shifted so the impacts coincide
   double rms_difference_unaligned = 0.0;  // units; both on their own time axes
   double overlap_s = 0.0;                 // duration compared (aligned)
+
+  // What the results file keeps as fields (options/result_fields.h), the
+  // channel's own units for the RMS differences; the channel names the group.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("channel_units", self.units, Quantity::kDimensionless,
+          "the channel's units: rad, m/s^2 or SI");
+    visit("experiment_frequency", EvenEmpty(self.experiment_frequency_hz), Quantity::kHertz,
+          "the experiment's dominant frequency");
+    visit("simulation_frequency", EvenEmpty(self.simulation_frequency_hz), Quantity::kHertz,
+          "the simulation's");
+    visit("frequency_difference", self.frequency_difference_hz, Quantity::kHertz,
+          "simulation - experiment (NaN: either has none)");
+    visit("frequency_difference_percent", self.frequency_difference_percent, Quantity::kPercent,
+          "the same, % of the experiment's");
+    visit("experiment_damping_ratio", self.experiment_damping_ratio, Quantity::kDimensionless,
+          "the experiment's damping ratio of that mode");
+    visit("simulation_damping_ratio", self.simulation_damping_ratio, Quantity::kDimensionless,
+          "the simulation's");
+    visit("rms_difference", self.rms_difference, Quantity::kChannel,
+          "RMS of simulation - experiment after aligning the impacts");
+    visit("rms_difference_unaligned", self.rms_difference_unaligned, Quantity::kChannel,
+          "the same as recorded");
+    visit("overlap", self.overlap_s, Quantity::kSeconds,
+          "the duration the aligned RMS difference compares");
+  }
 };
 
 struct LogComparison {
@@ -183,6 +209,19 @@ struct LogComparison {
   std::optional<Estimate> experiment_impact_s, simulation_impact_s;  // log time, each source's
   std::optional<Estimate> impact_offset_s;  // simulation - experiment of the two, when both found
   std::vector<ChannelComparison> channels;
+
+  // What the results file keeps as fields (options/result_fields.h); each
+  // channel's comparison is a group of its own.
+  template <typename Self, typename Visit>
+  static void VisitFields(Self& self, Visit&& visit) {
+    visit("impact_channel", IfAny(self.impact_channel), Quantity::kDimensionless,
+          "the channel whose impact instants are compared (none: each source's own)");
+    visit("experiment_impact", self.experiment_impact_s, Quantity::kSeconds,
+          "the experiment's impact instant compared");
+    visit("simulation_impact", self.simulation_impact_s, Quantity::kSeconds, "the simulation's");
+    visit("impact_offset", self.impact_offset_s, Quantity::kSeconds,
+          "simulation - experiment impact time");
+  }
 };
 
 struct LogAnalysis {

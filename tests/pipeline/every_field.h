@@ -29,8 +29,8 @@ using ListedResults =
                PoyntingThomsonLeastSquaresFit, ChannelAnalysis, PhotoOverlay, StageSeconds,
                RunMeasurement, RunFits, RunResult, KelvinVoigtTwoPointFit, SessionKelvinVoigt,
                DampingLine, ComparedRestitutionModel, ComparedContactLaw, ModelComparison,
-               LogSourceResult, LogComparisonRow, LogResult, RunPrediction, Apparatus, Specimen,
-               SessionResult>;
+               LogSourceResult, ChannelComparison, LogComparison, RunPrediction, Apparatus,
+               Specimen, SessionResult>;
 
 template <typename Field>
 constexpr bool IsColumnField = false;

@@ -71,12 +71,15 @@ struct SessionFields {
   }
   void AddLog(const LogResult& log) {
     const std::string g = "logs/" + log.id;
-    Add(log, g);
     for (const LogSourceResult& s : log.sources) {
       Add(s, g + "/" + s.source);
       for (const ChannelAnalysis& c : s.channels) Add(c, g + "/" + s.source + "/" + c.name);
     }
-    for (const LogComparisonRow& c : log.comparison) Add(c, g + "/comparison/" + c.channel);
+    if (!log.comparison) return;
+    Add(*log.comparison, g + "/comparison");
+    for (const ChannelComparison& c : log.comparison->channels) {
+      Add(c, g + "/comparison/" + c.channel);
+    }
   }
 
   explicit SessionFields(const SessionResult& r) {

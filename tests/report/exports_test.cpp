@@ -259,12 +259,13 @@ TEST_CASE("exports: a log channel with a frequency in one source only has no dif
   ChannelAnalysis simulated = measured;
   simulated.dominant_frequency_hz = Estimate{31.03, 0.10};
   log.sources = {{"experiment", {}, "", {measured}}, {"simulation", {}, "", {simulated}}};
-  LogComparisonRow row;
+  ChannelComparison row;
   row.channel = "a2";
   row.units = "m/s^2";
-  row.difference_hz = row.difference_percent = std::nan("");
+  row.frequency_difference_hz = row.frequency_difference_percent = std::nan("");
   row.rms_difference = 0.99;
-  log.comparison = {row};
+  log.comparison = LogComparison{};
+  log.comparison->channels = {row};
   SessionResult r;
   r.logs = {log};
   const std::vector<Table> tables = BuildTables(r);
