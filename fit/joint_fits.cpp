@@ -191,7 +191,7 @@ JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
   const Eigen::MatrixXd j = fit_internal::Jacobian(problem, blocks, &res);
   fit.chi2 = res.squaredNorm();
   const double k = fit.parameter_count;
-  fit.reduced_chi2 = fit.dof > 0 ? fit.chi2 / fit.dof : std::numeric_limits<double>::quiet_NaN();
+  fit.scatter = CheckScatter(fit.chi2, fit.dof);
   fit.aic = fit.chi2 + 2.0 * k;
   fit.bic = fit.chi2 + k * std::log(static_cast<double>(fit.maxima));
 

@@ -105,9 +105,9 @@ struct JointModelFit {
   int parameter_count = 0;  // k, nuisance included
   int dof = 0;              // N - k
   double chi2 = 0.0;
-  // chi^2/dof (NaN when dof <= 0). Far above 1, the sigmas understate the
-  // scatter: multiply the standard errors by its square root.
-  double reduced_chi2 = 0.0;
+  // chi^2 against dof: significantly high, the sigmas understate the
+  // scatter, and the standard errors are to be multiplied by the Birge ratio.
+  ScatterCheck scatter;
   double aic = 0.0;
   double bic = 0.0;
   // Inverse-variance weighted mean and standard deviation across runs of
@@ -122,9 +122,9 @@ struct JointModelFit {
 
   // What the results file keeps of a model that was fitted
   // (options/result_fields.h); the status (ok and reason), the parameters by
-  // name and the Birge ratio (from chi2 and dof) are stored by the file's own
-  // layout, the covariance as this correlation times the parameters' errors.
-  // Not kept: the name (the group's) and chi2/dof, which follow from what is;
+  // name are stored by the file's own layout, the covariance as this
+  // correlation times the parameters' errors.
+  // Not kept: the name (the group's);
   // each run's ln e (per-run's are its parameters; the others' follow from
   // the parameters and the runs' speeds); the runs' fitted speeds (nuisance
   // parameters, left out of the correlation too) and the solver's details
@@ -139,6 +139,7 @@ struct JointModelFit {
     visit("chi2", self.chi2, Quantity::kDimensionless, "chi-square");
     visit("aic", self.aic, Quantity::kDimensionless, "chi2 + 2 k");
     visit("bic", self.bic, Quantity::kDimensionless, "chi2 + k ln N");
+    ScatterCheck::VisitFields(self.scatter, visit);
     visit("log_restitution_spread", self.log_restitution_spread, Quantity::kDimensionless,
           "the weighted standard deviation of the runs' ln e");
     visit("log_restitution_mean", IfAny(self.log_restitution_mean), Quantity::kDimensionless,

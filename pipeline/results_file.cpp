@@ -469,7 +469,6 @@ void WriteModelComparison(Out& out, const ModelComparison& c) {
     if (!m.Ran()) continue;
     WriteFields(f, out.x, h, m, out.u);
     WriteNamedEstimates(out, h, m.fit.parameters);
-    f.WriteScalar(h + "/birge_ratio", CheckScatter(m.fit.chi2, m.fit.dof).birge_ratio, "1");
   }
   for (const ComparedContactLaw& m : c.contact_laws) {
     const std::string h = start(m, m.fit.ok, m.fit.reason);
@@ -550,6 +549,8 @@ ModelComparison ReadModelComparison(const Hdf5File& f) {
     ReadFields(f, h, m);
     if (f.Exists(h + "/parameter_names")) m.fit.parameters = ReadNamedEstimates(f, h);
     if (f.Exists(h + "/correlation")) ReadModelCovariance(f, h, m.fit);
+    // Written before the model kept its scatter check: from chi2 and dof.
+    if (!f.Exists(h + "/chi2_p_value")) m.fit.scatter = CheckScatter(m.fit.chi2, m.fit.dof);
     if (!f.HasAttribute(h, "leave_one_out_ok")) {
       m.fit.leave_one_out.ok = f.Exists(h + "/leave_one_out_rms_normalized");
     }

@@ -303,8 +303,7 @@ Table ModelParameterTable(const ModelComparison& c, const UnitLabels& u) {
     }
   };
   for (const ComparedRestitutionModel& m : c.restitution_models) {
-    // A joint model keeps chi2 and dof, not their scatter check.
-    if (m.fit.ok) add(m.fit.name, m.fit.parameters, CheckScatter(m.fit.chi2, m.fit.dof).Scale());
+    if (m.fit.ok) add(m.fit.name, m.fit.parameters, m.fit.scatter.Scale());
   }
   for (const ComparedContactLaw& m : c.contact_laws) {
     if (m.fit.ok) add(m.fit.law, m.fit.parameters, m.fit.scatter.Scale());
