@@ -35,11 +35,14 @@ double MeanOfTwoSigma(double a, double sigma_a, double b, double sigma_b) {
 // the two plus this length with alternating sign: right_n = mean_n +
 // (-1)^n c, left_n = mean_n - (-1)^n c. Estimated as the weighted mean of
 // (-1)^n (right_n - left_n) / 2, with its standard error widened by the
-// scatter about it (a Birge ratio) where two or more rebounds give it.
-Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::size_t both) {
+// scatter about it (a Birge ratio) where two or more rebounds give it;
+// rebound `skip` left out (none by default).
+Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::size_t both,
+                     std::size_t skip = static_cast<std::size_t>(-1)) {
   double sum_w = 0.0, sum_wc = 0.0;
   std::vector<std::array<double, 2>> readings;  // c_n and its sigma
   for (std::size_t n = 0; n < both; ++n) {
+    if (n == skip) continue;
     const double sign = n % 2 == 0 ? 1.0 : -1.0;
     const double c = sign * 0.5 * (right.xmax[n] - left.xmax[n]);
     const double sigma = 0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]);
@@ -55,6 +58,37 @@ Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::siz
   const double birge =
       readings.size() > 1 ? std::max(1.0, std::sqrt(chi2 / (readings.size() - 1.0))) : 1.0;
   return {mean, birge / std::sqrt(sum_w)};
+}
+
+// Rebound n's maximum of the pair, mean_n = (right_n + left_n) / 2, from
+// both bars' readings. Each bar alone gives it through the common swing c
+// (right_n - (-1)^n c, left_n + (-1)^n c), c from the other rebounds. Where
+// the two agree within kBarsAgreeSigmas of their combined error (about 95 %
+// of clean rebounds), the plain mean, which needs no c. Where they do not,
+// one bar was read badly at this rebound (a crest under a mark or misread: a
+// wide sigma), and the two are weighted for the least variance, so the bad
+// bar gives way to the other instead of pulling the mean by half its error;
+// the standard error is scaled by how far they disagree (the Birge ratio of
+// two), as MeanOfTwoSigma does. No c known: the plain mean.
+constexpr double kBarsAgreeSigmas = 2.0;
+
+Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, std::size_t n,
+                       const Estimate& common) {
+  const double r = right.xmax[n], l = left.xmax[n];
+  const double sr = right.xmax_sigma[n], sl = left.xmax_sigma[n];
+  if (!(sr > 0.0) || !(sl > 0.0) || !(common.sigma > 0.0)) {
+    return {0.5 * (r + l), 0.5 * std::hypot(sr, sl)};
+  }
+  const double sign = n % 2 == 0 ? 1.0 : -1.0;
+  const double from_right = r - sign * common.value, from_left = l + sign * common.value;
+  const double vr = sr * sr, vl = sl * sl, vc = common.sigma * common.sigma;
+  // Var(a from_right + (1 - a) from_left), c shared with opposite signs, is
+  // least at this a; 1/2 when the bars' sigmas are equal.
+  const double apart = std::abs(from_right - from_left) / std::sqrt(vr + vl + 4.0 * vc);
+  if (apart <= kBarsAgreeSigmas) return {0.5 * (r + l), 0.5 * std::hypot(sr, sl)};
+  const double a = (vl + 2.0 * vc) / (vr + vl + 4.0 * vc);
+  const double variance = a * a * vr + (1.0 - a) * (1.0 - a) * vl + std::pow(1.0 - 2.0 * a, 2) * vc;
+  return {a * from_right + (1.0 - a) * from_left, std::sqrt(variance) * std::max(1.0, apart)};
 }
 
 // Whether rebound n's peaks in `a` and `b` lie more than a tenth of its
@@ -176,8 +210,9 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
   const std::size_t both =
       disagreement ? disagreement->rebound : std::min(right.xmax.size(), left.xmax.size());
   for (std::size_t n = 0; n < both; ++n) {
-    out.xmax.push_back(0.5 * (right.xmax[n] + left.xmax[n]));
-    out.xmax_sigma.push_back(0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]));
+    const Estimate maximum = MaximumOfPair(right, left, n, CommonSwing(right, left, both, n));
+    out.xmax.push_back(maximum.value);
+    out.xmax_sigma.push_back(maximum.sigma);
     out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
     out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
     out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));

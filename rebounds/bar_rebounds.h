@@ -88,7 +88,9 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 // The session's maxima from both bars (session numbering, gap-free): the
 // mean of the bars' own where both have the rebound (the thesis's average of
 // the two displacements at its peak, without reading one bar at the other's
-// sample times), sigmas combined; past the last rebound both have, the
+// sample times), each bar weighted by its sigma through the bars' common
+// swing (a bar read badly at a rebound gives way to the other), the sigma
+// scaled where the two disagree beyond their errors; past the last rebound both have, the
 // averaged history's own as long as it has them. The sequence stops at the
 // first rebound the bars disagree about (past it neither can be trusted);
 // where the average's numbering slipped (AverageSlip) or its rows end, the
