@@ -41,6 +41,15 @@ constexpr double kMinCrossContrast = 10.0;
 constexpr double kMinCleanScreenContrast = 150.0;
 constexpr double kMinTwinRatio = 0.75, kMaxTwinRatio = 1.35;
 constexpr double kMaxBelowShare = 0.3;
+// A screen running along the grid's lines without its sum frequency (below)
+// is taken when its sidebands stay under this share of its peak, its turned
+// twin is within this ratio of it either way (each read as the largest of
+// its 3 x 3 bins: the same dots), and nothing below it along its direction
+// reaches this share (candidates with a sum frequency in photos without a
+// screen had 0.52 or more, IsScreenPeak).
+constexpr double kMaxAlongGridSidebands = 0.25;
+constexpr double kMinAlongGridTwinRatio = 0.85;
+constexpr double kMaxAlongGridBelowShare = 0.5;
 // Before the four tiles are read, a screen is looked for in the top left
 // one alone and then in the bottom right one alone, each asked for this
 // share of the contrasts above (which are the four's): a screen covers the
@@ -266,10 +275,11 @@ namespace {
 // (from 0.3 to 0.9 of its frequency) reaches kMaxBelowShare of its
 // `contrast`: a comb of harmonics has its lower ones there, all the way
 // down to its fundamental.
-bool NothingBelow(const RingSpectrum& spectrum, int fx, int fy, double contrast) {
+bool NothingBelow(const RingSpectrum& spectrum, int fx, int fy, double contrast,
+                  double share = kMaxBelowShare) {
   const double r = std::sqrt(static_cast<double>(fx * fx + fy * fy));
   for (double t = 0.3; t <= 0.9; t += 0.5 / r) {
-    if (spectrum.Contrast(t * fx, t * fy) >= kMaxBelowShare * contrast) return false;
+    if (spectrum.Contrast(t * fx, t * fy) >= share * contrast) return false;
   }
   return true;
 }
@@ -314,7 +324,26 @@ bool IsScreenPeak(const RingSpectrum& spectrum, int fx, int fy, double contrast,
     // randomised benchmark's 149 photos without a screen and the 113
     // external and sample ones, the 460 candidate peaks with a sum
     // frequency had 0.52 of their height or more below them.
-    return sum_frequency && NothingBelow(spectrum, fx, fy, contrast);
+    if (sum_frequency && NothingBelow(spectrum, fx, fy, contrast)) return true;
+    // Or such a screen without its sum frequency (its dots' transform
+    // vanishing there): a screen's fundamental, as strong turned a right
+    // angle as the same dots make it, standing well above everything along
+    // its direction below it. A comb of lines has its lower harmonics as
+    // strong as its higher ones or stronger (a line's transform falls with
+    // frequency), and a square grid's harmonic has its turned twin too
+    // (randomised seed 1009's calibration, a 6.7 px screen 2.4
+    // degrees off the grid at the grid's 7th harmonic: sidebands 0.12 of
+    // its peak, its sum frequency 3 above its ring, 0.39 of it below, its
+    // twin 1.01; read as a photo, its lattice was refused at 1.68 px RMS,
+    // descreened it is within 0.2 px of the true mapping at 0.36 px RMS).
+    if (!clean_peak_enough || comb > kMaxAlongGridSidebands * contrast ||
+        contrast < contrast_share * kMinCleanScreenContrast) {
+      return false;
+    }
+    // Both read alike, each the largest of its 3 x 3 bins.
+    const double twin = spectrum.Contrast(-fy, fx) / spectrum.Contrast(fx, fy);
+    return twin >= kMinAlongGridTwinRatio && twin <= 1.0 / kMinAlongGridTwinRatio &&
+           NothingBelow(spectrum, fx, fy, contrast, kMaxAlongGridBelowShare);
   }
   if (sum_frequency) return true;
   if (!clean_peak_enough) return false;

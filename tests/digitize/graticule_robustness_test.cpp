@@ -337,6 +337,27 @@ TEST_CASE("graticule: a print's screen along the grid and a grid printed over pa
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.6);
 }
 
+// Randomised seed 1009 (with the generator's handling), calibration R-0.713:
+// a figure printed through a 6.6 px screen 2.4 degrees off the grid's
+// lines, whose dots' transform vanishes at the screen's sum frequency. Its
+// peak lies at the grid's 7th harmonic, with the figure's sidebands beside
+// it, and the screen was not found: read as a photo, its lines as rows of
+// dots, the lattice (right to a pixel) was refused ("the best lattice misses
+// its lines by 1.68 px RMS"). Its peak is as strong turned a right angle and
+// stands well above the grid's lower harmonics: a screen, not a comb.
+TEST_CASE("graticule: a print's screen along the grid without its sum frequency") {
+  testing::TempDir dir;
+  const RandomisedPhoto p = LoadRandomised(dir, 1009, "R-0.713", /*handling=*/true);
+  const GraticuleOptions options;
+  const PreparedPhoto prepared = PreparePhoto(p.photo, options);
+  // Found at 6.74 px for 6.61 px drawn.
+  CHECK(prepared.halftone_period_px == Approx(p.halftone_period_px).epsilon(0.03));
+  const GraticuleFit fit = FindGraticule(prepared, {10, 8}, options);
+  // Measured 0.36 px RMS and about 0.2 px (46 px per division).
+  CHECK(fit.residual_px < 0.6);
+  CHECK(testing::WorstMappingError(fit, p.truth) < 0.5);
+}
+
 // Randomised seed 1031 (with the generator's handling), run 0.405: a
 // 3383 px photo of a print in noise, its grid lines 1.7 px wide. In the
 // 500 px working copy a line is a quarter of a pixel, lost in the grain,
