@@ -148,12 +148,44 @@ std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
   const double usual_gap = MedianOf(gaps);
   if (usual_gap < 2.0) return {};
   const double period = usual + usual_gap;
+  // A chopper's blanking is in time, and the sweep draws time along the
+  // columns: its gaps span the same columns however steep the trace. Where
+  // they are wide (as long as its dashes at least, and kWideGapColumns: no
+  // blur or glow fills them), a run across two of them (a period and a
+  // gap) crossed where the beam was blanked twice, whatever the chopper's
+  // duty: a sparse chopper's few short dashes leave three periods room for
+  // a scratch or a ring's arc a division long.
+  constexpr double kWideGapColumns = 4.0;
+  const bool wide_gaps = usual_gap >= std::max(kWideGapColumns, usual);
+  const double foreign_length =
+      wide_gaps ? std::min(kPeriods * period, period + usual_gap) : kPeriods * period;
+  // Between wide gaps, a break of a few columns, under half a gap, is no
+  // blanking: a line crossing the band loses them where it crosses a
+  // vertical grid line (there a candidate must outshine the line, a strip
+  // pixel and a half either side), and the runs either side of such a break
+  // are judged as one, as long as it is seen in nearly all its columns
+  // (kSeenShare: a line crosses a grid line once a division). Dashes a
+  // short gap apart are seen in far fewer.
+  constexpr int kGridBreakColumns = 3;
+  constexpr double kSeenShare = 0.85;
+  std::vector<Run> judged;
+  for (const Run& r : runs) {
+    const int gap =
+        judged.empty() ? 0 : chosen[r.first].column - chosen[judged.back().end - 1].column - 1;
+    if (wide_gaps && !judged.empty() && chosen[r.first].link != CoarsePath::kRestart &&
+        gap <= kGridBreakColumns && gap < 0.5 * usual_gap) {
+      judged.back().end = r.end;
+    } else {
+      judged.push_back(r);
+    }
+  }
   const int span = chosen.back().column - chosen.front().column + 1;
   std::vector<Chosen> foreign;
-  for (const Run& r : runs) {
-    const auto length = static_cast<double>(r.end - r.first);
-    if (length < std::max<double>(kMinColumns, kPeriods * period)) continue;
-    const double rest_seen = static_cast<double>(chosen.size()) - length;
+  for (const Run& r : judged) {
+    const auto length = static_cast<double>(chosen[r.end - 1].column - chosen[r.first].column + 1);
+    if (length < std::max<double>(kMinColumns, foreign_length)) continue;
+    if (static_cast<double>(r.end - r.first) < kSeenShare * length) continue;
+    const double rest_seen = static_cast<double>(chosen.size() - (r.end - r.first));
     if (!(rest_seen < kChoppedShare * (span - length))) continue;
     foreign.insert(foreign.end(), chosen.begin() + r.first, chosen.begin() + r.end);
   }
