@@ -88,16 +88,19 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
 }
 
 // A reading of thin lines that misses more of the sweep than this, for one of
-// its traces, may have lost a bold trace's core and followed something thin
-// beside it: it is read on bold lines too (below).
+// its continuously drawn traces, may have lost a bold trace's core and
+// followed something thin beside it: it is read on bold lines too (below).
+// A trace read in dashes misses much of the sweep by design (the chopper's
+// blanking), so it alone does not ask for the second reading.
 constexpr double kWeakCoverage = 0.6;
 // The bold reading replaces the thin one where it sees a trace wider than the
 // grid's lines along at least this much more of the sweep.
 constexpr double kBoldCoverageGain = 0.2;
 
 bool SomeTraceWeak(const std::vector<DigitizedTrace>& traces) {
-  return std::any_of(traces.begin(), traces.end(),
-                     [](const DigitizedTrace& t) { return t.coverage < kWeakCoverage; });
+  return std::any_of(traces.begin(), traces.end(), [](const DigitizedTrace& t) {
+    return t.coverage < kWeakCoverage && !digitize::ReadInDashes(t);
+  });
 }
 
 // Two readings of one trace follow different lines where their samples at
