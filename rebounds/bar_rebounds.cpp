@@ -64,13 +64,16 @@ Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::siz
 // both bars' readings. Each bar alone gives it through the common swing c
 // (right_n - (-1)^n c, left_n + (-1)^n c), c from the other rebounds. Where
 // the two agree within kBarsAgreeSigmas of their combined error (about 95 %
-// of clean rebounds), the plain mean, which needs no c. Where they do not,
-// one bar was read badly at this rebound (a crest under a mark or misread: a
-// wide sigma), and the two are weighted for the least variance, so the bad
-// bar gives way to the other instead of pulling the mean by half its error;
-// the standard error is scaled by how far they disagree (the Birge ratio of
-// two), as MeanOfTwoSigma does. No c known: the plain mean.
+// of clean rebounds) and the bars were read about as well, the plain mean,
+// which needs no c. Where they do not, or where the plain mean's sigma is
+// more than kPlainSigmaShare times the least-variance weighting's (one bar's
+// sigma some 3.5 times the other's: its crest under a mark or misread), the
+// two are weighted for the least variance, so the bad bar gives way to the
+// other instead of pulling the mean by half its error; the standard error is
+// scaled by how far they disagree (the Birge ratio of two), as
+// MeanOfTwoSigma does. No c known: the plain mean.
 constexpr double kBarsAgreeSigmas = 2.0;
+constexpr double kPlainSigmaShare = 2.0;
 
 Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, std::size_t n,
                        const Estimate& common) {
@@ -84,10 +87,13 @@ Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, std::s
   const double vr = sr * sr, vl = sl * sl, vc = common.sigma * common.sigma;
   // Var(a from_right + (1 - a) from_left), c shared with opposite signs, is
   // least at this a; 1/2 when the bars' sigmas are equal.
-  const double apart = std::abs(from_right - from_left) / std::sqrt(vr + vl + 4.0 * vc);
-  if (apart <= kBarsAgreeSigmas) return {0.5 * (r + l), 0.5 * std::hypot(sr, sl)};
   const double a = (vl + 2.0 * vc) / (vr + vl + 4.0 * vc);
   const double variance = a * a * vr + (1.0 - a) * (1.0 - a) * vl + std::pow(1.0 - 2.0 * a, 2) * vc;
+  const Estimate plain{0.5 * (r + l), 0.5 * std::hypot(sr, sl)};
+  const double apart = std::abs(from_right - from_left) / std::sqrt(vr + vl + 4.0 * vc);
+  if (apart <= kBarsAgreeSigmas && plain.sigma <= kPlainSigmaShare * std::sqrt(variance)) {
+    return plain;
+  }
   return {a * from_right + (1.0 - a) * from_left, std::sqrt(variance) * std::max(1.0, apart)};
 }
 

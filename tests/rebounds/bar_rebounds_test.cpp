@@ -219,6 +219,18 @@ TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other"
   CHECK(both.xmax_sigma[3] < 0.5 * 0.0095);
   // The other rebounds are as clean.
   CHECK(both.xmax[2] == Approx(mean[2]).epsilon(1e-12));
+
+  // Seed 1009's run 0.405: the right bar's rebound 1 read 0.0358 low with a
+  // sigma of 0.019, which the disagreement does not exceed twice; the plain
+  // mean's sigma (0.0097) is nine times the weighted one's, so the left bar
+  // carries it.
+  right.xmax[1] = mean[1] - kCommon - 0.0358;
+  right.xmax_sigma[1] = 0.0194;
+  const BarRebounds wide = MeanOfBars(right, left, BarRebounds{});
+  REQUIRE(wide.xmax.size() == 5);
+  CHECK(std::abs(wide.xmax[1] - mean[1]) < 5e-4);
+  CHECK(wide.xmax_sigma[1] < 0.1 * 0.5 * std::hypot(0.0194, 3e-4));
+  CHECK(std::abs(wide.xmax[1] - mean[1]) < 2.0 * wide.xmax_sigma[1]);
 }
 
 }  // namespace
