@@ -709,6 +709,20 @@ std::vector<Chosen> GapExcursions(const std::vector<Chosen>& chosen,
   return stray;
 }
 
+// The candidates `nodes` without those within `reach` rows of the course's
+// samples `taken`, in their columns: what a course is sought again on once
+// `taken` was judged something beside the trace.
+std::vector<std::vector<Node>> WithoutCandidatesNear(const std::vector<std::vector<Node>>& nodes,
+                                                     const std::vector<Chosen>& taken,
+                                                     double reach) {
+  std::vector<std::vector<Node>> cleared = nodes;
+  for (const Chosen& c : taken) {
+    const double row = nodes[c.column][c.index].row;
+    std::erase_if(cleared[c.column], [&](const Node& n) { return std::abs(n.row - row) <= reach; });
+  }
+  return cleared;
+}
+
 // Whether courses `a` (on the candidates `a_nodes`) and `b` (on `b_nodes`)
 // take the same columns at the same rows everywhere farther than `near`
 // columns from the candidates `around`.
@@ -879,13 +893,8 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
       const std::vector<Chosen> stray =
           StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
       if (stray.empty()) break;
-      std::vector<std::vector<Node>> cleared = before;
-      const double reach = kStrayClearDiv * grid.px_per_div;
-      for (const Chosen& c : stray) {
-        const double row = before[c.column][c.index].row;
-        std::erase_if(cleared[c.column],
-                      [&](const Node& n) { return std::abs(n.row - row) <= reach; });
-      }
+      std::vector<std::vector<Node>> cleared =
+          WithoutCandidatesNear(before, stray, kStrayClearDiv * grid.px_per_div);
       chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
       kept = std::move(cleared);
     }
@@ -896,13 +905,8 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
       const std::vector<Chosen> stray =
           GapExcursions(chosen, before, grid.px_per_div, kGapJumpDiv * grid.px_per_div);
       if (stray.empty()) break;
-      std::vector<std::vector<Node>> cleared = before;
-      const double reach = std::max(1.5, kGapClearDiv * grid.px_per_div);
-      for (const Chosen& c : stray) {
-        const double row = before[c.column][c.index].row;
-        std::erase_if(cleared[c.column],
-                      [&](const Node& n) { return std::abs(n.row - row) <= reach; });
-      }
+      std::vector<std::vector<Node>> cleared =
+          WithoutCandidatesNear(before, stray, std::max(1.5, kGapClearDiv * grid.px_per_div));
       std::vector<Chosen> again = BestCourse(cleared, grid, level, step_trace, max_gap);
       // The course sought again is taken only where it changed about the
       // excursions: a jump judged on a trace's own faint, broken stretch
