@@ -1,7 +1,6 @@
 #include "fit/contact_law_fit.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -475,7 +474,7 @@ struct Solved {
 
 Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
              const ContactLawFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   Solved out;
   ContactLawFit& fit = out.fit;
   fit.law = ContactLawName(kind);
@@ -522,8 +521,7 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
   } else if (kind == ContactLawKind::kHertzDamper) {
     if (!law.fit_stiffness) {
       fit.reason = "needs contact times: the maxima alone fix only the combination c k^(-1/(n+1))";
-      fit.status.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      fit.status.seconds = stopwatch.Seconds();
       return out;
     }
     // Hertz's k from the contact times, then c from the damping ratio the
@@ -587,14 +585,11 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
   fit.parameter_count = law.Size() + static_cast<int>(runs.size());
   fit.dof = fit.maxima + fit.contact_times - fit.parameter_count;
 
-  fit_internal::Solve(problem, options.solver, &fit.status);
   const auto finish = [&] {
-    fit.status.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fit.status.seconds = stopwatch.Seconds();
     return out;
   };
-  if (!fit.status.usable) {
-    fit.reason = "the solver failed: " + fit.status.message;
+  if (!fit_internal::SolveUsable(problem, options.solver, &fit.status, &fit.reason)) {
     return finish();
   }
 
@@ -801,7 +796,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     throw std::invalid_argument(
         fmt::format("a contact law needs two runs or more, got {}", runs.size()));
   }
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   std::vector<PreparedRun> prepared;
   for (const LawRun& run : runs) prepared.push_back(Prepare(run, options.use_contact_times));
   Solved solved = Solve(kind, prepared, options);
@@ -827,8 +822,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     }
     PredictHeldOut(refit.law, refit.theta, prepared[h], &ss_norm, &ss_length, &count, &ok);
   }
-  fit.status.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fit.status.seconds = stopwatch.Seconds();
   fit.loo_ok = ok && count > 0;
   fit.loo_maxima = count;
   if (count > 0) {

@@ -1,7 +1,6 @@
 #include "fit/joint_fits.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -121,7 +120,7 @@ std::vector<double> Coefficients(Kind kind, std::size_t run, std::size_t runs, d
 
 JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
                        const JointFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   JointModelFit fit;
   fit.name = KindName(kind);
   const std::size_t nr = runs.size();
@@ -174,14 +173,11 @@ JointModelFit FitModel(Kind kind, const std::vector<const Prepared*>& runs,
   fit.parameter_count = static_cast<int>(m + nr);
   fit.dof = fit.maxima - fit.parameter_count;
 
-  fit_internal::Solve(problem, options.solver, &fit.status);
   const auto finish = [&] {
-    fit.status.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fit.status.seconds = stopwatch.Seconds();
     return fit;
   };
-  if (!fit.status.usable) {
-    fit.reason = "the solver failed: " + fit.status.message;
+  if (!fit_internal::SolveUsable(problem, options.solver, &fit.status, &fit.reason)) {
     return finish();
   }
 
@@ -317,7 +313,7 @@ bool JointFitOptions::Check(std::string* why) const {
 
 SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& runs,
                                                 const JointFitOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   for (const std::string& name : options.runs) {
     if (std::none_of(runs.begin(), runs.end(), [&](const JointRun& r) { return r.name == name; })) {
@@ -393,7 +389,7 @@ SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& run
     }
     out.models.push_back(std::move(fit));
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = stopwatch.Seconds();
   return out;
 }
 

@@ -1,6 +1,5 @@
 #include "fit/kelvin_voigt_least_squares.h"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -75,7 +74,7 @@ bool KelvinVoigtLeastSquaresOptions::Check(std::string* why) const {
 KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     const Pendulum& pendulum, double mass, const ReboundMeasurements& measured,
     const KelvinVoigtLeastSquaresOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   if (!(mass > 0.0)) throw std::invalid_argument(fmt::format("mass must be > 0, got {}", mass));
   bool weighted = false;
@@ -118,14 +117,11 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     problem.AddResidualBlock(new KelvinVoigtMaximumCost(pendulum, n, measured.xmax[i], sigmas[i]),
                              fit_internal::MakeLoss(options.loss), theta);
   }
-  fit_internal::Solve(problem, options.solver, &fit.status);
   const auto finish = [&] {
-    fit.status.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fit.status.seconds = stopwatch.Seconds();
     return fit;
   };
-  if (!fit.status.usable) {
-    fit.reason = "the solver failed: " + fit.status.message;
+  if (!fit_internal::SolveUsable(problem, options.solver, &fit.status, &fit.reason)) {
     return finish();
   }
 

@@ -100,6 +100,13 @@ void Solve(ceres::Problem& problem, const SolverControl& control, FitStatus* sta
   status->final_cost = summary.final_cost;
 }
 
+bool SolveUsable(ceres::Problem& problem, const SolverControl& control, FitStatus* status,
+                 std::string* reason) {
+  Solve(problem, control, status);
+  if (!status->usable) *reason = "the solver failed: " + status->message;
+  return status->usable;
+}
+
 Eigen::MatrixXd Jacobian(ceres::Problem& problem, const std::vector<double*>& blocks,
                          Eigen::VectorXd* residuals) {
   ceres::Problem::EvaluateOptions options;

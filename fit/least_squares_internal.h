@@ -2,6 +2,7 @@
 // .cpp files include it, so Ceres stays out of the public headers.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,22 @@ ceres::LossFunction* MakeLoss(const LossOptions& loss);
 // Solves `problem` with the project's silent solver settings and records how
 // it went in `status` (convergence, usability, message, iterations, costs).
 void Solve(ceres::Problem& problem, const SolverControl& control, FitStatus* status);
+
+// Solve(), and false with `reason` set ("the solver failed: ...") when Ceres
+// leaves no usable solution: every fit refuses such a solution the same way.
+bool SolveUsable(ceres::Problem& problem, const SolverControl& control, FitStatus* status,
+                 std::string* reason);
+
+// The wall time since a fit began, for its status's `seconds`.
+class Stopwatch {
+ public:
+  double Seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
 
 // The whitened Jacobian at the current parameters (robust loss not applied),
 // columns in the order of `blocks`, and the raw residuals.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -281,7 +280,7 @@ bool PoyntingThomsonLeastSquaresOptions::Check(std::string* why) const {
 PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     const std::vector<PoyntingThomsonRun>& runs,
     const PoyntingThomsonLeastSquaresOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const fit_internal::Stopwatch stopwatch;
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   if (!(options.mass > 0.0) || !std::isfinite(options.mass)) {
     throw std::invalid_argument(fmt::format("mass must be > 0, got {}", options.mass));
@@ -332,8 +331,7 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   const std::array<double, 3> theta0 = theta;
   const ResponseModel model(options.mass, options.separation, options.difference_step);
   const auto finish = [&] {
-    fit.status.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fit.status.seconds = stopwatch.Seconds();
     return fit;
   };
   Response at_start;
@@ -388,12 +386,9 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   const int parameter_count = 3 + static_cast<int>(runs.size());
   fit.dof = residual_count - parameter_count;
 
-  fit_internal::Solve(problem, options.solver, &fit.status);
+  const bool usable = fit_internal::SolveUsable(problem, options.solver, &fit.status, &fit.reason);
   fit.model = {options.mass, std::exp(theta[0]), std::exp(theta[1]), std::exp(theta[2])};
-  if (!fit.status.usable) {
-    fit.reason = "the solver failed: " + fit.status.message;
-    return finish();
-  }
+  if (!usable) return finish();
   for (std::size_t i = 0; i < 3; ++i) {
     fit.at_bound = fit.at_bound || std::abs(theta[i] - theta0[i]) > spread * (1.0 - 1e-9);
   }
