@@ -828,27 +828,22 @@ std::string Join(const std::vector<std::string>& cells, const std::string& separ
   return out;
 }
 
-// Which columns carry standard errors (CSV gives them a column of their own).
-std::vector<bool> ColumnsWithSigma(const Table& t) {
-  std::vector<bool> with(t.columns.size(), false);
+// Which columns have a cell with `part` set in some row.
+std::vector<bool> ColumnsHolding(const Table& t, std::optional<double> Cell::*part) {
+  std::vector<bool> holding(t.columns.size(), false);
   for (const auto& row : t.rows) {
-    for (std::size_t c = 0; c < row.size() && c < with.size(); ++c) {
-      if (row[c].sigma) with[c] = true;
+    for (std::size_t c = 0; c < row.size() && c < holding.size(); ++c) {
+      if (row[c].*part) holding[c] = true;
     }
   }
-  return with;
+  return holding;
 }
 
+// Which columns carry standard errors (CSV gives them a column of their own).
+std::vector<bool> ColumnsWithSigma(const Table& t) { return ColumnsHolding(t, &Cell::sigma); }
+
 // Which columns hold a number in some row (CSV writes no text there).
-std::vector<bool> NumericColumns(const Table& t) {
-  std::vector<bool> numeric(t.columns.size(), false);
-  for (const auto& row : t.rows) {
-    for (std::size_t c = 0; c < row.size() && c < numeric.size(); ++c) {
-      if (row[c].value) numeric[c] = true;
-    }
-  }
-  return numeric;
-}
+std::vector<bool> NumericColumns(const Table& t) { return ColumnsHolding(t, &Cell::value); }
 
 std::string FullPrecision(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
