@@ -302,14 +302,14 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     const Trace trace = trace_of(cell, trace_it->second);
     const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
                               key, std::nullopt};
-    histories[cell] = Timed(seconds.extract, [&] {
-      try {
-        return DisplacementFromVolts(trace, calibration);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(where, e.what() + VoltageScaleHint(trace, calibration.curve,
-                                                            trace_it->second, cal_it->second));
-      }
-    });
+    DisplacementConversion converted =
+        Timed(seconds.extract, [&] { return DisplacementFromVolts(trace, calibration); });
+    if (!converted.ok) {
+      throw InputError(
+          where, converted.reason +
+                     VoltageScaleHint(trace, calibration.curve, trace_it->second, cal_it->second));
+    }
+    histories[cell] = std::move(converted.history);
     curves[cell] = &calibration.curve;
     mapping_sigma_volts[cell] = trace_it->second.csv ? 0.0 : photo->mapping_sigma_volts.at(cell);
   }
