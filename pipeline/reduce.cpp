@@ -158,7 +158,7 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
       // What was measured before the failure (the photo's overlay, the
       // calibrations) stays, for the report; without a fingerprint, so that
       // a later reduce measures the run again rather than reuse a part.
-      out.reason = std::move(measured.reason);
+      out.reason = measured.Failure();
       out.fingerprint.clear();
       return out;
     }
@@ -216,6 +216,18 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
     failed.specimen = run.specimen;
     failed.reason = RunFailureReason(std::current_exception(), session, run);
     return failed;
+  }
+}
+
+// A calibration's failure as the user reads it ("FILE: KEY: reason"), empty
+// when it was made. An exception no stage made a value (a programming error)
+// is said by its message: the calibration fails alone, as a run does
+// (ReduceRunOrFail), and no worker thread lets it out.
+std::string CalibrationFailure(CalibrationCache& calibrations, const std::string& id) {
+  try {
+    return calibrations.Get(id).Failure();
+  } catch (const std::exception& error) {
+    return error.what();
   }
 }
 
@@ -526,15 +538,12 @@ void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum
 void WarnOfUnreachedFailures(const MeasurementPlan& plan, CalibrationCache& calibrations,
                              SessionResult& result) {
   for (const std::string& id : plan.calibrations) {
-    try {
-      calibrations.Get(id);
-    } catch (const std::exception& error) {
-      const std::string reason = error.what();
-      const bool said = std::any_of(
-          result.runs.begin(), result.runs.end(),
-          [&](const RunResult& r) { return !r.ok && r.reason.find(reason) != std::string::npos; });
-      if (!said) result.warnings.push_back(reason);
-    }
+    const std::string reason = CalibrationFailure(calibrations, id);
+    if (reason.empty()) continue;
+    const bool said = std::any_of(result.runs.begin(), result.runs.end(), [&](const RunResult& r) {
+      return !r.ok && r.reason.find(reason) != std::string::npos;
+    });
+    if (!said) result.warnings.push_back(reason);
   }
 }
 
@@ -639,12 +648,12 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     progress.Expect(done.size());
     ForEachInParallel(done.size(), options.jobs, [&](std::size_t i) {
       const Calibration& c = session.calibrations[i];
-      try {
+      if (std::string failure = CalibrationFailure(calibrations, c.id); failure.empty()) {
         done[i] =
             SummariseCalibration(c.id, c.cell, c.initial_displacement, calibrations.Get(c.id));
-      } catch (const std::exception& error) {
+      } else {
         std::lock_guard lock(warnings_mutex);
-        result.warnings.push_back(error.what());
+        result.warnings.push_back(std::move(failure));
       }
       progress.Done("calibration " + c.id, done[i].has_value());
     });
@@ -666,12 +675,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   progress.Expect(ahead + runs.size());
   ForEachInParallel(ahead + runs.size(), options.jobs, [&](std::size_t task) {
     if (task < ahead) {
-      bool ok = true;
-      try {
-        calibrations.Get(plan.calibrations[task]);
-      } catch (const std::exception&) {
-        ok = false;  // kept in the cache; every run that names it reports it
-      }
+      // A failure is kept in the cache; every run that names it reports it.
+      const bool ok = CalibrationFailure(calibrations, plan.calibrations[task]).empty();
       progress.Done("calibration " + plan.calibrations[task], ok);
       return;
     }
