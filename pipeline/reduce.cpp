@@ -75,21 +75,40 @@ RunFits FitInputs(const RunMeasurement& measured, const Session& session) {
   return fits;
 }
 
+// Why a measured run cannot be fitted as its manifest entry asks, said with
+// the manifest and the key ("FILE: KEY: problem"); empty when it can be.
+// The fit's model figures simulate every rebound from the release: a
+// first_rebound of 2e8 with a restitution near 1 once took 50 s and
+// bad_alloc. Rebounds die out within tens; refused before any work.
+std::string FitProblem(const Run& run, const RunMeasurement& measured, const Session& session) {
+  constexpr int kMaxModelRebounds = 1000;
+  const std::size_t measured_rebounds = measured.xmax.size();
+  if (run.first_rebound > kMaxModelRebounds - static_cast<int>(measured_rebounds)) {
+    return fmt::format(
+        "{}: run \"{}\".first_rebound: first_rebound = {}: the fit's model would simulate {} "
+        "rebounds from the release; at most {} are expected",
+        session.manifest.string(), run.id, run.first_rebound,
+        static_cast<long long>(run.first_rebound) + measured_rebounds, kMaxModelRebounds);
+  }
+  if (run.fit_rebounds[1] >= static_cast<int>(measured_rebounds)) {
+    return fmt::format(
+        "{}: run \"{}\": fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
+        session.manifest.string(), run.id, run.fit_rebounds[0], run.fit_rebounds[1],
+        measured_rebounds - 1);
+  }
+  return {};
+}
+
 // The closed-form Kelvin-Voigt fit of a measured run with Table 2's
-// deviations and the model's figures, then its least-squares fits. Throws
-// for fit_rebounds the run has not measured; a pair without dissipation is a
-// fit that is not ok, with its reason.
+// deviations and the model's figures, then its least-squares fits, for a
+// run FitProblem passes; a pair without dissipation is a fit that is not
+// ok, with its reason.
 RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& session,
                const Pendulum& pendulum, Separation separation, const FitOptions& fit_options) {
   RunFits out = FitInputs(measured, session);
   TwoPointOptions options;
   options.rebounds = run.fit_rebounds;
   options.separation = separation;
-  if (options.rebounds[1] >= static_cast<int>(measured.xmax.size())) {
-    throw std::invalid_argument(
-        fmt::format("fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
-                    options.rebounds[0], options.rebounds[1], measured.xmax.size() - 1));
-  }
   const double mass = session.apparatus->mass;
   KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(pendulum, mass, out.fitted, options);
   if (!fit.ok) {
@@ -164,25 +183,18 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     }
   }
   if (options.products == Products::kFit) {
-    // The fit's model figures simulate every rebound from the release: a
-    // first_rebound of 2e8 with a restitution near 1 once took 50 s and
-    // bad_alloc. Rebounds die out within tens; refused before any work.
-    constexpr int kMaxModelRebounds = 1000;
-    const std::size_t measured_rebounds = out.measured.xmax.size();
-    if (run.first_rebound > kMaxModelRebounds - static_cast<int>(measured_rebounds)) {
-      throw InputError(
-          {session.manifest, fmt::format("run \"{}\".first_rebound", run.id), std::nullopt},
-          fmt::format("first_rebound = {}: the fit's model would simulate {} rebounds from the "
-                      "release; at most {} are expected",
-                      run.first_rebound,
-                      static_cast<long long>(run.first_rebound) + measured_rebounds,
-                      kMaxModelRebounds));
+    // The run was measured: its measurement stays, with why it cannot be fitted.
+    if (std::string problem = FitProblem(run, out.measured, session); !problem.empty()) {
+      out.reason = std::move(problem);
+      return out;
     }
     const auto start = std::chrono::steady_clock::now();
     try {
       out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
-    } catch (const std::logic_error&) {  // invalid_argument, domain_error
-      // The run was measured: its measurement stays, with why it cannot be fitted.
+    } catch (const std::logic_error&) {
+      // The fit's and the model's own refusals of the data (fit/, model/
+      // throw invalid_argument or domain_error for them): the measurement
+      // stays, with why it cannot be fitted.
       out.reason = RunFailureReason(std::current_exception(), session, run);
       return out;
     }

@@ -11,6 +11,7 @@
 
 #include <string>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "io/manifest.h"
@@ -318,6 +319,23 @@ TEST_CASE("trace_session: a broken calibration no run reached is still reported"
   REQUIRE(left != result.warnings.end());
   CHECK_THAT(*left, Catch::Contains("not monotone"));
   CHECK_THAT(*left, Catch::Contains("L.csv"));
+}
+
+TEST_CASE("trace_session: fit_rebounds beyond the measured rebounds fail the run, kept measured") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  Session session = ReadManifest(dir.path()).session;
+  session.runs[0].fit_rebounds = {0, 40};
+  const SessionResult result = ReduceSession(session, {});
+  const RunResult& run = result.runs[0];
+  CHECK_FALSE(run.ok);
+  CHECK(
+      run.reason ==
+      fmt::format("{}: run \"run\": fit_rebounds = [0, 40] but only rebounds 0 .. {} were measured",
+                  session.manifest.string(), run.measured.xmax.size() - 1));
+  // The rebounds were measured before the fit was refused: they stay.
+  CHECK(run.measured.xmax.size() >= 2);
+  CHECK_FALSE(run.fits.kelvin_voigt.has_value());
 }
 
 // Two runs sharing nothing: the trace session's run and a second, typed-in one.
