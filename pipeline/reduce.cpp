@@ -728,19 +728,23 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
 
   for (const Prediction& p : session.predictions) {
+    const auto skipped = [&](const std::string& why) {
+      result.warnings.push_back(
+          fmt::format("{}: prediction of run \"{}\" from run \"{}\" skipped: {}",
+                      session.manifest.string(), p.target_run, p.source_run, why));
+    };
     const RunResult* source = result.FindRun(p.source_run);
     const RunResult* target = result.FindRun(p.target_run);
+    if (source == nullptr || target == nullptr || !source->ok || !target->ok) {
+      skipped("both runs must reduce to a Kelvin-Voigt fit");
+      continue;
+    }
     try {
-      if (source == nullptr || target == nullptr || !source->ok || !target->ok) {
-        throw std::invalid_argument("both runs must reduce to a Kelvin-Voigt fit");
-      }
       result.predictions.push_back(PredictRun(pendulum, source->id, *source->fits.kelvin_voigt,
                                               target->id, target->measured.xmax,
                                               *target->fits.kelvin_voigt, p.start_rebound));
     } catch (const std::exception& error) {
-      result.warnings.push_back(
-          fmt::format("{}: prediction of run \"{}\" from run \"{}\" skipped: {}",
-                      session.manifest.string(), p.target_run, p.source_run, error.what()));
+      skipped(error.what());  // the fit's own refusal (fit/ throws for it)
     }
   }
   return result;
