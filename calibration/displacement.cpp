@@ -2,25 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include <fmt/format.h>
 
 namespace impactlab {
 
-DisplacementHistory DisplacementFromVolts(const Trace& trace,
-                                          const CalibrationResult& calibration) {
-  if (trace.volts.empty()) throw std::invalid_argument("the trace has no samples");
+DisplacementConversion DisplacementFromVolts(const Trace& trace,
+                                             const CalibrationResult& calibration) {
+  DisplacementConversion out;
+  if (trace.volts.empty()) {
+    out.reason = "the trace has no samples";
+    return out;
+  }
   const PhotocellCurve& curve = calibration.curve;
-  DisplacementHistory h;
-  std::size_t dropped = 0;
+  DisplacementHistory& h = out.history;
   double v_lo = trace.volts.front(), v_hi = trace.volts.front();
   for (std::size_t i = 0; i < trace.volts.size(); ++i) {
     const double v = trace.volts[i];
     v_lo = std::min(v_lo, v);
     v_hi = std::max(v_hi, v);
     if (!curve.Covers(v)) {
-      ++dropped;
+      ++out.dropped;
       continue;
     }
     const double x = curve.DisplacementFromVolts(v);
@@ -31,13 +33,15 @@ DisplacementHistory DisplacementFromVolts(const Trace& trace,
     h.displacement.push_back(x);
     h.sigma.push_back(std::hypot(curve.FitDisplacementSigma(v), sigma_v / slope));
   }
-  if (dropped > trace.volts.size() / 50) {
-    throw std::invalid_argument(fmt::format(
+  if (out.dropped > trace.volts.size() / 50) {
+    out.reason = fmt::format(
         "{} of {} samples ({:.4g} .. {:.4g} V) lie outside the calibrated range {:.4g} .. "
         "{:.4g} V: the calibration does not cover what this run needs",
-        dropped, trace.volts.size(), v_lo, v_hi, curve.volts_min(), curve.volts_max()));
+        out.dropped, trace.volts.size(), v_lo, v_hi, curve.volts_min(), curve.volts_max());
+    return out;
   }
-  return h;
+  out.ok = true;
+  return out;
 }
 
 }  // namespace impactlab

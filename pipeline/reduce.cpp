@@ -75,21 +75,40 @@ RunFits FitInputs(const RunMeasurement& measured, const Session& session) {
   return fits;
 }
 
+// Why a measured run cannot be fitted as its manifest entry asks, said with
+// the manifest and the key ("FILE: KEY: problem"); empty when it can be.
+// The fit's model figures simulate every rebound from the release: a
+// first_rebound of 2e8 with a restitution near 1 once took 50 s and
+// bad_alloc. Rebounds die out within tens; refused before any work.
+std::string FitProblem(const Run& run, const RunMeasurement& measured, const Session& session) {
+  constexpr int kMaxModelRebounds = 1000;
+  const std::size_t measured_rebounds = measured.xmax.size();
+  if (run.first_rebound > kMaxModelRebounds - static_cast<int>(measured_rebounds)) {
+    return fmt::format(
+        "{}: run \"{}\".first_rebound: first_rebound = {}: the fit's model would simulate {} "
+        "rebounds from the release; at most {} are expected",
+        session.manifest.string(), run.id, run.first_rebound,
+        static_cast<long long>(run.first_rebound) + measured_rebounds, kMaxModelRebounds);
+  }
+  if (run.fit_rebounds[1] >= static_cast<int>(measured_rebounds)) {
+    return fmt::format(
+        "{}: run \"{}\": fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
+        session.manifest.string(), run.id, run.fit_rebounds[0], run.fit_rebounds[1],
+        measured_rebounds - 1);
+  }
+  return {};
+}
+
 // The closed-form Kelvin-Voigt fit of a measured run with Table 2's
-// deviations and the model's figures, then its least-squares fits. Throws
-// for fit_rebounds the run has not measured; a pair without dissipation is a
-// fit that is not ok, with its reason.
+// deviations and the model's figures, then its least-squares fits, for a
+// run FitProblem passes; a pair without dissipation is a fit that is not
+// ok, with its reason.
 RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& session,
                const Pendulum& pendulum, Separation separation, const FitOptions& fit_options) {
   RunFits out = FitInputs(measured, session);
   TwoPointOptions options;
   options.rebounds = run.fit_rebounds;
   options.separation = separation;
-  if (options.rebounds[1] >= static_cast<int>(measured.xmax.size())) {
-    throw std::invalid_argument(
-        fmt::format("fit_rebounds = [{}, {}] but only rebounds 0 .. {} were measured",
-                    options.rebounds[0], options.rebounds[1], measured.xmax.size() - 1));
-  }
   const double mass = session.apparatus->mass;
   KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(pendulum, mass, out.fitted, options);
   if (!fit.ok) {
@@ -158,31 +177,24 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
       // What was measured before the failure (the photo's overlay, the
       // calibrations) stays, for the report; without a fingerprint, so that
       // a later reduce measures the run again rather than reuse a part.
-      out.reason = std::move(measured.reason);
+      out.reason = measured.Failure();
       out.fingerprint.clear();
       return out;
     }
   }
   if (options.products == Products::kFit) {
-    // The fit's model figures simulate every rebound from the release: a
-    // first_rebound of 2e8 with a restitution near 1 once took 50 s and
-    // bad_alloc. Rebounds die out within tens; refused before any work.
-    constexpr int kMaxModelRebounds = 1000;
-    const std::size_t measured_rebounds = out.measured.xmax.size();
-    if (run.first_rebound > kMaxModelRebounds - static_cast<int>(measured_rebounds)) {
-      throw InputError(
-          {session.manifest, fmt::format("run \"{}\".first_rebound", run.id), std::nullopt},
-          fmt::format("first_rebound = {}: the fit's model would simulate {} rebounds from the "
-                      "release; at most {} are expected",
-                      run.first_rebound,
-                      static_cast<long long>(run.first_rebound) + measured_rebounds,
-                      kMaxModelRebounds));
+    // The run was measured: its measurement stays, with why it cannot be fitted.
+    if (std::string problem = FitProblem(run, out.measured, session); !problem.empty()) {
+      out.reason = std::move(problem);
+      return out;
     }
     const auto start = std::chrono::steady_clock::now();
     try {
       out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
-    } catch (const std::logic_error&) {  // invalid_argument, domain_error
-      // The run was measured: its measurement stays, with why it cannot be fitted.
+    } catch (const std::logic_error&) {
+      // The fit's and the model's own refusals of the data (fit/, model/
+      // throw invalid_argument or domain_error for them): the measurement
+      // stays, with why it cannot be fitted.
       out.reason = RunFailureReason(std::current_exception(), session, run);
       return out;
     }
@@ -216,6 +228,18 @@ RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum
     failed.specimen = run.specimen;
     failed.reason = RunFailureReason(std::current_exception(), session, run);
     return failed;
+  }
+}
+
+// A calibration's failure as the user reads it ("FILE: KEY: reason"), empty
+// when it was made. An exception no stage made a value (a programming error)
+// is said by its message: the calibration fails alone, as a run does
+// (ReduceRunOrFail), and no worker thread lets it out.
+std::string CalibrationFailure(CalibrationCache& calibrations, const std::string& id) {
+  try {
+    return calibrations.Get(id).Failure();
+  } catch (const std::exception& error) {
+    return error.what();
   }
 }
 
@@ -526,15 +550,12 @@ void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum
 void WarnOfUnreachedFailures(const MeasurementPlan& plan, CalibrationCache& calibrations,
                              SessionResult& result) {
   for (const std::string& id : plan.calibrations) {
-    try {
-      calibrations.Get(id);
-    } catch (const std::exception& error) {
-      const std::string reason = error.what();
-      const bool said = std::any_of(
-          result.runs.begin(), result.runs.end(),
-          [&](const RunResult& r) { return !r.ok && r.reason.find(reason) != std::string::npos; });
-      if (!said) result.warnings.push_back(reason);
-    }
+    const std::string reason = CalibrationFailure(calibrations, id);
+    if (reason.empty()) continue;
+    const bool said = std::any_of(result.runs.begin(), result.runs.end(), [&](const RunResult& r) {
+      return !r.ok && r.reason.find(reason) != std::string::npos;
+    });
+    if (!said) result.warnings.push_back(reason);
   }
 }
 
@@ -639,12 +660,12 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     progress.Expect(done.size());
     ForEachInParallel(done.size(), options.jobs, [&](std::size_t i) {
       const Calibration& c = session.calibrations[i];
-      try {
+      if (std::string failure = CalibrationFailure(calibrations, c.id); failure.empty()) {
         done[i] =
             SummariseCalibration(c.id, c.cell, c.initial_displacement, calibrations.Get(c.id));
-      } catch (const std::exception& error) {
+      } else {
         std::lock_guard lock(warnings_mutex);
-        result.warnings.push_back(error.what());
+        result.warnings.push_back(std::move(failure));
       }
       progress.Done("calibration " + c.id, done[i].has_value());
     });
@@ -666,12 +687,8 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   progress.Expect(ahead + runs.size());
   ForEachInParallel(ahead + runs.size(), options.jobs, [&](std::size_t task) {
     if (task < ahead) {
-      bool ok = true;
-      try {
-        calibrations.Get(plan.calibrations[task]);
-      } catch (const std::exception&) {
-        ok = false;  // kept in the cache; every run that names it reports it
-      }
+      // A failure is kept in the cache; every run that names it reports it.
+      const bool ok = CalibrationFailure(calibrations, plan.calibrations[task]).empty();
       progress.Done("calibration " + plan.calibrations[task], ok);
       return;
     }
@@ -711,19 +728,23 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
       AnalyseAcrossRuns(result.runs, session.reduction.average_stiffness, session.apparatus->mass);
 
   for (const Prediction& p : session.predictions) {
+    const auto skipped = [&](const std::string& why) {
+      result.warnings.push_back(
+          fmt::format("{}: prediction of run \"{}\" from run \"{}\" skipped: {}",
+                      session.manifest.string(), p.target_run, p.source_run, why));
+    };
     const RunResult* source = result.FindRun(p.source_run);
     const RunResult* target = result.FindRun(p.target_run);
+    if (source == nullptr || target == nullptr || !source->ok || !target->ok) {
+      skipped("both runs must reduce to a Kelvin-Voigt fit");
+      continue;
+    }
     try {
-      if (source == nullptr || target == nullptr || !source->ok || !target->ok) {
-        throw std::invalid_argument("both runs must reduce to a Kelvin-Voigt fit");
-      }
       result.predictions.push_back(PredictRun(pendulum, source->id, *source->fits.kelvin_voigt,
                                               target->id, target->measured.xmax,
                                               *target->fits.kelvin_voigt, p.start_rebound));
     } catch (const std::exception& error) {
-      result.warnings.push_back(
-          fmt::format("{}: prediction of run \"{}\" from run \"{}\" skipped: {}",
-                      session.manifest.string(), p.target_run, p.source_run, error.what()));
+      skipped(error.what());  // the fit's own refusal (fit/ throws for it)
     }
   }
   return result;

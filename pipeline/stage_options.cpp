@@ -1,6 +1,7 @@
 #include "pipeline/stage_options.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -49,7 +50,8 @@ StageOptions WithSettings(StageOptions options, const StageSettings& settings) {
       if (why.find(field) != std::string::npos) break;
     }
     if (culprit != nullptr) throw InputError(culprit->where, why);
-    throw std::invalid_argument(why);  // the defaults themselves: a programming error
+    // The defaults themselves: a programming error (exit 5), not a bad command line.
+    throw std::logic_error(why);
   }
   return options;
 }

@@ -30,26 +30,43 @@ Trace ReadSessionTraceCsv(const Session& session, const std::filesystem::path& f
   return ParseTraceCsv(in, file);
 }
 
+// Where and why a step stopped a measurement: the file, and the manifest
+// key a user can fix.
+struct StepFailure {
+  InputLocation at;
+  std::string reason;
+};
+
+// Records `failure` in `result` (a CalibratedCell, a MeasuredTraceRun): it is
+// the result's failure. Returns false, for the step that stops to return.
+template <typename Result>
+bool Stopped(Result& result, StepFailure failure) {
+  result.ok = false;
+  result.failed_at = std::move(failure.at);
+  result.reason = std::move(failure.reason);
+  return false;
+}
+
 // A photo's trace, before the photo is read: its sweep (time_per_div times
-// the horizontal divisions) against the pendulum's swings.
-// `limits`: the run's rebound extraction's, which every trace's time axis is held to.
-void CheckPhotoSweep(const TraceSettings& settings, const Session& session,
-                     const Pendulum& pendulum, const TraceSpanLimits& limits,
-                     const InputLocation& where) {
+// the horizontal divisions) against the pendulum's swings; empty when it
+// fits them. `limits`: the run's rebound extraction's, which every trace's
+// time axis is held to.
+std::string PhotoSweepProblem(const TraceSettings& settings, const Session& session,
+                              const Pendulum& pendulum, const TraceSpanLimits& limits) {
   const double sweep_s = settings.time_per_div * session.divisions[0];
-  if (const std::string problem = TraceSpanProblem(sweep_s, 0.0, 0, pendulum, limits);
-      !problem.empty()) {
-    throw InputError(where, fmt::format("time_per_div = {:g} s over {} divisions: {}",
-                                        settings.time_per_div, session.divisions[0], problem));
-  }
+  const std::string problem = TraceSpanProblem(sweep_s, 0.0, 0, pendulum, limits);
+  if (problem.empty()) return {};
+  return fmt::format("time_per_div = {:g} s over {} divisions: {}", settings.time_per_div,
+                     session.divisions[0], problem);
 }
 
 // A trace as read (a CSV, or a photo digitized): its span against the
 // pendulum's swings and its sample interval; `rebounds`: a trace the
-// rebounds are read from, which must also resolve each swing.
-void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
-                    const TraceSpanLimits& limits, const InputLocation& where) {
-  if (trace.time_s.size() < 2) return;  // the stages say why
+// rebounds are read from, which must also resolve each swing. Empty when
+// the trace fits them.
+std::string TraceSpanProblemOf(const Trace& trace, const Pendulum& pendulum, bool rebounds,
+                               const TraceSpanLimits& limits) {
+  if (trace.time_s.size() < 2) return {};  // the stages say why
   const double span_s = trace.time_s.back() - trace.time_s.front();
   std::vector<double> steps;
   steps.reserve(trace.time_s.size() - 1);
@@ -58,11 +75,7 @@ void CheckTraceSpan(const Trace& trace, const Pendulum& pendulum, bool rebounds,
   }
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double interval_s = steps[steps.size() / 2];
-  if (const std::string problem = TraceSpanProblem(
-          span_s, interval_s, rebounds ? trace.time_s.size() : 0, pendulum, limits);
-      !problem.empty()) {
-    throw InputError(where, problem);
-  }
+  return TraceSpanProblem(span_s, interval_s, rebounds ? trace.time_s.size() : 0, pendulum, limits);
 }
 
 // Why a run trace's volts may miss its calibration's range, where the two
@@ -109,6 +122,14 @@ std::string VoltageScaleHint(const Trace& trace, const PhotocellCurve& curve,
 }
 
 }  // namespace
+
+std::string CalibratedCell::Failure() const {
+  return ok ? std::string() : FormatLocation(failed_at) + ": " + reason;
+}
+
+std::string MeasuredTraceRun::Failure() const {
+  return ok ? std::string() : FormatLocation(failed_at) + ": " + reason;
+}
 
 CellCalibration SummariseCalibration(const std::string& id, const std::string& cell,
                                      double release_x, const CalibratedCell& calibrated) {
@@ -167,11 +188,17 @@ const CalibratedCell& CalibrationCache::Get(const std::string& id, StageSeconds*
   if (first) {
     try {
       promise.set_value(Compute(id));
+    } catch (const InputError& error) {
+      // A file that cannot be read, or the entry's own settings: the
+      // calibration's failure, said with the file and key.
+      auto failed = std::make_shared<CalibratedCell>();
+      Stopped(*failed, {error.where(), error.problem()});
+      promise.set_value(std::move(failed));
     } catch (...) {
-      promise.set_exception(std::current_exception());
+      promise.set_exception(std::current_exception());  // a programming error
     }
   }
-  const CalibratedCell& cell = *entry.get();  // rethrows the calibration's error, if it had one
+  const CalibratedCell& cell = *entry.get();  // rethrows a programming error
   if (charge != nullptr) {
     const std::lock_guard guard(mutex_);
     if (charged_.insert(id).second) {
@@ -186,12 +213,13 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   const auto calibration = std::find_if(session_.calibrations.begin(), session_.calibrations.end(),
                                         [&](const Calibration& c) { return c.id == id; });
   const std::string key = fmt::format("calibration \"{}\"", id);
+  auto cell = std::make_shared<CalibratedCell>();
   if (calibration == session_.calibrations.end()) {
-    throw InputError({session_.manifest, key, std::nullopt}, "no such calibration");
+    Stopped(*cell, {{session_.manifest, key, std::nullopt}, "no such calibration"});
+    return cell;
   }
   const StageOptions options = options_of_(*calibration);
   const TraceSpanLimits& limits = options.rebound_extraction.limits;
-  auto cell = std::make_shared<CalibratedCell>();
   StageSeconds& seconds = cell->cost;
   cell->settings = calibration->trace.csv ? SettingsOfStages(options, {"photocell"})
                                           : SettingsOfStages(options, {"digitize", "photocell"});
@@ -201,33 +229,46 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
   if (calibration->trace.csv) {
     trace =
         Timed(seconds.load, [&] { return ReadSessionTraceCsv(session_, *calibration->trace.csv); });
-    CheckTraceSpan(trace, pendulum_, false, limits,
-                   {*calibration->trace.csv, key + ".trace", std::nullopt});
+    if (std::string problem = TraceSpanProblemOf(trace, pendulum_, false, limits);
+        !problem.empty()) {
+      Stopped(*cell, {{*calibration->trace.csv, key + ".trace", std::nullopt}, std::move(problem)});
+      return cell;
+    }
   } else if (calibration->photo) {
-    CheckPhotoSweep(calibration->trace, session_, pendulum_, limits,
-                    {session_.manifest, key + ".trace.time_per_div", std::nullopt});
+    if (std::string problem = PhotoSweepProblem(calibration->trace, session_, pendulum_, limits);
+        !problem.empty()) {
+      Stopped(*cell,
+              {{session_.manifest, key + ".trace.time_per_div", std::nullopt}, std::move(problem)});
+      return cell;
+    }
     DigitizedPhoto digitized = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*calibration->photo, session_, {{"trace", calibration->trace}},
                                   options.digitize, options.products.thumbnails);
     });
-    if (!digitized.ok) throw InputError(digitized.failed_at, digitized.reason);
+    cell->overlay = std::move(digitized.overlay);  // kept when not read too: it shows why not
+    if (!digitized.ok) {
+      Stopped(*cell, {digitized.failed_at, digitized.reason});
+      return cell;
+    }
     trace = std::move(digitized.traces.at("trace"));
     shared_sigma_volts = digitized.mapping_sigma_volts.at("trace");
-    cell->overlay = std::move(digitized.overlay);
   } else {
-    throw InputError({session_.manifest, key + ".trace", std::nullopt},
-                     "the trace has neither a csv nor a photo");
+    Stopped(*cell, {{session_.manifest, key + ".trace", std::nullopt},
+                    "the trace has neither a csv nor a photo"});
+    return cell;
   }
   cell->calibration = Timed(seconds.calibrate, [&] {
     return CalibratePhotocell(trace, pendulum_, calibration->initial_displacement,
                               options.photocell, shared_sigma_volts);
   });
   if (!cell->calibration.ok) {
-    throw InputError(
-        {calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
-         std::nullopt},
-        cell->calibration.reason);
+    Stopped(*cell,
+            {{calibration->trace.csv.value_or(calibration->photo.value_or(session_.manifest)), key,
+              std::nullopt},
+             cell->calibration.reason});
+    return cell;
   }
+  cell->ok = true;
   return cell;
 }
 
@@ -235,7 +276,9 @@ namespace {
 
 // Measures the run into `result` step by step, so that what was measured
 // before a failure (the photo's overlay, the calibrations) stays there.
-void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulum,
+// Returns false at the first step that stops it, `result` saying where and
+// why; throws InputError only for a file that cannot be read.
+bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulum,
                  const StageOptions& options, CalibrationCache& calibrations,
                  MeasuredTraceRun& result) {
   const TraceSpanLimits& limits = options.rebound_extraction.limits;
@@ -247,16 +290,21 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   for (const auto& [name, settings] : run.traces) {
     if (settings.csv) continue;
     // Before the photo is read: nothing may grow with a sweep of 1e300 s.
-    CheckPhotoSweep(settings, session, pendulum, limits,
-                    {session.manifest, fmt::format("{}.traces.{}.time_per_div", RunKey(run), name),
-                     std::nullopt});
+    if (std::string problem = PhotoSweepProblem(settings, session, pendulum, limits);
+        !problem.empty()) {
+      return Stopped(
+          result, {{session.manifest, fmt::format("{}.traces.{}.time_per_div", RunKey(run), name),
+                    std::nullopt},
+                   std::move(problem)});
+    }
     from_photo[name] = settings;
   }
   std::optional<DigitizedPhoto> photo;
   if (!from_photo.empty()) {
     if (!run.photo) {
-      throw InputError({session.manifest, RunKey(run) + ".photo", std::nullopt},
-                       "traces without `csv` are read from the run's photo, and it has none");
+      return Stopped(result,
+                     {{session.manifest, RunKey(run) + ".photo", std::nullopt},
+                      "traces without `csv` are read from the run's photo, and it has none"});
     }
     photo = Timed(seconds.load, [&] {
       return DigitizeSessionPhoto(*run.photo, session, from_photo, options.digitize,
@@ -264,19 +312,21 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     });
     // Kept when the photo was not read too: it shows what was found and why not.
     out.overlays.push_back(photo->overlay);
-    if (!photo->ok) throw InputError(photo->failed_at, photo->reason);
+    if (!photo->ok) return Stopped(result, {photo->failed_at, photo->reason});
   }
   // Every trace checked as read: its span against the pendulum's swings, and
-  // (right, left) that it resolves them.
-  const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
-    Trace trace = settings.csv ? Timed(seconds.load,
-                                       [&] { return ReadSessionTraceCsv(session, *settings.csv); })
-                               : photo->traces.at(name);
+  // (right, left) that it resolves them. False when the check stops the run.
+  const auto read_trace = [&](const std::string& name, const TraceSettings& settings,
+                              Trace& trace) {
+    trace = settings.csv
+                ? Timed(seconds.load, [&] { return ReadSessionTraceCsv(session, *settings.csv); })
+                : photo->traces.at(name);
+    std::string problem = TraceSpanProblemOf(trace, pendulum, name != "contact", limits);
+    if (problem.empty()) return true;
     const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
-    CheckTraceSpan(trace, pendulum, name != "contact", limits,
-                   {settings.csv.value_or(run.photo.value_or(session.manifest)),
-                    settings.csv ? key : key + ".time_per_div", std::nullopt});
-    return trace;
+    return Stopped(result, {{settings.csv.value_or(run.photo.value_or(session.manifest)),
+                             settings.csv ? key : key + ".time_per_div", std::nullopt},
+                            std::move(problem)});
   };
   std::map<std::string, DisplacementHistory> histories;
   std::map<std::string, const PhotocellCurve*> curves;
@@ -290,40 +340,45 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     const std::string key = fmt::format("{}.traces.{}", RunKey(run), cell);
     const auto cal_it = run.calibration.find(cell);
     if (cal_it == run.calibration.end()) {
-      throw InputError({session.manifest, key, std::nullopt},
-                       fmt::format("no calibration is named for the {} cell", cell));
+      return Stopped(result, {{session.manifest, key, std::nullopt},
+                              fmt::format("no calibration is named for the {} cell", cell)});
     }
     const CalibratedCell& calibrated = calibrations.Get(cal_it->second, &seconds);
+    if (!calibrated.ok) return Stopped(result, {calibrated.failed_at, calibrated.reason});
     const CalibrationResult& calibration = calibrated.calibration;
     const auto cal = std::find_if(session.calibrations.begin(), session.calibrations.end(),
                                   [&](const Calibration& c) { return c.id == cal_it->second; });
     out.calibrations.push_back(
         SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibrated));
-    const Trace trace = trace_of(cell, trace_it->second);
-    const InputLocation where{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)),
-                              key, std::nullopt};
-    histories[cell] = Timed(seconds.extract, [&] {
-      try {
-        return DisplacementFromVolts(trace, calibration);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(where, e.what() + VoltageScaleHint(trace, calibration.curve,
-                                                            trace_it->second, cal_it->second));
-      }
-    });
+    Trace trace;
+    if (!read_trace(cell, trace_it->second, trace)) return false;
+    DisplacementConversion converted =
+        Timed(seconds.extract, [&] { return DisplacementFromVolts(trace, calibration); });
+    if (!converted.ok) {
+      return Stopped(
+          result,
+          {{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
+           converted.reason +
+               VoltageScaleHint(trace, calibration.curve, trace_it->second, cal_it->second)});
+    }
+    histories[cell] = std::move(converted.history);
     curves[cell] = &calibration.curve;
     mapping_sigma_volts[cell] = trace_it->second.csv ? 0.0 : photo->mapping_sigma_volts.at(cell);
   }
   if (histories.empty()) {
-    throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
-                     "the run has no right or left displacement trace");
+    return Stopped(result, {{session.manifest, RunKey(run) + ".traces", std::nullopt},
+                            "the run has no right or left displacement trace"});
   }
 
+  // A history's rebounds in the session's numbering; nullopt when the
+  // extraction refuses the history, `result` saying why.
   const auto extract = [&](const DisplacementHistory& h) {
-    return Timed(seconds.extract, [&] {
+    return Timed(seconds.extract, [&]() -> std::optional<BarRebounds> {
       const ReboundExtraction extracted = ExtractRebounds(h, pendulum, options.rebound_extraction);
       if (!extracted.ok) {
-        throw InputError({session.manifest, RunKey(run) + ".traces", std::nullopt},
-                         extracted.reason);
+        Stopped(result,
+                {{session.manifest, RunKey(run) + ".traces", std::nullopt}, extracted.reason});
+        return std::nullopt;
       }
       return InSessionNumbering(extracted, run.first_rebound);
     });
@@ -342,10 +397,12 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   };
   if (histories.count("right")) {
     out.right = extract(histories["right"]);
+    if (!out.right) return false;
     AddCurveSigma(*out.right, curve_sigma("right"));
   }
   if (histories.count("left")) {
     out.left = extract(histories["left"]);
+    if (!out.left) return false;
     AddCurveSigma(*out.left, curve_sigma("left"));
   }
   // Gaps up to a tenth of a half swing (18 degrees of phase) are bridged: a
@@ -357,7 +414,12 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   // Bars drawn in alternate chopper slots longer than a bridge have no time
   // both can be read at: the mean of the bars' own maxima then stands alone.
   const bool averaged = histories.size() == 1 || average.time_s.size() >= kMinHistorySamples;
-  BarRebounds from_average = averaged ? extract(average) : BarRebounds{};
+  BarRebounds from_average;
+  if (averaged) {
+    std::optional<BarRebounds> extracted = extract(average);
+    if (!extracted) return false;
+    from_average = std::move(*extracted);
+  }
   if (histories.size() == 2) {
     // The average of the two histories reads through both curves.
     AddCurveSigma(from_average, [&](double x) {
@@ -374,11 +436,12 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
       disagreement = FirstDisagreement(*out.right, *out.left);
       if (!disagreement) disagreement = AverageSlip(*out.right, *out.left, from_average);
     }
-    throw InputError({session.manifest, RunKey(run), std::nullopt},
-                     fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
-                                 "complete in the traces{}; at least 2 are needed",
-                                 both.xmax.size(), run.first_rebound,
-                                 disagreement ? " (" + disagreement->why + ")" : ""));
+    return Stopped(result,
+                   {{session.manifest, RunKey(run), std::nullopt},
+                    fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
+                                "complete in the traces{}; at least 2 are needed",
+                                both.xmax.size(), run.first_rebound,
+                                disagreement ? " (" + disagreement->why + ")" : "")});
   }
   const std::size_t stride = std::max<std::size_t>(1, average.time_s.size() / 4000);
   for (std::size_t i = 0; i < average.time_s.size(); i += stride) {
@@ -396,19 +459,25 @@ void MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
     // On a photo the edges are measured on the image itself; a CSV step by
     // its samples.
-    const ContactPulseMeasurement pulse =
-        !contact->second.csv && photo && photo->pulse
-            ? ContactPulseMeasurement{true, "", *photo->pulse}
-            : MeasureContactPulse(trace_of("contact", contact->second));
+    ContactPulseMeasurement pulse;
+    if (!contact->second.csv && photo && photo->pulse) {
+      pulse = {true, "", *photo->pulse};
+    } else {
+      Trace trace;
+      if (!read_trace("contact", contact->second, trace)) return false;
+      pulse = MeasureContactPulse(trace);
+    }
     if (!pulse.ok) {
-      throw InputError({contact->second.csv.value_or(run.photo.value_or(session.manifest)),
-                        RunKey(run) + ".traces.contact", std::nullopt},
-                       pulse.reason);
+      return Stopped(result, {{contact->second.csv.value_or(run.photo.value_or(session.manifest)),
+                               RunKey(run) + ".traces.contact", std::nullopt},
+                              pulse.reason});
     }
     out.contact_time = pulse.pulse.width_s.value;
     out.contact_time_sigma = pulse.pulse.width_s.sigma;
     out.contact_time_source = "contact trace";
   }
+  result.ok = true;
+  return true;
 }
 
 }  // namespace
@@ -427,13 +496,12 @@ std::string RunFailureReason(const std::exception_ptr& error, const Session& ses
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations) {
   MeasuredTraceRun result;
-  // The steps below stop at the first failure, each saying it with its file
-  // and key; what they measured before it stays in `result`.
   try {
     MeasureInto(run, session, pendulum, options, calibrations, result);
-    result.ok = true;
-  } catch (const std::exception&) {
-    result.reason = RunFailureReason(std::current_exception(), session, run);
+  } catch (const InputError& error) {
+    // A file that cannot be read (a CSV trace, the photo): the run's failure,
+    // what was measured before it kept.
+    Stopped(result, {error.where(), error.problem()});
   }
   return result;
 }

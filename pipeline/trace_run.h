@@ -15,6 +15,7 @@
 #include <string>
 
 #include "calibration/photocell_calibration.h"
+#include "io/errors.h"
 #include "io/session.h"
 #include "io/trace.h"
 #include "pipeline/session_result.h"
@@ -23,11 +24,19 @@
 namespace impactlab {
 
 // A photocell calibration as reduce computed it, with its photo's overlay.
+// When it cannot be made, `ok` is false, and `failed_at` (the file, and the
+// manifest key a user can fix) and `reason` say why, as DigitizeResult does.
 struct CalibratedCell {
+  bool ok = false;
+  InputLocation failed_at;
+  std::string reason;
   CalibrationResult calibration;
   std::optional<PhotoOverlay> overlay;  // photo calibrations only
   StageSeconds cost;                    // its digitizing (load) and fitting (calibrate)
   SettingValues settings;               // the stage settings it was made with
+
+  // "FILE: KEY: reason", as an InputError names it; empty when ok.
+  std::string Failure() const;
 };
 
 // Calibrations are shared by runs; each is computed once per reduce, by
@@ -40,7 +49,9 @@ class CalibrationCache {
   using OptionsOf = std::function<StageOptions(const Calibration&)>;
   CalibrationCache(const Session& session, const Pendulum& pendulum, OptionsOf options_of)
       : session_(session), pendulum_(pendulum), options_of_(std::move(options_of)) {}
-  // Throws InputError (file, key, reason) when the calibration cannot be made.
+  // A calibration that cannot be made (no such entry, a file that cannot be
+  // read, a photo not read, a trace that does not calibrate) is a cell with
+  // `ok` false; only a programming error is thrown, to every caller that asks.
   // The first caller that passes `charge` is charged the calibration's cost;
   // later ones are not, so a session's stage times add up.
   const CalibratedCell& Get(const std::string& calibration_id, StageSeconds* charge = nullptr);
@@ -62,15 +73,20 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
                                      double release_x, const CalibratedCell& calibrated);
 
 // A run measured from its traces, and the time each stage took. When the
-// measurement fails part way, `ok` is false, `reason` says why (file and
-// key), and `measured` keeps what was measured before (the digitized photo's
+// measurement stops part way, `ok` is false, `failed_at` (the file, and the
+// manifest key a user can fix) and `reason` say why, as DigitizeResult does,
+// and `measured` keeps what was measured before (the digitized photo's
 // overlay, the calibrations), which the results file and the report show
 // beside the reason.
 struct MeasuredTraceRun {
   bool ok = false;
+  InputLocation failed_at;
   std::string reason;
   RunMeasurement measured;
   StageSeconds seconds;
+
+  // "FILE: KEY: reason", as an InputError names it; empty when ok.
+  std::string Failure() const;
 };
 
 // Why a run failed, as its results say it, from the exception `error` holds:
@@ -80,9 +96,9 @@ std::string RunFailureReason(const std::exception_ptr& error, const Session& ses
                              const Run& run);
 
 // The run's calibrations, rebounds and contact pulse, measured with the
-// run's `options`. A run that cannot be measured (a bad input file, a photo
-// that cannot be read, traces without enough rebounds) is a result with `ok`
-// false; nothing is thrown but a caller's mistake.
+// run's `options`. A run that cannot be measured (a bad manifest entry, a
+// file that cannot be read, a photo not read, traces without enough
+// rebounds) is a result with `ok` false; only a programming error is thrown.
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations);
 

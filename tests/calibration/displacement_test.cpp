@@ -1,7 +1,6 @@
 #include "calibration/displacement.h"
 
 #include <cmath>
-#include <stdexcept>
 
 #include <catch2/catch.hpp>
 
@@ -34,7 +33,10 @@ TEST_CASE("displacement: a run's volts read through its cell's curve, sigma from
     run.volts.push_back(LinearCell(x0 * (0.05 + 0.009 * i), x0));
     run.sigma_volts.push_back(0.017);  // 0.003 of X0 through the slope 1.7 / X0
   }
-  const DisplacementHistory h = DisplacementFromVolts(run, calibration);
+  const DisplacementConversion converted = DisplacementFromVolts(run, calibration);
+  REQUIRE(converted.ok);
+  CHECK(converted.reason.empty());
+  const DisplacementHistory& h = converted.history;
   REQUIRE(h.displacement.size() == run.volts.size());
   for (std::size_t i = 0; i < h.displacement.size(); ++i) {
     CHECK(h.time_s[i] == run.time_s[i]);
@@ -53,11 +55,21 @@ TEST_CASE("displacement: samples beyond the calibrated volts are dropped, too ma
     run.volts.push_back(LinearCell(0.5 * x0, x0));
   }
   run.volts[7] = 5.0;  // one in a hundred outside: dropped
-  CHECK(DisplacementFromVolts(run, calibration).time_s.size() == 99);
+  const DisplacementConversion one = DisplacementFromVolts(run, calibration);
+  CHECK(one.ok);
+  CHECK(one.dropped == 1);
+  CHECK(one.history.time_s.size() == 99);
   run.volts[8] = run.volts[9] = 5.0;  // three in a hundred: the curve does not cover the run
-  CHECK_THROWS_WITH(DisplacementFromVolts(run, calibration),
-                    Catch::Contains("3 of 100 samples") && Catch::Contains("calibrated range"));
-  CHECK_THROWS_AS(DisplacementFromVolts(Trace{}, calibration), std::invalid_argument);
+  // Refused as a value, with what was converted kept beside the reason.
+  const DisplacementConversion three = DisplacementFromVolts(run, calibration);
+  CHECK_FALSE(three.ok);
+  CHECK_THAT(three.reason,
+             Catch::Contains("3 of 100 samples") && Catch::Contains("calibrated range"));
+  CHECK(three.dropped == 3);
+  CHECK(three.history.time_s.size() == 97);
+  const DisplacementConversion empty = DisplacementFromVolts(Trace{}, calibration);
+  CHECK_FALSE(empty.ok);
+  CHECK(empty.reason == "the trace has no samples");
 }
 
 }  // namespace

@@ -112,7 +112,11 @@ TEST_CASE(
   CHECK_FALSE(result.runs[0].ok);
   CHECK_THAT(result.runs[0].reason,
              Catch::Contains("first_rebound = 200000000") && Catch::Contains("at most 1000"));
+  CHECK_THAT(result.runs[0].reason, Catch::StartsWith(session.manifest.string() + ": run \"" +
+                                                      session.runs[0].id + "\".first_rebound: "));
   CHECK(result.FailedRuns() == 1);
+  // Refused as a value: what was measured stays beside the reason.
+  CHECK(result.runs[0].measured.xmax == session.runs[0].rebounds);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // naming the file, the key and the line.
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <variant>
 
@@ -88,6 +89,24 @@ TEST_CASE("stage_options: the defaults pass their check and every stage table is
   StageOptions::VisitSettings(
       defaults, [&](const char* name, const auto&, const char*) { stages.push_back(name); });
   CHECK(stages == std::vector<std::string>(kStageTables.begin(), kStageTables.end()));
+}
+
+TEST_CASE(
+    "stage_options: defaults that fail their check are a programming error, not a usage one") {
+  // No setting of the user's is to blame: the CLI says "internal error"
+  // (exit 5) for a logic_error, where an invalid_argument would read as a
+  // bad command line (exit 2).
+  StageOptions broken;
+  broken.photocell.max_order = 0;
+  CHECK_THROWS_AS(WithSettings(broken, {}), std::logic_error);
+  bool usage = false;
+  try {
+    WithSettings(broken, {});
+  } catch (const std::invalid_argument&) {
+    usage = true;
+  } catch (const std::logic_error&) {
+  }
+  CHECK_FALSE(usage);
 }
 
 TEST_CASE("stage_options: a setting is refused naming the manifest, its key and line") {

@@ -11,6 +11,7 @@
 
 #include <string>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "io/manifest.h"
@@ -318,6 +319,23 @@ TEST_CASE("trace_session: a broken calibration no run reached is still reported"
   REQUIRE(left != result.warnings.end());
   CHECK_THAT(*left, Catch::Contains("not monotone"));
   CHECK_THAT(*left, Catch::Contains("L.csv"));
+}
+
+TEST_CASE("trace_session: fit_rebounds beyond the measured rebounds fail the run, kept measured") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  Session session = ReadManifest(dir.path()).session;
+  session.runs[0].fit_rebounds = {0, 40};
+  const SessionResult result = ReduceSession(session, {});
+  const RunResult& run = result.runs[0];
+  CHECK_FALSE(run.ok);
+  CHECK(
+      run.reason ==
+      fmt::format("{}: run \"run\": fit_rebounds = [0, 40] but only rebounds 0 .. {} were measured",
+                  session.manifest.string(), run.measured.xmax.size() - 1));
+  // The rebounds were measured before the fit was refused: they stay.
+  CHECK(run.measured.xmax.size() >= 2);
+  CHECK_FALSE(run.fits.kelvin_voigt.has_value());
 }
 
 // Two runs sharing nothing: the trace session's run and a second, typed-in one.
@@ -684,7 +702,88 @@ TEST_CASE("calibration cache: a calibration's cost is charged once, to the first
   CHECK(first.load == ahead.cost.load);
   CHECK(second.calibrate == 0.0);
   CHECK(second.load == 0.0);
-  CHECK_THROWS_AS(cache.Get("no such", &second), InputError);
+  CHECK(ahead.ok);
+  CHECK(ahead.Failure().empty());
+  // A calibration the manifest does not have is a cell that is not ok, said
+  // with the manifest and the key, not an exception.
+  const CalibratedCell& missing = cache.Get("no such", &second);
+  CHECK_FALSE(missing.ok);
+  CHECK(missing.failed_at.file == session.manifest);
+  CHECK(missing.failed_at.key == "calibration \"no such\"");
+  CHECK(missing.reason == "no such calibration");
+  CHECK(missing.Failure() ==
+        session.manifest.string() + ": calibration \"no such\": no such calibration");
+}
+
+// The session's pendulum, as reduce makes it.
+Pendulum PendulumOf(const Session& session) {
+  return {session.apparatus->pendulum_length, session.apparatus->gravity,
+          PendulumConvention::kExact};
+}
+
+TEST_CASE("calibration cache: a trace that does not calibrate is a cell with its file and reason") {
+  // The left cell folds over (not monotone) within the swing.
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  const double quarter = 0.5 * HalfPeriod(kPendulum, 0.6);
+  std::vector<double> t, v;
+  for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
+    const double x = s < 0 ? 0.6 : ReleaseSwingDisplacement(kPendulum, 0.6, std::min(s, quarter));
+    t.push_back(s);
+    v.push_back(0.2 + 2.2 * std::max(x, 0.0) - 3.0 * x * x);  // peaks at X = 0.37
+  }
+  WriteCsv(dir.path() / "traces" / "L.csv", t, v);
+  const Session session = ReadManifest(dir.path()).session;
+  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
+  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
+  const CalibratedCell* left = nullptr;
+  CHECK_NOTHROW(left = &cache.Get("L"));
+  REQUIRE(left != nullptr);
+  CHECK_FALSE(left->ok);
+  CHECK(left->failed_at.file.filename() == "L.csv");
+  CHECK(left->failed_at.key == "calibration \"L\"");
+  CHECK_THAT(left->reason, Catch::Contains("not monotone"));
+  CHECK(cache.Get("R").ok);
+}
+
+TEST_CASE(
+    "measure: a run that cannot be measured is a result naming the trace, with what was "
+    "measured before") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  // Recalibrated from a smaller swing: the right trace's larger displacements fall outside.
+  const Session session = WithCellCalibratedAt(dir.path(), "R", 0.2, 0.0);
+  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
+  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
+  MeasuredTraceRun measured;
+  CHECK_NOTHROW(measured =
+                    MeasureTraceRun(session.runs[0], session, pendulum, StageOptions{}, cache));
+  CHECK_FALSE(measured.ok);
+  CHECK(measured.failed_at.file.filename() == "run-right.csv");
+  CHECK(measured.failed_at.key == "run \"run\".traces.right");
+  CHECK_THAT(measured.reason, Catch::Contains("does not cover"));
+  CHECK(measured.Failure() == FormatLocation(measured.failed_at) + ": " + measured.reason);
+  // The right cell's calibration was made before the conversion stopped the run.
+  REQUIRE(measured.measured.calibrations.size() == 1);
+  CHECK(measured.measured.calibrations[0].calibration_id == "R");
+  CHECK_FALSE(measured.measured.right.has_value());
+}
+
+TEST_CASE("measure: a trace file that cannot be read when measured fails the run, naming it") {
+  testing::TempDir dir;
+  WriteSession(dir.path(), 0.6, 0.0);
+  const Session session = ReadManifest(dir.path()).session;
+  // Gone between the manifest's reading and the measurement.
+  std::filesystem::remove(dir.path() / "traces" / "run-left.csv");
+  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
+  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
+  MeasuredTraceRun measured;
+  CHECK_NOTHROW(measured =
+                    MeasureTraceRun(session.runs[0], session, pendulum, StageOptions{}, cache));
+  CHECK_FALSE(measured.ok);
+  CHECK(measured.failed_at.file.filename() == "run-left.csv");
+  // Both calibrations were made, and the right bar converted, before the left trace was read.
+  CHECK(measured.measured.calibrations.size() == 2);
 }
 
 TEST_CASE("parallel: two jobs give exactly the results of one") {
