@@ -133,13 +133,11 @@ std::vector<std::string> SameLength(
   return out;
 }
 
-// The rebounds' numbers (session numbering) from `first`, as `group`/rebound,
-// the dimension scale of each of `arrays` (one value per rebound).
-void WriteReboundScale(Out& out, const std::string& group, int first, std::size_t count,
+// The rebounds' numbers (session numbering), as `group`/rebound, the
+// dimension scale of each of `arrays` (one value per rebound).
+void WriteReboundScale(Out& out, const std::string& group, const std::vector<long long>& rebound,
                        const std::vector<std::string>& arrays) {
-  if (count == 0) return;
-  std::vector<long long> rebound(count);
-  for (std::size_t i = 0; i < count; ++i) rebound[i] = first + static_cast<long long>(i);
+  if (rebound.empty()) return;
   const std::string scale = group + "/rebound";
   out.f.WriteIntegers(scale, rebound);
   out.f.SetAttribute(scale, "units", "1");
@@ -156,10 +154,21 @@ void WriteCurve(Out& out, const std::string& axis, const std::vector<double>& ax
   out.x.AttachScale(values_name, axis);
 }
 
+// The numbers `first`, `first` + 1, ... of `count` rebounds.
+std::vector<long long> Consecutive(int first, std::size_t count) {
+  std::vector<long long> rebound(count);
+  for (std::size_t i = 0; i < count; ++i) rebound[i] = first + static_cast<long long>(i);
+  return rebound;
+}
+
+// A bar's rows, with their rebounds' numbers as the scale (a bar may lack a
+// rebound its trace does not show).
 void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
   WriteFields(out.f, out.x, g, bar, out.u);
   const std::size_t n = bar.xmax.size();
-  WriteReboundScale(out, g, 0, n,
+  std::vector<long long> rebound(n);
+  for (std::size_t i = 0; i < n; ++i) rebound[i] = bar.Number(i);
+  WriteReboundScale(out, g, rebound,
                     SameLength(g, n,
                                {{"xmax", n},
                                 {"xmax_std_error", bar.xmax_sigma.size()},
@@ -169,9 +178,21 @@ void WriteBar(Out& out, const std::string& g, const BarRebounds& bar) {
                                 {"duration_std_error", bar.duration_sigma.size()}}));
 }
 
+// The rows' rebounds from the scale (none without rows: rows 0, 1, ...).
 BarRebounds ReadBar(const Hdf5File& f, const std::string& g) {
   BarRebounds bar;
   ReadFields(f, g, bar);
+  if (f.Exists(g + "/rebound")) {
+    for (const long long n : f.ReadIntegers(g + "/rebound")) {
+      bar.rebound.push_back(static_cast<int>(n));
+    }
+    if (bar.rebound.size() != bar.xmax.size() ||
+        !std::is_sorted(bar.rebound.begin(), bar.rebound.end())) {
+      throw InputError({f.path(), g + "/rebound", std::nullopt},
+                       fmt::format("{} rebound numbers for {} maxima, or not ascending",
+                                   bar.rebound.size(), bar.xmax.size()));
+    }
+  }
   return bar;
 }
 
@@ -764,7 +785,7 @@ void WriteRebounds(Out& out, const RunResult& run) {
     f.WriteVector(g + "/t_peak", t_peak, "s");
     f.SetAttribute(g + "/t_peak", "source", std::string(run.PeakTimesSource()));
   }
-  WriteReboundScale(out, g, 0, m.xmax.size(),
+  WriteReboundScale(out, g, Consecutive(0, m.xmax.size()),
                     SameLength(g, m.xmax.size(),
                                {{"xmax", m.xmax.size()},
                                 {"xmax_std_error", m.xmax_sigma.size()},
@@ -848,7 +869,7 @@ void WritePrediction(Out& out, const RunPrediction& p) {
   const std::string g = JoinPath({"predictions", p.target_run + "_from_" + p.source_run});
   WriteFields(f, out.x, g, p, out.u);
   const std::size_t n = p.predicted.size();
-  WriteReboundScale(out, g, p.start_rebound, n,
+  WriteReboundScale(out, g, Consecutive(p.start_rebound, n),
                     SameLength(g, n,
                                {{"predicted_xmax", n},
                                 {"calculated_xmax", p.calculated.size()},

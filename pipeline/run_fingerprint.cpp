@@ -181,6 +181,9 @@ std::string BarProblem(const std::string& name, const BarRebounds& bar) {
         !p.empty())
       return p;
   }
+  if (!bar.rebound.empty()) {
+    return SizesDiffer(name + "/xmax", bar.xmax.size(), name + "/rebound", bar.rebound.size());
+  }
   return {};
 }
 

@@ -428,8 +428,8 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   } else {
     AddCurveSigma(from_average, curve_sigma(histories.begin()->first.c_str()));
   }
-  const BarRebounds both =
-      histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average) : from_average;
+  const BarRebounds both = histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average)
+                                                 : GapFree(std::move(from_average));
   if (both.xmax.size() < 2) {
     std::optional<BarDisagreement> disagreement;
     if (histories.size() == 2) {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace impactlab {
 
@@ -28,8 +30,27 @@ double MeanOfTwoSigma(double a, double sigma_a, double b, double sigma_b) {
   return 0.5 * std::max(combined, std::abs(a - b));
 }
 
+// The rebounds (session numbering, ascending) both bars show, below `stop`,
+// with each bar's row.
+struct SharedRebound {
+  int n;
+  std::size_t right, left;
+};
+std::vector<SharedRebound> Shared(const BarRebounds& right, const BarRebounds& left,
+                                  int stop = std::numeric_limits<int>::max()) {
+  std::vector<SharedRebound> out;
+  for (std::size_t i = 0; i < right.xmax.size() && right.Number(i) < stop; ++i) {
+    if (const std::optional<std::size_t> j = left.RowOf(right.Number(i))) {
+      out.push_back({right.Number(i), i, *j});
+    }
+  }
+  return out;
+}
+
+double Alternating(int n) { return n % 2 == 0 ? 1.0 : -1.0; }
+
 // The bars' common swing at rebound 0 (session numbering), from the
-// rebounds [0, both) both bars read: the pair's centre of mass swings on
+// rebounds `shared` both bars show: the pair's centre of mass swings on
 // through every impact (the impact exchanges momentum between the bars, not
 // its sum), half a period per rebound, so each bar's maximum is the mean of
 // the two plus this length with alternating sign: right_n = mean_n +
@@ -37,15 +58,14 @@ double MeanOfTwoSigma(double a, double sigma_a, double b, double sigma_b) {
 // (-1)^n (right_n - left_n) / 2, with its standard error widened by the
 // scatter about it (a Birge ratio) where two or more rebounds give it;
 // rebound `skip` left out (none by default).
-Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::size_t both,
-                     std::size_t skip = static_cast<std::size_t>(-1)) {
+Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left,
+                     const std::vector<SharedRebound>& shared, int skip = -1) {
   double sum_w = 0.0, sum_wc = 0.0;
   std::vector<std::array<double, 2>> readings;  // c_n and its sigma
-  for (std::size_t n = 0; n < both; ++n) {
-    if (n == skip) continue;
-    const double sign = n % 2 == 0 ? 1.0 : -1.0;
-    const double c = sign * 0.5 * (right.xmax[n] - left.xmax[n]);
-    const double sigma = 0.5 * std::hypot(right.xmax_sigma[n], left.xmax_sigma[n]);
+  for (const SharedRebound& s : shared) {
+    if (s.n == skip) continue;
+    const double c = Alternating(s.n) * 0.5 * (right.xmax[s.right] - left.xmax[s.left]);
+    const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
     if (!(sigma > 0.0)) continue;
     readings.push_back({c, sigma});
     sum_w += 1.0 / (sigma * sigma);
@@ -58,6 +78,44 @@ Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::siz
   const double birge =
       readings.size() > 1 ? std::max(1.0, std::sqrt(chi2 / (readings.size() - 1.0))) : 1.0;
   return {mean, birge / std::sqrt(sum_w)};
+}
+
+// The common swing for a rebound only one bar shows, where c carries the
+// whole of that bar's offset from the mean rather than only weighting two
+// readings: CommonSwing over the shared rebounds, less the one reading
+// furthest from the rest where it lies more than kOutlierSigmas from their
+// mean (a bar misread at that rebound), and only where two or more readings
+// remain and agree within kOutlierSigmas as a whole (Birge ratio); else
+// unknown ({0, 0}), and the bar's rows alone give no maximum.
+constexpr double kOutlierSigmas = 3.0;
+
+Estimate CommonSwingForOneBar(const BarRebounds& right, const BarRebounds& left,
+                              const std::vector<SharedRebound>& shared) {
+  if (shared.size() < 2) return {0.0, 0.0};
+  const Estimate all = CommonSwing(right, left, shared);
+  int worst = -1;
+  double worst_apart = kOutlierSigmas;
+  if (shared.size() >= 3) {
+    for (const SharedRebound& s : shared) {
+      const Estimate rest = CommonSwing(right, left, shared, s.n);
+      const double c = Alternating(s.n) * 0.5 * (right.xmax[s.right] - left.xmax[s.left]);
+      const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
+      const double apart = std::abs(c - rest.value) / std::hypot(sigma, rest.sigma);
+      if (apart > worst_apart) worst_apart = apart, worst = s.n;
+    }
+  }
+  const Estimate common = worst < 0 ? all : CommonSwing(right, left, shared, worst);
+  // CommonSwing's sigma is the plain one times the Birge ratio: the ratio
+  // back from the two.
+  double plain_w = 0.0;
+  for (const SharedRebound& s : shared) {
+    if (s.n == worst) continue;
+    const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
+    if (sigma > 0.0) plain_w += 1.0 / (sigma * sigma);
+  }
+  if (!(common.sigma > 0.0) || !(plain_w > 0.0)) return {0.0, 0.0};
+  const double birge = common.sigma * std::sqrt(plain_w);
+  return birge <= kOutlierSigmas ? common : Estimate{0.0, 0.0};
 }
 
 // Rebound n's maximum of the pair, mean_n = (right_n + left_n) / 2, from
@@ -75,14 +133,14 @@ Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left, std::siz
 constexpr double kBarsAgreeSigmas = 2.0;
 constexpr double kPlainSigmaShare = 2.0;
 
-Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, std::size_t n,
+Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, const SharedRebound& s,
                        const Estimate& common) {
-  const double r = right.xmax[n], l = left.xmax[n];
-  const double sr = right.xmax_sigma[n], sl = left.xmax_sigma[n];
+  const double r = right.xmax[s.right], l = left.xmax[s.left];
+  const double sr = right.xmax_sigma[s.right], sl = left.xmax_sigma[s.left];
   if (!(sr > 0.0) || !(sl > 0.0) || !(common.sigma > 0.0)) {
     return {0.5 * (r + l), 0.5 * std::hypot(sr, sl)};
   }
-  const double sign = n % 2 == 0 ? 1.0 : -1.0;
+  const double sign = Alternating(s.n);
   const double from_right = r - sign * common.value, from_left = l + sign * common.value;
   const double vr = sr * sr, vl = sl * sl, vc = common.sigma * common.sigma;
   // Var(a from_right + (1 - a) from_left), c shared with opposite signs, is
@@ -97,22 +155,74 @@ Estimate MaximumOfPair(const BarRebounds& right, const BarRebounds& left, std::s
   return {a * from_right + (1.0 - a) * from_left, std::sqrt(variance) * std::max(1.0, apart)};
 }
 
-// Whether rebound n's peaks in `a` and `b` lie more than a tenth of its
-// duration (`duration`) apart: the bars meet at every impact, so the same
-// rebound peaks within a millisecond in both bars and in their average.
-bool PeaksApart(const BarRebounds& a, const BarRebounds& b, std::size_t n, double duration) {
+// Whether a rebound's peaks, row `i` of `a` and row `j` of `b`, lie more than
+// a tenth of its duration (`duration`) apart: the bars meet at every impact,
+// so the same rebound peaks within a millisecond in both bars and in their
+// average.
+bool PeaksApart(const BarRebounds& a, std::size_t i, const BarRebounds& b, std::size_t j,
+                double duration) {
   constexpr double kPeakShareOfDuration = 0.1;
-  return std::abs(a.t_peak[n] - b.t_peak[n]) > kPeakShareOfDuration * duration;
+  return std::abs(a.t_peak[i] - b.t_peak[j]) > kPeakShareOfDuration * duration;
+}
+
+// Appends row `i` of `bar` to `session`, its maximum moved by `shift`
+// (sigma `shift_sigma` added in quadrature).
+void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift_sigma,
+               BarRebounds& session) {
+  session.xmax.push_back(bar.xmax[i] + shift);
+  session.xmax_sigma.push_back(std::hypot(bar.xmax_sigma[i], shift_sigma));
+  session.t_peak.push_back(bar.t_peak[i]);
+  session.t_peak_sigma.push_back(bar.t_peak_sigma[i]);
+  session.duration.push_back(bar.duration[i]);
+  session.duration_sigma.push_back(SigmaAt(bar.duration_sigma, i));
+}
+
+// How many of the averaged history's rows from rebound 0 hold: the average
+// is read only where both bars are, so where both bars' traces are lost at
+// the start its walk begins later and numbers from there. Its rows hold up to
+// the first that peaks away from a bar's rebound of the same number, and only
+// if a bar's rebound confirmed a row before it (the walk numbers all its rows
+// alike, right or wrong); none where no bar shows any of its rebounds.
+int AnchoredRows(const BarRebounds& right, const BarRebounds& left, const BarRebounds& averaged) {
+  const std::size_t rows = averaged.GapFreeRows();
+  bool confirmed = false;
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (const BarRebounds* bar : {&right, &left}) {
+      const std::optional<std::size_t> j = bar->RowOf(static_cast<int>(i));
+      if (!j) continue;
+      if (PeaksApart(averaged, i, *bar, *j, bar->duration[*j])) {
+        return confirmed ? static_cast<int>(i) : 0;
+      }
+      confirmed = true;
+    }
+  }
+  return confirmed ? static_cast<int>(rows) : 0;
 }
 
 }  // namespace
+
+std::optional<std::size_t> BarRebounds::RowOf(int n) const {
+  if (rebound.empty()) {
+    if (n >= 0 && static_cast<std::size_t>(n) < xmax.size()) return static_cast<std::size_t>(n);
+    return std::nullopt;
+  }
+  const auto it = std::lower_bound(rebound.begin(), rebound.end(), n);
+  if (it == rebound.end() || *it != n) return std::nullopt;
+  return static_cast<std::size_t>(it - rebound.begin());
+}
+
+std::size_t BarRebounds::GapFreeRows() const {
+  std::size_t rows = 0;
+  while (rows < xmax.size() && Number(rows) == static_cast<int>(rows)) ++rows;
+  return rows;
+}
 
 BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound) {
   BarRebounds out;
   for (const ExtractedRebound& r : extraction.rebounds) {
     const int n = r.number - first_rebound;
     if (n < 0) continue;
-    if (n != static_cast<int>(out.xmax.size())) break;  // keep the sequence gap-free
+    out.rebound.push_back(n);
     out.xmax.push_back(r.xmax.value);
     out.xmax_sigma.push_back(r.xmax.sigma);
     out.t_peak.push_back(r.t_peak.value);
@@ -122,6 +232,16 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
   }
   out.release = extraction.release;
   return out;
+}
+
+BarRebounds GapFree(BarRebounds bar) {
+  const std::size_t rows = bar.GapFreeRows();
+  for (std::vector<double>* v : {&bar.xmax, &bar.xmax_sigma, &bar.t_peak, &bar.t_peak_sigma,
+                                 &bar.duration, &bar.duration_sigma}) {
+    if (v->size() > rows) v->resize(rows);
+  }
+  if (bar.rebound.size() > rows) bar.rebound.resize(rows);
+  return bar;
 }
 
 void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_sigma_at) {
@@ -144,15 +264,16 @@ void AddCurveSigma(BarRebounds& bar, const std::function<double(double)>& curve_
 
 std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
                                                  const BarRebounds& left) {
-  const std::size_t both = std::min(right.xmax.size(), left.xmax.size());
-  for (std::size_t n = 0; n < both; ++n) {
-    const double apart_s = std::abs(right.t_peak[n] - left.t_peak[n]);
-    if (PeaksApart(right, left, n, 0.5 * (right.duration[n] + left.duration[n]))) {
+  for (const SharedRebound& s : Shared(right, left)) {
+    const double tr = right.t_peak[s.right], tl = left.t_peak[s.left];
+    if (PeaksApart(right, s.right, left, s.left,
+                   0.5 * (right.duration[s.right] + left.duration[s.left]))) {
       return BarDisagreement{
-          n, fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
-                         "{:.4g} s), more than a tenth of its duration: one bar's trace was "
-                         "misread and its rebounds slipped",
-                         n, apart_s, right.t_peak[n], left.t_peak[n])};
+          static_cast<std::size_t>(s.n),
+          fmt::format("the bars' rebound {} peaks {:.4g} s apart (right at {:.4g} s, left at "
+                      "{:.4g} s), more than a tenth of its duration: one bar's trace was "
+                      "misread and its rebounds slipped",
+                      s.n, std::abs(tr - tl), tr, tl)};
     }
   }
   return std::nullopt;
@@ -160,89 +281,92 @@ std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right,
 
 std::optional<BarDisagreement> AverageSlip(const BarRebounds& right, const BarRebounds& left,
                                            const BarRebounds& averaged) {
-  for (std::size_t n = 0; n < averaged.xmax.size(); ++n) {
+  for (std::size_t i = 0; i < averaged.xmax.size(); ++i) {
+    const int n = averaged.Number(i);
     for (const auto& [name, bar] : {std::pair{"right", &right}, std::pair{"left", &left}}) {
+      const std::optional<std::size_t> j = bar->RowOf(n);
       // The bar's own duration: a row the average's walk misread may
       // last any time.
-      if (n >= bar->xmax.size() || !PeaksApart(averaged, *bar, n, bar->duration[n])) continue;
+      if (!j || !PeaksApart(averaged, i, *bar, *j, bar->duration[*j])) continue;
       return BarDisagreement{
-          n, fmt::format("the averaged history's rebound {} peaks at {:.4g} s, the {} bar's at "
-                         "{:.4g} s: the average's walk slipped where the other bar's trace is "
-                         "lost",
-                         n, averaged.t_peak[n], name, bar->t_peak[n])};
+          static_cast<std::size_t>(n),
+          fmt::format("the averaged history's rebound {} peaks at {:.4g} s, the {} bar's at "
+                      "{:.4g} s: the average's walk slipped where the other bar's trace is "
+                      "lost",
+                      n, averaged.t_peak[i], name, bar->t_peak[*j])};
     }
   }
   return std::nullopt;
 }
 
-void ExtendFromOneBar(const BarRebounds& right, const BarRebounds& left, std::size_t both,
-                      BarRebounds& session) {
-  if (both == 0) return;  // no rebound tells the common swing
-  const bool right_longer = right.xmax.size() > left.xmax.size();
-  const BarRebounds& bar = right_longer ? right : left;
-  // right_n = mean_n + (-1)^n c; left_n = mean_n - (-1)^n c.
-  const double side = right_longer ? 1.0 : -1.0;
-  const Estimate common = CommonSwing(right, left, both);
-  if (!(common.sigma > 0.0)) return;
-  for (std::size_t n = session.xmax.size(); n < bar.xmax.size(); ++n) {
-    const double sign = n % 2 == 0 ? 1.0 : -1.0;
-    session.xmax.push_back(bar.xmax[n] - side * sign * common.value);
-    session.xmax_sigma.push_back(std::hypot(bar.xmax_sigma[n], common.sigma));
-    session.t_peak.push_back(bar.t_peak[n]);
-    session.t_peak_sigma.push_back(bar.t_peak_sigma[n]);
-    session.duration.push_back(bar.duration[n]);
-    session.duration_sigma.push_back(SigmaAt(bar.duration_sigma, n));
-  }
-}
-
 std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebounds& left,
                                          std::size_t rows) {
-  const bool left_short = left.xmax.size() < right.xmax.size();
-  const std::size_t own = std::min(right.xmax.size(), left.xmax.size());
-  if (rows <= own) return std::nullopt;
+  std::vector<std::string> lost;
+  for (const auto& [name, bar] : {std::pair{"right", &right}, std::pair{"left", &left}}) {
+    std::vector<int> missing;
+    for (int n = 0; n < static_cast<int>(rows); ++n) {
+      if (!bar->RowOf(n)) missing.push_back(n);
+    }
+    if (missing.empty()) continue;
+    // Consecutive rebounds as a range: "2 to 4".
+    std::string which;
+    for (std::size_t k = 0; k < missing.size();) {
+      std::size_t end = k;
+      while (end + 1 < missing.size() && missing[end + 1] == missing[end] + 1) ++end;
+      if (!which.empty()) which += ", ";
+      which += end > k ? fmt::format("{} to {}", missing[k], missing[end])
+                       : fmt::format("{}", missing[k]);
+      k = end + 1;
+    }
+    lost.push_back(fmt::format("the {} bar's trace gives no rebound {} of its own", name, which));
+  }
+  if (lost.empty()) return std::nullopt;
   return fmt::format(
-      "the {} bar's trace gives no rebound {}{} of its own (lost under a mark, or past its "
-      "record's end): the maxima there are the averaged history's where it has them, else the "
-      "{} bar's less the bars' common swing",
-      left_short ? "left" : "right", own,
-      rows - 1 > own ? fmt::format(" to {}", rows - 1) : std::string(),
-      left_short ? "right" : "left");
+      "{} (lost under a mark, in a gap, or past its record's end): the maxima there are the "
+      "averaged history's where it has them, else the other bar's less the bars' common swing",
+      fmt::join(lost, "; "));
 }
 
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged) {
   BarRebounds out;
   const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
-  const std::size_t both =
-      disagreement ? disagreement->rebound : std::min(right.xmax.size(), left.xmax.size());
-  for (std::size_t n = 0; n < both; ++n) {
-    const Estimate maximum = MaximumOfPair(right, left, n, CommonSwing(right, left, both, n));
-    out.xmax.push_back(maximum.value);
-    out.xmax_sigma.push_back(maximum.sigma);
-    out.t_peak.push_back(0.5 * (right.t_peak[n] + left.t_peak[n]));
-    out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[n], left.t_peak_sigma[n]));
-    out.duration.push_back(0.5 * (right.duration[n] + left.duration[n]));
-    out.duration_sigma.push_back(MeanOfTwoSigma(right.duration[n], SigmaAt(right.duration_sigma, n),
-                                                left.duration[n], SigmaAt(left.duration_sigma, n)));
-  }
+  const int stop =
+      disagreement ? static_cast<int>(disagreement->rebound) : std::numeric_limits<int>::max();
+  const std::vector<SharedRebound> shared = Shared(right, left, stop);
   // Each bar's own release; the averaged history's where a bar's is not
   // known.
   out.release = right.release.sigma > 0.0 && left.release.sigma > 0.0
                     ? Estimate{0.5 * (right.release.value + left.release.value),
                                0.5 * std::hypot(right.release.sigma, left.release.sigma)}
                     : averaged.release;
-  if (disagreement) return out;
-  const std::optional<BarDisagreement> slip = AverageSlip(right, left, averaged);
-  const std::size_t end = slip ? slip->rebound : averaged.xmax.size();
-  for (std::size_t n = both; n < end; ++n) {
-    out.xmax.push_back(averaged.xmax[n]);
-    out.xmax_sigma.push_back(averaged.xmax_sigma[n]);
-    out.t_peak.push_back(averaged.t_peak[n]);
-    out.t_peak_sigma.push_back(averaged.t_peak_sigma[n]);
-    out.duration.push_back(averaged.duration[n]);
-    out.duration_sigma.push_back(SigmaAt(averaged.duration_sigma, n));
+  // The average's rows hold as far as its numbering does.
+  const int average_end = disagreement ? 0 : AnchoredRows(right, left, averaged);
+  const Estimate common = CommonSwingForOneBar(right, left, shared);
+  for (int n = 0; n < stop; ++n) {
+    const std::optional<std::size_t> r = right.RowOf(n), l = left.RowOf(n);
+    if (r && l) {
+      const SharedRebound s{n, *r, *l};
+      const Estimate maximum = MaximumOfPair(right, left, s, CommonSwing(right, left, shared, n));
+      out.xmax.push_back(maximum.value);
+      out.xmax_sigma.push_back(maximum.sigma);
+      out.t_peak.push_back(0.5 * (right.t_peak[*r] + left.t_peak[*l]));
+      out.t_peak_sigma.push_back(0.5 * std::hypot(right.t_peak_sigma[*r], left.t_peak_sigma[*l]));
+      out.duration.push_back(0.5 * (right.duration[*r] + left.duration[*l]));
+      out.duration_sigma.push_back(
+          MeanOfTwoSigma(right.duration[*r], SigmaAt(right.duration_sigma, *r), left.duration[*l],
+                         SigmaAt(left.duration_sigma, *l)));
+    } else if (n < average_end) {
+      AppendRow(averaged, static_cast<std::size_t>(n), 0.0, 0.0, out);
+    } else if ((r || l) && common.sigma > 0.0) {
+      // right_n = mean_n + (-1)^n c; left_n = mean_n - (-1)^n c.
+      const double side = r ? 1.0 : -1.0;
+      AppendRow(r ? right : left, r ? *r : *l, -side * Alternating(n) * common.value, common.sigma,
+                out);
+    } else {
+      break;  // nothing gives this rebound: the sequence stays gap-free
+    }
   }
-  ExtendFromOneBar(right, left, both, out);
   return out;
 }
 

@@ -15,7 +15,12 @@ namespace impactlab {
 
 // One bar's rebounds as extracted from its displacement history.
 struct BarRebounds {
-  std::vector<double> xmax, xmax_sigma;      // session numbering
+  // Each row's rebound, session numbering, ascending. A rebound whose peak
+  // the bar's trace does not show (under a mark, in a gap) has no row, and
+  // the later ones keep their numbers. Empty: the rows are rebounds 0, 1, ...
+  // (the results file writes it as the rows' dimension scale).
+  std::vector<int> rebound;
+  std::vector<double> xmax, xmax_sigma;
   std::vector<double> t_peak, t_peak_sigma;  // s since release
   std::vector<double> duration;              // s, between the flank's zero crossings
   std::vector<double> duration_sigma;        // s, one-sigma, same length
@@ -33,12 +38,24 @@ struct BarRebounds {
     visit("duration_std_error", self.duration_sigma, Quantity::kSeconds, "its standard error");
     visit("release_x", self.release, Quantity::kLength, "X0 as this bar's trace shows it");
   }
+
+  // Row i's rebound (session numbering).
+  int Number(std::size_t i) const { return rebound.empty() ? static_cast<int>(i) : rebound[i]; }
+  // The row of rebound n, if the bar has one.
+  std::optional<std::size_t> RowOf(int n) const;
+  // The rows from rebound 0 up to the first rebound the bar lacks.
+  std::size_t GapFreeRows() const;
 };
 
 // Session numbering: PENDUL rebound N is session rebound N - first_rebound.
-// The sequence is kept gap-free: it stops at the first rebound the
-// extraction left out.
+// Every rebound the extraction kept, with its number: where it left one out
+// (too few samples near its peak) the later ones keep theirs.
 BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_rebound);
+
+// The rows of `bar` from rebound 0 up to the first it lacks: a history read
+// alone (one bar's, or the two bars' average) gives the session's maxima
+// only as an unbroken sequence.
+BarRebounds GapFree(BarRebounds bar);
 
 // Each maximum's standard error with its cell curve's: the peak fit averages
 // the samples' independent noise, but every sample near the peak reads
@@ -70,31 +87,28 @@ std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right, const
 std::optional<BarDisagreement> AverageSlip(const BarRebounds& right, const BarRebounds& left,
                                            const BarRebounds& averaged);
 
-// Past the rebounds `session` holds, those only one bar's trace shows (the
-// other's lost under a mark, or beyond its record's end): that bar's maxima
-// less the bars' common swing, which the rebounds [0, both) both bars read
-// measure (the pair's centre of mass swings on through every impact, so each
-// bar's maximum is the mean plus a constant length with alternating sign),
-// its error added in quadrature. Nothing when no rebound was read by both.
-void ExtendFromOneBar(const BarRebounds& right, const BarRebounds& left, std::size_t both,
-                      BarRebounds& session);
-
-// Where the session's `rows` maxima reach past the rebounds one bar's own
-// walk measured: which bar lost which rebounds, and that their maxima rest
-// on the other bar's trace, in words; nullopt when both bars measured all.
+// Which of the session's first `rows` rebounds one bar's trace does not
+// show (lost under a mark, in a gap or past its record's end), so that their
+// maxima rest on the other bar's, in words; nullopt when both show them all.
 std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebounds& left,
                                          std::size_t rows);
 
-// The session's maxima from both bars (session numbering, gap-free): the
-// mean of the bars' own where both have the rebound (the thesis's average of
-// the two displacements at its peak, without reading one bar at the other's
-// sample times), each bar weighted by its sigma through the bars' common
-// swing (a bar read badly at a rebound gives way to the other), the sigma
-// scaled where the two disagree beyond their errors; past the last rebound both have, the
-// averaged history's own as long as it has them. The sequence stops at the
-// first rebound the bars disagree about (past it neither can be trusted);
-// where the average's numbering slipped (AverageSlip) or its rows end, the
-// rebounds one bar still shows follow (ExtendFromOneBar).
+// The session's maxima from both bars (session numbering, gap-free), each
+// rebound from the best the bars give:
+// - both bars show it: the mean of the bars' own (the thesis's average of
+//   the two displacements at its peak, without reading one bar at the
+//   other's sample times), each bar weighted by its sigma through the bars'
+//   common swing (a bar read badly at a rebound gives way to the other), the
+//   sigma scaled where the two disagree beyond their errors;
+// - else the averaged history's own, while its numbering holds (AverageSlip);
+// - else the one bar that shows it, less the bars' common swing, which the
+//   rebounds both bars show measure (the pair's centre of mass swings on
+//   through every impact, so each bar's maximum is the mean plus a constant
+//   length with alternating sign), its error added in quadrature; only where
+//   two or more of those agree on it, once the one furthest off (a bar
+//   misread there) is left out.
+// The sequence stops at the first rebound none of these gives, and at the
+// first the bars disagree about (past it neither can be trusted).
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged);
 

@@ -44,6 +44,14 @@ struct SessionFields {
     Add(c, where);
     if (c.overlay) Add(*c.overlay, where + "/digitized");
   }
+  // A bar's fields and its rows' rebounds (the file's dimension scale).
+  void AddBar(const BarRebounds& bar, const std::string& where) {
+    Add(bar, where);
+    std::string numbers = where + ": rebound";
+    for (std::size_t i = 0; i < bar.xmax.size(); ++i)
+      numbers += " " + std::to_string(bar.Number(i));
+    lines.push_back(numbers);
+  }
   template <typename Fit>
   void AddLeastSquares(const std::optional<Fit>& fit, const std::string& where) {
     if (fit && fit->status.Ran()) Add(*fit, where);
@@ -54,8 +62,8 @@ struct SessionFields {
     Add(run.seconds, g + "/stage_seconds");
     if (!run.specimen.empty()) Add(run.specimen, g + "/specimen");
     Add(run.measured, g);
-    if (run.measured.right) Add(*run.measured.right, g + "/rebounds/right");
-    if (run.measured.left) Add(*run.measured.left, g + "/rebounds/left");
+    if (run.measured.right) AddBar(*run.measured.right, g + "/rebounds/right");
+    if (run.measured.left) AddBar(*run.measured.left, g + "/rebounds/left");
     for (const CellCalibration& c : run.measured.calibrations) {
       AddCalibration(c, g + "/calibration/" + c.cell);
     }

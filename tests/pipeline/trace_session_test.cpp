@@ -664,7 +664,7 @@ TEST_CASE("reuse: values that are not finite or disagree in size are named") {
   bad.measured_displacement.value = {0.0};
   CHECK_THAT(ReuseProblem(bad), Catch::Contains("displacement/time has 2 values"));
   bad = r;
-  bad.right = BarRebounds{{0.3}, {std::nan("")}, {0.1}, {0.0}, {0.5}, {0.0}, {}};
+  bad.right = BarRebounds{{0}, {0.3}, {std::nan("")}, {0.1}, {0.0}, {0.5}, {0.0}, {}};
   CHECK_THAT(ReuseProblem(bad), Catch::Equals("rebounds/right/xmax_std_error[0] is nan"));
 }
 

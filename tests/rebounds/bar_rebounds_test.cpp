@@ -1,7 +1,10 @@
 #include "rebounds/bar_rebounds.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -9,7 +12,7 @@
 namespace impactlab {
 namespace {
 
-TEST_CASE("bar_rebounds: session numbering starts at first_rebound and stops at a gap") {
+TEST_CASE("bar_rebounds: session numbering starts at first_rebound and keeps rows past a gap") {
   ReboundExtraction e;
   for (int number : {1, 2, 3, 5, 6}) {
     ExtractedRebound r;
@@ -20,12 +23,20 @@ TEST_CASE("bar_rebounds: session numbering starts at first_rebound and stops at 
     e.rebounds.push_back(r);
   }
   // PENDUL's rebound 2 is the session's rebound 0; 4 was left out, so 5 and
-  // 6 cannot be numbered without a gap.
+  // 6 are the session's 3 and 4, with no row for 2.
   const BarRebounds bar = InSessionNumbering(e, 2);
-  REQUIRE(bar.xmax.size() == 2);
+  REQUIRE(bar.xmax.size() == 4);
+  CHECK(bar.rebound == std::vector<int>{0, 1, 3, 4});
   CHECK(bar.xmax[0] == 0.25);
   CHECK(bar.t_peak[1] == 2.25);
-  CHECK(bar.xmax_sigma == std::vector<double>{1e-4, 1e-4});
+  CHECK(bar.RowOf(3) == std::optional<std::size_t>(2));
+  CHECK_FALSE(bar.RowOf(2).has_value());
+  CHECK(bar.GapFreeRows() == 2);
+  // Read alone, a history gives the session's maxima only unbroken.
+  const BarRebounds alone = GapFree(bar);
+  CHECK(alone.xmax.size() == 2);
+  CHECK(alone.rebound == std::vector<int>{0, 1});
+  CHECK(alone.xmax_sigma == std::vector<double>{1e-4, 1e-4});
 }
 
 TEST_CASE("bar_rebounds: a cell curve's error adds to each maximum's in quadrature") {
@@ -231,6 +242,94 @@ TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other"
   CHECK(std::abs(wide.xmax[1] - mean[1]) < 5e-4);
   CHECK(wide.xmax_sigma[1] < 0.1 * 0.5 * std::hypot(0.0194, 3e-4));
   CHECK(std::abs(wide.xmax[1] - mean[1]) < 2.0 * wide.xmax_sigma[1]);
+}
+
+// Two bars with a common swing `common` (right_n - left_n = 2 (-1)^n c) about
+// the means `mean`, each missing the rebounds listed (a mark over its peak).
+std::pair<BarRebounds, BarRebounds> BarsMissing(const std::vector<double>& mean, double common,
+                                                const std::vector<int>& right_missing,
+                                                const std::vector<int>& left_missing) {
+  BarRebounds right, left;
+  for (int n = 0; n < static_cast<int>(mean.size()); ++n) {
+    const double sign = n % 2 == 0 ? 1.0 : -1.0;
+    for (auto [bar, side, missing] :
+         {std::tuple{&right, 1.0, &right_missing}, std::tuple{&left, -1.0, &left_missing}}) {
+      if (std::find(missing->begin(), missing->end(), n) != missing->end()) continue;
+      bar->rebound.push_back(n);
+      bar->xmax.push_back(mean[static_cast<std::size_t>(n)] + side * sign * common);
+      bar->xmax_sigma.push_back(3e-4);
+      bar->t_peak.push_back(0.75 + 0.75 * n);
+      bar->t_peak_sigma.push_back(2e-4);
+      bar->duration.push_back(0.75);
+      bar->duration_sigma.push_back(1e-3);
+    }
+  }
+  return {right, left};
+}
+
+TEST_CASE("bar_rebounds: a rebound one bar does not show is the other's; its later ones count") {
+  // Randomised seeds 1004 and 1018's runs 0.405: a mark over the right bar's
+  // first peak. The right bar has no rebound 0 but reads 1 to 4; the left
+  // reads all. Neither bar's trace nor their average (read where both are)
+  // gave rebound 0 before, and the run had no rebound from 0.
+  const std::vector<double> mean = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kCommon = 4e-4;
+  {
+    const auto [right, left] = BarsMissing(mean, kCommon, {0}, {});
+    const BarRebounds both = MeanOfBars(right, left, BarRebounds{});
+    REQUIRE(both.xmax.size() == 5);
+    for (std::size_t n = 0; n < 5; ++n) CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+    // Rebound 0 from the left bar alone, the common swing from rebounds 1 to 4.
+    const double common_sigma = 0.5 * std::hypot(3e-4, 3e-4) / 2.0;
+    CHECK(both.xmax_sigma[0] == Approx(std::hypot(3e-4, common_sigma)));
+    CHECK(both.t_peak[0] == Approx(0.75));
+    const std::optional<std::string> note = OneBarStretch(right, left, both.xmax.size());
+    REQUIRE(note.has_value());
+    CHECK_THAT(*note, Catch::Contains("right bar's trace gives no rebound 0 of its own"));
+  }
+  {
+    // The external session annotated-e903's run 0.314: the left bar's
+    // rebounds 1 and 2 under crossing scratches and a ringed label, 3 and 4
+    // read again. Its later rebounds pair with the right bar's again.
+    const auto [right, left] = BarsMissing(mean, kCommon, {}, {1, 2});
+    const BarRebounds both = MeanOfBars(right, left, BarRebounds{});
+    REQUIRE(both.xmax.size() == 5);
+    for (std::size_t n = 0; n < 5; ++n) CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+    CHECK(both.xmax_sigma[3] == Approx(0.5 * std::hypot(3e-4, 3e-4)));
+    CHECK(both.xmax_sigma[1] > both.xmax_sigma[3]);
+    const std::optional<std::string> note = OneBarStretch(right, left, both.xmax.size());
+    REQUIRE(note.has_value());
+    CHECK_THAT(*note, Catch::Contains("left bar's trace gives no rebound 1 to 2 of its own"));
+  }
+  {
+    // As e903's run 0.314 was read: the right bar's rebound 0 crest misread
+    // by 0.003 in (ten of its sigmas, 3.5 of c's): c from rebounds 0, 3 and 4
+    // would move rebounds 1 and 2 by a third of that; it is left out.
+    auto [right, left] = BarsMissing(mean, kCommon, {}, {1, 2});
+    right.xmax[0] -= 0.003;
+    const BarRebounds both = MeanOfBars(right, left, BarRebounds{});
+    REQUIRE(both.xmax.size() == 5);
+    CHECK(both.xmax[1] == Approx(mean[1]).epsilon(1e-12));
+    CHECK(both.xmax[2] == Approx(mean[2]).epsilon(1e-12));
+  }
+  {
+    // Two readings of c that disagree (a bar misread at one of them, no
+    // telling which) give no rebound from one bar: the sequence ends there.
+    auto [right, left] = BarsMissing(mean, kCommon, {}, {1, 2});
+    left.xmax.resize(2), left.rebound.resize(2), left.xmax_sigma.resize(2);
+    left.t_peak.resize(2), left.t_peak_sigma.resize(2), left.duration.resize(2);
+    left.duration_sigma.resize(2);  // rebounds 0 and 3
+    left.xmax[1] += 0.003;
+    CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.size() == 1);
+    // Or one reading alone: nothing checks it.
+    left = BarsMissing(mean, kCommon, {}, {1, 2, 3, 4}).second;
+    CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.size() == 1);
+  }
+  {
+    // A rebound neither bar shows ends the sequence: it stays gap-free.
+    const auto [right, left] = BarsMissing(mean, kCommon, {2}, {2});
+    CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.size() == 2);
+  }
 }
 
 }  // namespace
