@@ -1,5 +1,7 @@
 #include "digitize/bold_lines.h"
 
+#include "digitize/hand_marks.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -53,6 +55,28 @@ PreparedPhoto WithWideLines(const PreparedPhoto& photo, const GraticuleFit& grat
   wide.ridge_opening_px = bold_side;
   wide.ridge = OpenedBy(photo.working, side) - OpenedBy(photo.working, bold_side);
   return wide;
+}
+
+double LongGapShare(const DigitizedTrace& trace, double sweep_div) {
+  if (trace.screen_div.empty() || !(sweep_div > 0.0)) return 1.0;
+  double missed = 0.0, last = 0.0;
+  const auto gap = [&missed](double from, double to) {
+    if (to - from >= kLongGapDiv) missed += to - from;
+  };
+  for (const cv::Point2d& p : trace.screen_div) {
+    gap(last, p.x);
+    last = p.x;
+  }
+  gap(last, sweep_div);
+  return missed / sweep_div;
+}
+
+bool AsksForBoldReading(const DigitizedTrace& trace, const PreparedPhoto& photo, double sweep_div) {
+  if (trace.coverage >= kWeakCoverage || ReadInDashes(trace)) return false;
+  // The width is measured in the photo; the thin image's square is in
+  // working pixels.
+  const bool broad = trace.width_px / photo.shrink >= kBroadShare * photo.ridge_opening_px;
+  return broad || LongGapShare(trace, sweep_div) > kLongGapShare;
 }
 
 }  // namespace impactlab::digitize

@@ -40,4 +40,32 @@ int WideOpeningPx(const PreparedPhoto& photo, const GraticuleFit& graticule);
 // person tells it.
 PreparedPhoto WithWideLines(const PreparedPhoto& photo, const GraticuleFit& graticule);
 
+// A successful reading of thin lines that sees a continuously drawn trace
+// along less than this share of the sweep may have lost a bold trace's core
+// and followed something thin beside it (a hair, a pen stroke, a grid line).
+inline constexpr double kWeakCoverage = 0.6;
+
+// Low coverage alone is no sign of that: a run's traces swing steeply, and
+// the samples dropped there leave many short gaps (run photos that read fine
+// see their traces along 0.36-0.58 of the sweep). A lost bold trace shows
+// otherwise: the trace measured is at least kBroadShare of the thin image's
+// square wide (that image keeps a fifth less of its height, or none of its
+// core), or the reading misses more than kLongGapShare of the sweep in gaps
+// of kLongGapDiv and more (it lost the trace, or took a stroke or a hair
+// beside it for a short stretch).
+inline constexpr double kBroadShare = 0.5;
+inline constexpr double kLongGapDiv = 0.25;
+inline constexpr double kLongGapShare = 0.4;
+
+// The share of a sweep `sweep_div` divisions long that lies in `trace`'s gaps
+// of at least kLongGapDiv, the stretches before its first sample and after
+// its last included (1 for a trace without samples).
+double LongGapShare(const DigitizedTrace& trace, double sweep_div);
+
+// Whether `trace`, read on `photo`'s ridge image of thin lines, asks for the
+// traces to be read on bold lines as well: a continuously drawn trace (one
+// read in dashes misses much of the sweep by design) seen along less than
+// kWeakCoverage of the sweep, and broad or missing long stretches of it.
+bool AsksForBoldReading(const DigitizedTrace& trace, const PreparedPhoto& photo, double sweep_div);
+
 }  // namespace impactlab::digitize

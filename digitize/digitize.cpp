@@ -87,19 +87,16 @@ std::vector<DigitizedTrace> ExtractTracesBesideMarks(const PreparedPhoto& prepar
   return traces;
 }
 
-// A reading of thin lines that misses more of the sweep than this, for one of
-// its continuously drawn traces, may have lost a bold trace's core and
-// followed something thin beside it: it is read on bold lines too (below).
-// A trace read in dashes misses much of the sweep by design (the chopper's
-// blanking), so it alone does not ask for the second reading.
-constexpr double kWeakCoverage = 0.6;
 // The bold reading replaces the thin one where it sees a trace wider than the
 // grid's lines along at least this much more of the sweep.
 constexpr double kBoldCoverageGain = 0.2;
 
-bool SomeTraceWeak(const std::vector<DigitizedTrace>& traces) {
-  return std::any_of(traces.begin(), traces.end(), [](const DigitizedTrace& t) {
-    return t.coverage < kWeakCoverage && !digitize::ReadInDashes(t);
+// Whether one of the thin reading's traces may have lost a bold trace
+// (digitize::AsksForBoldReading).
+bool SomeTraceWeak(const std::vector<DigitizedTrace>& traces, const PreparedPhoto& photo,
+                   const GraticuleFit& graticule) {
+  return std::any_of(traces.begin(), traces.end(), [&](const DigitizedTrace& t) {
+    return digitize::AsksForBoldReading(t, photo, graticule.divisions[0]);
   });
 }
 
@@ -155,10 +152,10 @@ bool BoldReadsMore(const std::vector<DigitizedTrace>& thin, const std::vector<Di
 // A thin reading that succeeds on a stroke or a hair beside such a trace
 // sees it along little of the sweep (randomised seed 1032's calibration
 // an arrow, 7 %; seed 1004's: a hair a third of a division
-// off for two divisions, 48 %): where a trace covers less than
-// kWeakCoverage, the bold reading is tried as well and taken when it reads
-// more (BoldReadsMore). Every other photo read on thin lines is read as
-// before.
+// off for two divisions, 48 %): where a trace is seen along little of the
+// sweep and is broad or missing long stretches of it (SomeTraceWeak), the
+// bold reading is tried as well and taken when it reads more
+// (BoldReadsMore). Every other photo read on thin lines is read as before.
 std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepared,
                                                     const GraticuleFit& graticule,
                                                     const std::vector<TraceRequest>& requests,
@@ -167,7 +164,7 @@ std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepare
   try {
     std::vector<DigitizedTrace> thin =
         ExtractTracesBesideMarks(prepared, graticule, requests, options, result);
-    if (!SomeTraceWeak(thin) ||
+    if (!SomeTraceWeak(thin, prepared, graticule) ||
         digitize::BoldOpeningPx(prepared, graticule) <= digitize::kRidgeOpeningPx) {
       return thin;
     }

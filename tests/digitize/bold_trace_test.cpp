@@ -191,3 +191,61 @@ TEST_CASE("digitize: a bold trace is read where the thin reading followed a pen 
 }
 
 }  // namespace impactlab
+
+namespace impactlab {
+namespace {
+
+// A trace sampled every `step_div` from `from_div` to `to_div` on the screen
+// (a sweep of 10 divisions), seen along `coverage` of it, `width_px` wide.
+DigitizedTrace SampledTrace(double from_div, double to_div, double step_div, double coverage,
+                            double width_px) {
+  DigitizedTrace t;
+  for (double x = from_div; x <= to_div + 1e-9; x += step_div) t.screen_div.push_back({x, 0.0});
+  t.coverage = coverage;
+  t.width_px = width_px;
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("digitize: a weak thin reading asks for the bold one only where broad or long missing") {
+  PreparedPhoto photo;
+  photo.shrink = 4;  // the thin image's square: 5 working pixels, 20 photo pixels
+  const double sweep = 10.0;
+
+  // A run's trace read in short pieces across its steep swings: seen along
+  // less than 60 % of the sweep, yet missing no stretch a quarter division
+  // long; a thin beam (1.5 working px) keeps its core in the thin image.
+  const DigitizedTrace run = SampledTrace(0.0, 10.0, 0.02, 0.45, 6.0);
+  CHECK(digitize::LongGapShare(run, sweep) == Approx(0.0));
+  CHECK_FALSE(digitize::AsksForBoldReading(run, photo, sweep));
+
+  // The same trace measured 3 working pixels wide (half the square and more)
+  // has lost a fifth of its height or more there.
+  CHECK(digitize::AsksForBoldReading(SampledTrace(0.0, 10.0, 0.02, 0.45, 12.0), photo, sweep));
+  // Seen along enough of the sweep, it does not ask, however broad.
+  CHECK_FALSE(
+      digitize::AsksForBoldReading(SampledTrace(0.0, 10.0, 0.02, 0.7, 12.0), photo, sweep));
+
+  // A thin line followed for 4 divisions, nothing after: 60 % of the sweep missed.
+  const DigitizedTrace part = SampledTrace(0.0, 4.0, 0.01, 0.4, 6.0);
+  CHECK(digitize::LongGapShare(part, sweep) == Approx(0.6));
+  CHECK(digitize::AsksForBoldReading(part, photo, sweep));
+
+  // Pieces a division long, 0.3 division apart, from 1 to 10: missed are the
+  // first division and the gaps between the pieces.
+  DigitizedTrace pieces;
+  for (double start = 1.0; start < 10.0; start += 1.3) {
+    for (double x = start; x <= std::min(start + 1.0, 10.0) + 1e-9; x += 0.01) {
+      pieces.screen_div.push_back({x, 0.0});
+    }
+  }
+  pieces.coverage = 0.5;
+  pieces.width_px = 6.0;
+  const double last = pieces.screen_div.back().x;
+  const double missed = 1.0 + 6 * 0.3 + (10.0 - last >= digitize::kLongGapDiv ? 10.0 - last : 0.0);
+  CHECK(digitize::LongGapShare(pieces, sweep) == Approx(missed / sweep).margin(0.002));
+  CHECK(digitize::AsksForBoldReading(pieces, photo, sweep) == (missed / sweep > 0.4));
+}
+
+}  // namespace impactlab
