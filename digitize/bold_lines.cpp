@@ -1,11 +1,11 @@
 #include "digitize/bold_lines.h"
 
-#include "digitize/hand_marks.h"
-
 #include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
+
+#include "digitize/hand_marks.h"
 
 namespace impactlab::digitize {
 
