@@ -295,20 +295,26 @@ TEST_CASE("trace_session: a calibration that does not cover the run is refused")
   CHECK_THAT(result.runs[0].reason, Catch::Contains("does not cover"));
 }
 
+// The left calibration's trace from a 0.6 in release through a cell that
+// folds over (not monotone): its output peaks at X = 0.37 in.
+void WriteLeftCellFoldingOver(const std::filesystem::path& folder) {
+  const double quarter = 0.5 * HalfPeriod(kPendulum, 0.6);
+  std::vector<double> t, v;
+  for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
+    const double x = s < 0 ? 0.6 : ReleaseSwingDisplacement(kPendulum, 0.6, std::min(s, quarter));
+    t.push_back(s);
+    v.push_back(0.2 + 2.2 * std::max(x, 0.0) - 3.0 * x * x);
+  }
+  WriteCsv(folder / "traces" / "L.csv", t, v);
+}
+
 TEST_CASE("trace_session: a broken calibration no run reached is still reported") {
   // The run fails on its right trace (a calibration from a smaller swing)
   // before it asks for its left calibration, whose cell folds over (not
   // monotone): the left calibration's failure is a warning of its own.
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
-  const double quarter = 0.5 * HalfPeriod(kPendulum, 0.6);
-  std::vector<double> t, v;
-  for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
-    const double x = s < 0 ? 0.6 : ReleaseSwingDisplacement(kPendulum, 0.6, std::min(s, quarter));
-    t.push_back(s);
-    v.push_back(0.2 + 2.2 * std::max(x, 0.0) - 3.0 * x * x);  // peaks at X = 0.37
-  }
-  WriteCsv(dir.path() / "traces" / "L.csv", t, v);
+  WriteLeftCellFoldingOver(dir.path());
   const Session session = WithCellCalibratedAt(dir.path(), "R", 0.2, 0.0);
   const SessionResult result = ReduceSession(session, {});
   REQUIRE_FALSE(result.runs[0].ok);
@@ -725,14 +731,7 @@ TEST_CASE("calibration cache: a trace that does not calibrate is a cell with its
   // The left cell folds over (not monotone) within the swing.
   testing::TempDir dir;
   WriteSession(dir.path(), 0.6, 0.0);
-  const double quarter = 0.5 * HalfPeriod(kPendulum, 0.6);
-  std::vector<double> t, v;
-  for (double s = -0.01; s <= 1.05 * quarter; s += 2e-4) {
-    const double x = s < 0 ? 0.6 : ReleaseSwingDisplacement(kPendulum, 0.6, std::min(s, quarter));
-    t.push_back(s);
-    v.push_back(0.2 + 2.2 * std::max(x, 0.0) - 3.0 * x * x);  // peaks at X = 0.37
-  }
-  WriteCsv(dir.path() / "traces" / "L.csv", t, v);
+  WriteLeftCellFoldingOver(dir.path());
   const Session session = ReadManifest(dir.path()).session;
   const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
   CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
@@ -746,6 +745,13 @@ TEST_CASE("calibration cache: a trace that does not calibrate is a cell with its
   CHECK(cache.Get("R").ok);
 }
 
+// The session's first run measured alone, with stage defaults.
+MeasuredTraceRun MeasureFirstRun(const Session& session) {
+  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
+  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
+  return MeasureTraceRun(session.runs[0], session, pendulum, StageOptions{}, cache);
+}
+
 TEST_CASE(
     "measure: a run that cannot be measured is a result naming the trace, with what was "
     "measured before") {
@@ -753,11 +759,8 @@ TEST_CASE(
   WriteSession(dir.path(), 0.6, 0.0);
   // Recalibrated from a smaller swing: the right trace's larger displacements fall outside.
   const Session session = WithCellCalibratedAt(dir.path(), "R", 0.2, 0.0);
-  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
-  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
   MeasuredTraceRun measured;
-  CHECK_NOTHROW(measured =
-                    MeasureTraceRun(session.runs[0], session, pendulum, StageOptions{}, cache));
+  CHECK_NOTHROW(measured = MeasureFirstRun(session));
   CHECK_FALSE(measured.ok);
   CHECK(measured.failed_at.file.filename() == "run-right.csv");
   CHECK(measured.failed_at.key == "run \"run\".traces.right");
@@ -775,11 +778,8 @@ TEST_CASE("measure: a trace file that cannot be read when measured fails the run
   const Session session = ReadManifest(dir.path()).session;
   // Gone between the manifest's reading and the measurement.
   std::filesystem::remove(dir.path() / "traces" / "run-left.csv");
-  const Pendulum pendulum = PendulumOf(session);  // the cache holds it by reference
-  CalibrationCache cache(session, pendulum, [](const Calibration&) { return StageOptions{}; });
   MeasuredTraceRun measured;
-  CHECK_NOTHROW(measured =
-                    MeasureTraceRun(session.runs[0], session, pendulum, StageOptions{}, cache));
+  CHECK_NOTHROW(measured = MeasureFirstRun(session));
   CHECK_FALSE(measured.ok);
   CHECK(measured.failed_at.file.filename() == "run-left.csv");
   // Both calibrations were made, and the right bar converted, before the left trace was read.
