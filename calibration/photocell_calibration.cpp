@@ -374,6 +374,13 @@ std::string UnreadStretch(std::vector<double> x, double release_x) {
       x[widest], x[widest + 1], 100.0 * gap / release_x);
 }
 
+// A calibration that could not be made, and why (the rest unset).
+CalibrationResult Refusal(std::string reason) {
+  CalibrationResult out;
+  out.reason = std::move(reason);
+  return out;
+}
+
 }  // namespace
 
 CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulum, double release_x,
@@ -394,10 +401,10 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   }
   const int n = static_cast<int>(out.volts.size());
   if (n < 8) {
-    return {.ok = false,
-            .reason = fmt::format("the calibration trace has {} samples in the first swing "
-                                  "(0 .. {:.4g} s); at least 8 are needed",
-                                  n, quarter_period)};
+    return Refusal(
+        fmt::format("the calibration trace has {} samples in the first swing "
+                    "(0 .. {:.4g} s); at least 8 are needed",
+                    n, quarter_period));
   }
 
   const int max_order = std::min(options.max_order, n / 4);
@@ -459,8 +466,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       fit = std::move(refit);
     }
   }
-  if (!fit.ok)
-    return {.ok = false, .reason = fit.reason + UnreadStretch(out.ideal_displacement, release_x)};
+  if (!fit.ok) return Refusal(fit.reason + UnreadStretch(out.ideal_displacement, release_x));
   out.curve = std::move(fit.curve);
   out.correlation_inflation = fit.correlation_inflation;
   out.bic = std::move(fit.bic);
