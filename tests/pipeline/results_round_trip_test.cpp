@@ -48,8 +48,10 @@ struct SessionFields {
   void AddBar(const BarRebounds& bar, const std::string& where) {
     Add(bar, where);
     std::string numbers = where + ": rebound";
-    for (std::size_t i = 0; i < bar.xmax.size(); ++i)
-      numbers += " " + std::to_string(bar.Number(i));
+    for (std::size_t i = 0; i < bar.xmax.size(); ++i) {
+      numbers += ' ';
+      numbers += std::to_string(bar.Number(i));
+    }
     lines.push_back(numbers);
   }
   template <typename Fit>
