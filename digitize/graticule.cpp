@@ -674,7 +674,7 @@ GraticuleFit SearchAndRefine(const PreparedPhoto& photo, const PreparedPhoto& wo
     // lattice a division from it that every check accepts is taken, when
     // exactly one does; otherwise the refusal stands.
     std::vector<Refined> passed =
-        NeighboursThatPass(photo, divisions, options, homography, {cv::Point2d(0, 0)}, start);
+        NeighboursThatPass(photo, divisions, options, homography, {}, start);
     if (passed.size() != 1) throw;
     refined = std::move(passed.front());
   }

@@ -184,19 +184,15 @@ void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift
 // if a bar's rebound confirmed a row before it (the walk numbers all its rows
 // alike, right or wrong); none where no bar shows any of its rebounds.
 int AnchoredRows(const BarRebounds& right, const BarRebounds& left, const BarRebounds& averaged) {
+  const std::optional<BarDisagreement> slip = AverageSlip(right, left, averaged);
   const std::size_t rows = averaged.GapFreeRows();
-  bool confirmed = false;
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (const BarRebounds* bar : {&right, &left}) {
-      const std::optional<std::size_t> j = bar->RowOf(static_cast<int>(i));
-      if (!j) continue;
-      if (PeaksApart(averaged, i, *bar, *j, bar->duration[*j])) {
-        return confirmed ? static_cast<int>(i) : 0;
-      }
-      confirmed = true;
+  const std::size_t end = slip ? std::min(slip->rebound, rows) : rows;
+  for (std::size_t i = 0; i < end; ++i) {
+    if (right.RowOf(static_cast<int>(i)) || left.RowOf(static_cast<int>(i))) {
+      return static_cast<int>(end);  // a bar's rebound peaks with this row
     }
   }
-  return confirmed ? static_cast<int>(rows) : 0;
+  return 0;
 }
 
 }  // namespace

@@ -316,6 +316,15 @@ TEST_CASE("photo: the polarity is the thin features' and not the broad tones' ro
   }
 }
 
+// The graticule of a halftone print `p`, its screen's period checked against
+// the one drawn (within 3 %) before the lattice is searched through it.
+GraticuleFit GraticuleThroughScreen(const RandomisedPhoto& p) {
+  const GraticuleOptions options;
+  const PreparedPhoto prepared = PreparePhoto(p.photo, options);
+  CHECK(prepared.halftone_period_px == Approx(p.halftone_period_px).epsilon(0.03));
+  return FindGraticule(prepared, {10, 8}, options);
+}
+
 // Randomised seed 1018 (with the generator's handling), run 0.405: a figure
 // printed through a 6.3 px screen 3 degrees off the grid's lines, whose
 // lower left took no ink (the grid there was fainter than the printer's
@@ -328,11 +337,8 @@ TEST_CASE("photo: the polarity is the thin features' and not the broad tones' ro
 TEST_CASE("graticule: a print's screen along the grid and a grid printed over part of the figure") {
   testing::TempDir dir;
   const RandomisedPhoto p = LoadRandomised(dir, 1018, "0.405", /*handling=*/true);
-  const GraticuleOptions options;
-  const PreparedPhoto prepared = PreparePhoto(p.photo, options);
-  // Found at 6.39 px for 6.34 px drawn.
-  CHECK(prepared.halftone_period_px == Approx(p.halftone_period_px).epsilon(0.03));
-  const GraticuleFit fit = FindGraticule(prepared, {10, 8}, options);
+  // Its screen found at 6.39 px for 6.34 px drawn.
+  const GraticuleFit fit = GraticuleThroughScreen(p);
   // Measured 0.34 px (80 px per division, lines 6 px wide).
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.6);
 }
@@ -348,11 +354,8 @@ TEST_CASE("graticule: a print's screen along the grid and a grid printed over pa
 TEST_CASE("graticule: a print's screen along the grid without its sum frequency") {
   testing::TempDir dir;
   const RandomisedPhoto p = LoadRandomised(dir, 1009, "R-0.713", /*handling=*/true);
-  const GraticuleOptions options;
-  const PreparedPhoto prepared = PreparePhoto(p.photo, options);
-  // Found at 6.74 px for 6.61 px drawn.
-  CHECK(prepared.halftone_period_px == Approx(p.halftone_period_px).epsilon(0.03));
-  const GraticuleFit fit = FindGraticule(prepared, {10, 8}, options);
+  // Its screen found at 6.74 px for 6.61 px drawn.
+  const GraticuleFit fit = GraticuleThroughScreen(p);
   // Measured 0.36 px RMS and about 0.2 px (46 px per division).
   CHECK(fit.residual_px < 0.6);
   CHECK(testing::WorstMappingError(fit, p.truth) < 0.5);
