@@ -48,11 +48,16 @@ double NaturalFrequency(const Pendulum& p) {
   return std::sqrt(p.gravity / p.length);
 }
 
-double SwingAngle(const Pendulum& p, double xmax) {
+std::string SwingAmplitudeProblem(const Pendulum& p, double xmax) {
   CheckPendulum(p);
-  if (!(xmax >= 0.0) || !(xmax < p.length)) {
-    throw std::domain_error(fmt::format(
-        "a swing amplitude must satisfy 0 <= X < L, got X = {} with L = {}", xmax, p.length));
+  if (xmax >= 0.0 && xmax < p.length) return {};
+  return fmt::format("a swing amplitude must satisfy 0 <= X < L, got X = {} with L = {}", xmax,
+                     p.length);
+}
+
+double SwingAngle(const Pendulum& p, double xmax) {
+  if (std::string problem = SwingAmplitudeProblem(p, xmax); !problem.empty()) {
+    throw std::domain_error(problem);
   }
   return IsThesis(p) ? xmax / p.length : std::asin(xmax / p.length);
 }
@@ -70,26 +75,28 @@ double SpeedFromPeakEnergy(const Pendulum& p, double xmax) {
   return 2.0 * std::sqrt(p.gravity * p.length) * std::sin(0.5 * SwingAngle(p, xmax));
 }
 
-double AmplitudeFromSpeed(const Pendulum& p, double speed) {
+std::string SwingSpeedProblem(const Pendulum& p, double speed) {
   CheckPendulum(p);
   if (!(speed >= 0.0) || !std::isfinite(speed)) {
-    throw std::domain_error(fmt::format("a swing speed must be >= 0, got {}", speed));
+    return fmt::format("a swing speed must be >= 0, got {}", speed);
   }
   if (IsThesis(p)) {
     const double amplitude = speed / NaturalFrequency(p);
-    if (!(amplitude < p.length)) {
-      throw std::domain_error(
-          fmt::format("a swing at {} through equilibrium would reach X = {} >= L = {}", speed,
-                      amplitude, p.length));
-    }
-    return amplitude;
+    if (amplitude < p.length) return {};
+    return fmt::format("a swing at {} through equilibrium would reach X = {} >= L = {}", speed,
+                       amplitude, p.length);
   }
+  if (speed / (2.0 * std::sqrt(p.gravity * p.length)) < std::numbers::sqrt2 / 2.0) return {};
+  return fmt::format("a swing at {} through equilibrium would pass the horizontal (L = {}, g = {})",
+                     speed, p.length, p.gravity);
+}
+
+double AmplitudeFromSpeed(const Pendulum& p, double speed) {
+  if (std::string problem = SwingSpeedProblem(p, speed); !problem.empty()) {
+    throw std::domain_error(problem);
+  }
+  if (IsThesis(p)) return speed / NaturalFrequency(p);
   const double k = speed / (2.0 * std::sqrt(p.gravity * p.length));
-  if (!(k < std::numbers::sqrt2 / 2.0)) {
-    throw std::domain_error(
-        fmt::format("a swing at {} through equilibrium would pass the horizontal (L = {}, g = {})",
-                    speed, p.length, p.gravity));
-  }
   // X = L sin(theta_m) = 2 L sin(theta_m/2) cos(theta_m/2).
   return 2.0 * p.length * k * std::sqrt((1.0 - k) * (1.0 + k));
 }
@@ -99,6 +106,11 @@ double HalfPeriod(const Pendulum& p, double xmax) {
   if (IsThesis(p)) return small_angle;
   // 2 sqrt(L/g) K(k), K(0) = pi/2.
   return 2.0 * boost::math::ellint_1(Modulus(p, xmax)) / NaturalFrequency(p);
+}
+
+std::optional<double> HalfPeriodIfSwings(const Pendulum& p, double xmax) {
+  if (!IsThesis(p) && !SwingAmplitudeProblem(p, xmax).empty()) return std::nullopt;
+  return HalfPeriod(p, xmax);
 }
 
 double ReleaseSwingDisplacement(const Pendulum& p, double release_x, double t) {

@@ -10,6 +10,9 @@
 // Every 1 - cos(x) is evaluated as 2 sin^2(x/2): no cancellation for small x.
 #pragma once
 
+#include <optional>
+#include <string>
+
 namespace impactlab {
 
 enum class PendulumConvention { kExact, kThesis };
@@ -27,6 +30,10 @@ double NaturalFrequency(const Pendulum& pendulum);
 // asin(X/L) (exact) or X/L (thesis). Throws std::domain_error unless 0 <= X < L.
 double SwingAngle(const Pendulum& pendulum, double xmax);
 
+// Why no swing has the amplitude `xmax` (SwingAngle's message), empty when
+// 0 <= X < L: for callers whose maxima are data, to refuse them as a value.
+std::string SwingAmplitudeProblem(const Pendulum& pendulum, double xmax);
+
 // Speed through equilibrium of a swing that reaches `xmax`: exact
 // 2 sqrt(gL) sin(theta_m/2); thesis X sqrt(g/L) (PENDUL's x0' = X0 sqrt(g/L)).
 double SpeedFromAmplitude(const Pendulum& pendulum, double xmax);
@@ -41,9 +48,18 @@ double SpeedFromPeakEnergy(const Pendulum& pendulum, double xmax);
 // throws std::domain_error if the swing would pass the horizontal (k >= 1/sqrt 2).
 double AmplitudeFromSpeed(const Pendulum& pendulum, double speed);
 
+// Why no swing through equilibrium at `speed` stays below the horizontal
+// (AmplitudeFromSpeed's message), empty when one does.
+std::string SwingSpeedProblem(const Pendulum& pendulum, double speed);
+
 // Duration of one swing out and back (a rebound) of amplitude `xmax`:
 // 2 sqrt(L/g) K(sin(theta_m/2)) (exact) or pi sqrt(L/g) (thesis).
 double HalfPeriod(const Pendulum& pendulum, double xmax);
+
+// HalfPeriod of a measured maximum, or nothing where the convention has no
+// swing of that amplitude (exact: X < 0, X >= L or unread): where HalfPeriod
+// throws std::domain_error, for callers whose maxima are data.
+std::optional<double> HalfPeriodIfSwings(const Pendulum& pendulum, double xmax);
 
 // X(t) of a pendulum released from rest at `release_x` at t = 0, for 0 <= t up
 // to its first arrival at equilibrium (a quarter period).

@@ -79,5 +79,39 @@ TEST_CASE("pendulum: amplitude beyond the horizontal is a domain error") {
   CHECK_THROWS_AS(AmplitudeFromSpeed(p, 2.0 * std::sqrt(9.81)), std::domain_error);
 }
 
+TEST_CASE("pendulum: a maximum or a speed no swing has is said as a value, in the throw's words") {
+  const Pendulum exact{1.0, 9.81, PendulumConvention::kExact};
+  const Pendulum thesis{1.0, 9.81, PendulumConvention::kThesis};
+  // X = L/2: K(sin 15 deg) = 1.598142002112540, as above.
+  CHECK(*HalfPeriodIfSwings(exact, 0.5) ==
+        Approx(2.0 * 1.598142002112540 / std::sqrt(9.81)).epsilon(1e-14));
+  for (const double x : {1.0, 1.5, -0.1, std::nan("")}) {
+    CHECK_FALSE(HalfPeriodIfSwings(exact, x).has_value());
+    CHECK_FALSE(SwingAmplitudeProblem(exact, x).empty());
+  }
+  // The thesis's half period is pi sqrt(L/g) whatever the amplitude, as HalfPeriod's.
+  CHECK(*HalfPeriodIfSwings(thesis, 1.5) == Approx(pi / std::sqrt(9.81)).epsilon(1e-15));
+  CHECK(SwingAmplitudeProblem(exact, 0.999).empty());
+  try {
+    SwingAngle(exact, 1.0);
+    FAIL("SwingAngle took X = L");
+  } catch (const std::domain_error& e) {
+    CHECK(SwingAmplitudeProblem(exact, 1.0) == e.what());
+  }
+  // Exact: the horizontal is reached at v = 2 sqrt(gL) sin 45 deg = sqrt(2 g L).
+  const double horizontal = std::sqrt(2.0 * 9.81);
+  CHECK(SwingSpeedProblem(exact, 0.999 * horizontal).empty());
+  CHECK_THAT(SwingSpeedProblem(exact, 1.001 * horizontal),
+             Catch::Contains("would pass the horizontal"));
+  CHECK_THAT(SwingSpeedProblem(thesis, std::sqrt(9.81)), Catch::Contains(">= L = 1"));
+  CHECK_THAT(SwingSpeedProblem(exact, -1.0), Catch::Contains("must be >= 0"));
+  try {
+    AmplitudeFromSpeed(exact, 1.001 * horizontal);
+    FAIL("AmplitudeFromSpeed passed the horizontal");
+  } catch (const std::domain_error& e) {
+    CHECK(SwingSpeedProblem(exact, 1.001 * horizontal) == e.what());
+  }
+}
+
 }  // namespace
 }  // namespace impactlab
