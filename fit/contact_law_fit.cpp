@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -232,7 +233,10 @@ struct RunResiduals {
   }
 };
 
-PreparedRun Prepare(const LawRun& run, bool use_contact_times) {
+// The run as the fit takes it, or nothing with `refusal` for maxima it
+// cannot weigh (fewer than two read, one without a sigma > 0 or not > 0).
+std::optional<PreparedRun> Prepare(const LawRun& run, bool use_contact_times,
+                                   std::string* refusal) {
   if (!(run.mass > 0.0) || !(run.initial_displacement > 0.0)) {
     throw std::invalid_argument(fmt::format("run '{}': mass and X0 must be > 0", run.name));
   }
@@ -243,15 +247,16 @@ PreparedRun Prepare(const LawRun& run, bool use_contact_times) {
     if (std::isnan(m.xmax[i])) continue;
     const double s = i < m.xmax_sigma.size() ? m.xmax_sigma[i] : 0.0;
     if (!(s > 0.0) || !(m.xmax[i] > 0.0)) {
-      throw std::invalid_argument(
-          fmt::format("run '{}': maximum {} needs a value and a sigma > 0", run.name, i));
+      *refusal = fmt::format("run '{}': maximum {} needs a value and a sigma > 0", run.name, i);
+      return std::nullopt;
     }
     p.rebounds.push_back(static_cast<int>(i));
     p.x.push_back(m.xmax[i]);
     p.sigma.push_back(s);
   }
   if (p.rebounds.size() < 2) {
-    throw std::invalid_argument(fmt::format("run '{}': fewer than two read maxima", run.name));
+    *refusal = fmt::format("run '{}': fewer than two read maxima", run.name);
+    return std::nullopt;
   }
   p.last = p.rebounds.back();
   p.has_contact = use_contact_times && m.contact_time && m.contact_time_sigma > 0.0 &&
@@ -792,13 +797,24 @@ std::string ContactLawUninformed(ContactLawKind kind, const std::vector<LawRun>&
 ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
                             const ContactLawFitOptions& options) {
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
+  // Runs the law cannot be fitted to: a fit that did not run, with why.
+  const auto refuse = [&](std::string why) {
+    ContactLawFit refused;
+    refused.law = ContactLawName(kind);
+    refused.reason = std::move(why);
+    return refused;
+  };
   if (runs.size() < 2) {
-    throw std::invalid_argument(
-        fmt::format("a contact law needs two runs or more, got {}", runs.size()));
+    return refuse(fmt::format("a contact law needs two runs or more, got {}", runs.size()));
   }
   const fit_internal::Stopwatch stopwatch;
   std::vector<PreparedRun> prepared;
-  for (const LawRun& run : runs) prepared.push_back(Prepare(run, options.use_contact_times));
+  for (const LawRun& run : runs) {
+    std::string refusal;
+    std::optional<PreparedRun> p = Prepare(run, options.use_contact_times, &refusal);
+    if (!p) return refuse(refusal);
+    prepared.push_back(std::move(*p));
+  }
   Solved solved = Solve(kind, prepared, options);
   ContactLawFit& fit = solved.fit;
   if (!fit.ok || !options.leave_one_out || prepared.size() < 3) return fit;

@@ -197,8 +197,11 @@ struct ContactLawFit {
 std::string ContactLawUninformed(ContactLawKind kind, const std::vector<LawRun>& runs,
                                  const ContactLawFitOptions& options);
 
-// Throws std::invalid_argument for fewer than two runs, a run without two
-// read maxima, a maximum without sigma > 0, a non-positive mass or X0.
+// Runs it cannot be fitted to (fewer than two, a run without two read
+// maxima, a maximum without sigma > 0) are a fit that is not ok, with the
+// reason and the law's name, and status.Ran() false. Throws
+// std::invalid_argument only for bad options or a non-positive mass or X0
+// (the manifest's reader refuses those before any work).
 ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs,
                             const ContactLawFitOptions& options);
 

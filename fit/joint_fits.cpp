@@ -320,6 +320,12 @@ SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& run
       throw std::invalid_argument(fmt::format("no run named '{}'", name));
     }
   }
+  SessionModelComparison out;
+  // Runs the models cannot be compared over: a comparison that is not ok, with why.
+  const auto refuse = [&](std::string why) {
+    out.reason = std::move(why);
+    return out;
+  };
   std::vector<Prepared> prepared;
   for (const JointRun& run : runs) {
     if (!options.runs.empty() &&
@@ -331,10 +337,12 @@ SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& run
                                               run.name, run.initial_displacement));
     }
     bool weighted = false;
-    const std::vector<double> sigmas =
-        fit_internal::MaximumSigmas(run.measured.xmax, run.measured.xmax_sigma, &weighted);
+    std::string refusal;
+    const std::vector<double> sigmas = fit_internal::MaximumSigmas(
+        run.measured.xmax, run.measured.xmax_sigma, &weighted, &refusal);
+    if (!refusal.empty()) return refuse(refusal);
     if (!weighted) {
-      throw std::invalid_argument(fmt::format(
+      return refuse(fmt::format(
           "run '{}': joint fits compare chi^2 across runs and need every maximum's sigma > 0",
           run.name));
     }
@@ -347,26 +355,29 @@ SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& run
       const double x = run.measured.xmax[i];
       if (std::isnan(x)) continue;
       if (!(x > 0.0) || !std::isfinite(x)) {
-        throw std::invalid_argument(
+        return refuse(
             fmt::format("run '{}': rebound {} maximum must be > 0, got {}", run.name, i, x));
+      }
+      if (std::string beyond = SwingAmplitudeProblem(run.pendulum, x); !beyond.empty()) {
+        return refuse(fmt::format("run '{}': rebound {}: {}", run.name, i, beyond));
       }
       p.rebounds.push_back(static_cast<int>(i));
       p.x.push_back(x);
       p.sigma.push_back(sigmas[i]);
     }
     if (p.x.size() < 2) {
-      throw std::invalid_argument(
+      return refuse(
           fmt::format("run '{}': a joint fit needs at least two read maxima per run, got {}",
                       run.name, p.x.size()));
     }
     prepared.push_back(std::move(p));
   }
   if (prepared.size() < 2) {
-    throw std::invalid_argument(
+    return refuse(
         fmt::format("a model comparison needs at least two runs, got {}", prepared.size()));
   }
 
-  SessionModelComparison out;
+  out.ok = true;
   std::vector<const Prepared*> all;
   for (const Prepared& p : prepared) {
     out.run_names.push_back(p.name);

@@ -155,6 +155,10 @@ struct JointModelFit {
 };
 
 struct SessionModelComparison {
+  // False when the runs cannot be compared: `reason` says why, and nothing
+  // below is filled.
+  bool ok = false;
+  std::string reason;
   std::vector<std::string> run_names;  // the runs used, in input order
   std::vector<double> impact_speeds;   // u_r = SpeedFromAmplitude(X0_r), length/s
   std::vector<JointModelFit> models;   // per-run, common, linear-in-speed
@@ -163,10 +167,12 @@ struct SessionModelComparison {
   double seconds = 0.0;  // wall time of the whole comparison
 };
 
-// Throws std::invalid_argument for fewer than two runs (three for the LOO of
-// linear-in-speed to be defined), an unknown run name, a run with fewer than
-// two read maxima, a maximum without sigma > 0, or a non-positive initial
-// displacement.
+// Runs it cannot compare (fewer than two; three for the LOO of
+// linear-in-speed to be defined; a run with fewer than two read maxima, or a
+// maximum without sigma > 0 or not > 0) are a comparison that is not ok,
+// with the reason. Throws std::invalid_argument only for bad options, an
+// unknown run name in options.runs, or a non-positive initial displacement
+// (the manifest's reader refuses those before any work).
 SessionModelComparison CompareRestitutionModels(const std::vector<JointRun>& runs,
                                                 const JointFitOptions& options);
 

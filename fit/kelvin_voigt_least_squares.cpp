@@ -77,29 +77,38 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   const fit_internal::Stopwatch stopwatch;
   if (std::string why; !options.Check(&why)) throw std::invalid_argument(why);
   if (!(mass > 0.0)) throw std::invalid_argument(fmt::format("mass must be > 0, got {}", mass));
+  KelvinVoigtLeastSquaresFit fit;
+  fit.separation = options.separation;
+  // Data the fit cannot take: a fit that did not run, with why.
+  const auto refuse = [&](std::string why) {
+    fit.reason = std::move(why);
+    return fit;
+  };
   bool weighted = false;
+  std::string refusal;
   const std::vector<double> sigmas =
-      fit_internal::MaximumSigmas(measured.xmax, measured.xmax_sigma, &weighted);
+      fit_internal::MaximumSigmas(measured.xmax, measured.xmax_sigma, &weighted, &refusal);
+  if (!refusal.empty()) return refuse(refusal);
   std::vector<int> used;
   for (std::size_t i = 0; i < measured.xmax.size(); ++i) {
     const double x = measured.xmax[i];
     if (std::isnan(x)) continue;  // not read
     if (!(x > 0.0) || !std::isfinite(x)) {
-      throw std::invalid_argument(fmt::format("rebound {} maximum must be > 0, got {}", i, x));
+      return refuse(fmt::format("rebound {} maximum must be > 0, got {}", i, x));
+    }
+    if (std::string beyond = SwingAmplitudeProblem(pendulum, x); !beyond.empty()) {
+      return refuse(beyond);
     }
     used.push_back(static_cast<int>(i));
   }
   if (used.size() < 2) {
-    throw std::invalid_argument(
+    return refuse(
         fmt::format("a least-squares fit needs at least two maxima, got {}", used.size()));
   }
   if (measured.contact_time && !(*measured.contact_time > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("contact time must be > 0, got {}", *measured.contact_time));
+    return refuse(fmt::format("contact time must be > 0, got {}", *measured.contact_time));
   }
 
-  KelvinVoigtLeastSquaresFit fit;
-  fit.separation = options.separation;
   fit.dof = static_cast<int>(used.size()) - 2;
 
   // Start from the first and last maxima used (the two-point estimate).
@@ -166,12 +175,20 @@ KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
   fit.log_restitution = {q, sq};
   fit.restitution = {std::exp(q), std::exp(q) * sq};
   fit.rebound0_speed = {std::exp(w), std::exp(w) * sw};
+  // The model's maxima from rebound 0 on: rebounds before the first read one
+  // were fitted to nothing, and their swings may pass the horizontal.
+  const int count = measured.xmax.empty() ? 0 : static_cast<int>(measured.xmax.size());
+  for (int n = 0; n < count; ++n) {
+    if (std::string beyond = SwingSpeedProblem(pendulum, std::exp(w + n * q)); !beyond.empty()) {
+      fit.reason = fmt::format("the model's rebound {}: {}", n, beyond);
+      return finish();
+    }
+  }
   const fit_internal::AmplitudeSlope a0 = AmplitudeAndSlope(pendulum, std::exp(w));
   fit.rebound0_xmax = {a0.amplitude, a0.slope * std::exp(w) * sw};
   // The model's maxima, with sigma from the gradient of X_n in (q, w), scaled
   // by the Birge ratio where the scatter exceeds the stated sigmas: a
   // prediction must cover what the data scatter by, not what they promised.
-  const int count = measured.xmax.empty() ? 0 : static_cast<int>(measured.xmax.size());
   for (int n = 0; n < count; ++n) {
     const double v = std::exp(w + n * q);
     const fit_internal::AmplitudeSlope a = AmplitudeAndSlope(pendulum, v);

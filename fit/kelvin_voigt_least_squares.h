@@ -110,10 +110,13 @@ struct KelvinVoigtLeastSquaresFit {
   }
 };
 
-// Throws std::invalid_argument for fewer than two usable maxima (NaN entries
-// are skipped as unread), non-positive maxima, a mixture of zero and non-zero
-// sigmas, bad options or mass. Returns a result with status and reason in
-// every other case.
+// Data it cannot take (fewer than two usable maxima, NaN entries skipped as
+// unread; a maximum not in 0 < X < L; a mixture of zero and non-zero sigmas;
+// a contact time <= 0) is a fit that did not run (status.Ran() false) with
+// the reason. Throws std::invalid_argument only for bad options or mass
+// (checked before any work by the caller) and a sigma count that differs
+// from the maxima's. Returns a result with status and reason in every other
+// case.
 KelvinVoigtLeastSquaresFit FitKelvinVoigtLeastSquares(
     const Pendulum& pendulum, double mass, const ReboundMeasurements& measured,
     const KelvinVoigtLeastSquaresOptions& options);

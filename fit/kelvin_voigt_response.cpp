@@ -25,6 +25,22 @@ std::vector<double> ModelPeakTimes(const Pendulum& pendulum, const FittedRun& ru
   return peaks;
 }
 
+// The fastest of the model's swings ModelPeakTimes asks for is the first,
+// PENDUL rebound 1 (session rebound 1 - first_rebound): the model dissipates.
+std::string ModelPeakTimesProblem(const Pendulum& pendulum, const FittedRun& run,
+                                  const KelvinVoigtTwoPointFit& fit) {
+  const int a = fit.rebounds_used[0];
+  return PredictMaximumProblem(pendulum, run.xmax[a], a, 1 - run.first_rebound,
+                               fit.log_restitution.value);
+}
+
+std::string ModelResponseProblem(const Pendulum& pendulum, const FittedRun& run,
+                                 const KelvinVoigtTwoPointFit& fit) {
+  const int a = fit.rebounds_used[0];
+  return PredictMaximumProblem(pendulum, run.xmax[a], a, -run.first_rebound,
+                               fit.log_restitution.value);
+}
+
 SampledHistory ModelResponse(const Pendulum& pendulum, double mass, const FittedRun& run,
                              const KelvinVoigtTwoPointFit& fit) {
   const int a = fit.rebounds_used[0];

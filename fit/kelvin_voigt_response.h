@@ -3,6 +3,7 @@
 // Figures 16-18, PENDUL option 2 with the fitted K and C).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "fit/kelvin_voigt_two_point.h"
@@ -25,10 +26,20 @@ struct FittedRun {
 std::vector<double> ModelPeakTimes(const Pendulum& pendulum, const FittedRun& run,
                                    const KelvinVoigtTwoPointFit& fit);
 
+// Why ModelPeakTimes has no times for the run (its model's first rebound
+// from the release would swing past the horizontal), empty when it has.
+std::string ModelPeakTimesProblem(const Pendulum& pendulum, const FittedRun& run,
+                                  const KelvinVoigtTwoPointFit& fit);
+
 // The fitted model's displacement history, released from the amplitude the
 // fit extrapolates back to, sampled at 3000 points over its rebounds.
 // `fit` must carry a stiffness and a damping (a contact time was given).
 SampledHistory ModelResponse(const Pendulum& pendulum, double mass, const FittedRun& run,
                              const KelvinVoigtTwoPointFit& fit);
+
+// Why ModelResponse has no history for the run (the release it extrapolates
+// back to would be past the horizontal), empty when it has.
+std::string ModelResponseProblem(const Pendulum& pendulum, const FittedRun& run,
+                                 const KelvinVoigtTwoPointFit& fit);
 
 }  // namespace impactlab

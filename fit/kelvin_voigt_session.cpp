@@ -50,11 +50,19 @@ AverageStiffness AverageStiffnessOf(const std::vector<const KelvinVoigtTwoPointF
   return out;
 }
 
-DampingLine FitDampingLine(const std::vector<double>& s, const std::vector<double>& c) {
+DampingLineFit FitDampingLine(const std::vector<double>& s, const std::vector<double>& c) {
   const std::size_t n = s.size();
-  if (n < 2 || c.size() != n) {
-    throw std::invalid_argument(fmt::format(
-        "the damping line needs at least two runs with both sqrt(xi) and C, got {}", n));
+  if (c.size() != n) {
+    throw std::invalid_argument(
+        fmt::format("the damping line needs one C per sqrt(xi), got {} and {}", c.size(), n));
+  }
+  DampingLineFit out;
+  DampingLine& line = out.line;
+  line.points = static_cast<int>(n);
+  if (n < 2) {
+    out.reason =
+        fmt::format("the damping line needs at least two runs with both sqrt(xi) and C, got {}", n);
+    return out;
   }
   // Centred sums: no cancellation when sqrt(xi) clusters near 0.85.
   const double s_mean = Mean(s), c_mean = Mean(c);
@@ -64,7 +72,8 @@ DampingLine FitDampingLine(const std::vector<double>& s, const std::vector<doubl
     sxy += (s[i] - s_mean) * (c[i] - c_mean);
   }
   if (!(sxx > 0.0)) {
-    throw std::invalid_argument("the damping line needs runs of different restitution");
+    out.reason = "the damping line needs runs of different restitution";
+    return out;
   }
   const double beta = sxy / sxx;
   const double alpha = c_mean - beta * s_mean;
@@ -78,8 +87,6 @@ DampingLine FitDampingLine(const std::vector<double>& s, const std::vector<doubl
   const double var_alpha = scatter * (1.0 / static_cast<double>(n) + s_mean * s_mean / sxx);
   const double cov_alpha_beta = -s_mean * scatter / sxx;
 
-  DampingLine line;
-  line.points = static_cast<int>(n);
   line.rms_residual = std::sqrt(rss / static_cast<double>(n));
   line.a = {alpha, std::sqrt(var_alpha)};
   const double b = -beta / alpha;
@@ -91,28 +98,30 @@ DampingLine FitDampingLine(const std::vector<double>& s, const std::vector<doubl
   line.b = {b, std::sqrt(std::max(var_b, 0.0))};
   line.correlation_ab =
       (var_alpha > 0.0 && var_b > 0.0) ? cov_ab / std::sqrt(var_alpha * var_b) : 0.0;
-  return line;
+  out.ok = true;
+  return out;
 }
 
-RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run,
-                         const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,
-                         const std::vector<double>& target_xmax,
-                         const KelvinVoigtTwoPointFit& target_fit, int start_rebound) {
-  if (!source_fit.ok || !target_fit.ok) {
-    throw std::invalid_argument(
-        fmt::format("cannot predict run {} from run {}: {} has no Kelvin-Voigt fit", target_run,
-                    source_run, source_fit.ok ? target_run : source_run));
-  }
-  const int count = static_cast<int>(target_xmax.size());
-  if (start_rebound < 0 || start_rebound >= count) {
-    throw std::invalid_argument(
-        fmt::format("start_rebound {} is not a measured rebound of run {} (0..{})", start_rebound,
-                    target_run, count - 1));
-  }
-  RunPrediction out;
+PredictedRun PredictRun(const Pendulum& pendulum, const std::string& source_run,
+                        const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,
+                        const std::vector<double>& target_xmax,
+                        const KelvinVoigtTwoPointFit& target_fit, int start_rebound) {
+  PredictedRun result;
+  RunPrediction& out = result.prediction;
   out.source_run = source_run;
   out.target_run = target_run;
   out.start_rebound = start_rebound;
+  if (!source_fit.ok || !target_fit.ok) {
+    result.reason = fmt::format("cannot predict run {} from run {}: {} has no Kelvin-Voigt fit",
+                                target_run, source_run, source_fit.ok ? target_run : source_run);
+    return result;
+  }
+  const int count = static_cast<int>(target_xmax.size());
+  if (start_rebound < 0 || start_rebound >= count) {
+    result.reason = fmt::format("start_rebound {} is not a measured rebound of run {} (0..{})",
+                                start_rebound, target_run, count - 1);
+    return result;
+  }
   out.start_xmax = target_xmax[start_rebound];
   for (int n = start_rebound; n < count; ++n) {
     const double predicted = PredictMaximum(pendulum, out.start_xmax, start_rebound, n,
@@ -125,7 +134,8 @@ RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run
     out.pct_peak.push_back(100.0 * deviation / calculated);
     out.pct_start.push_back(100.0 * deviation / out.start_xmax);
   }
-  return out;
+  result.ok = true;
+  return result;
 }
 
 }  // namespace impactlab

@@ -52,9 +52,17 @@ struct DampingLine {
     visit("points", self.points, Quantity::kDimensionless, "the runs it was fitted to");
   }
 };
-// Throws std::invalid_argument with fewer than two points or equal abscissae.
-DampingLine FitDampingLine(const std::vector<double>& sqrt_restitution,
-                           const std::vector<double>& damping);
+// The line, or why the runs give none (fewer than two, or all of one
+// restitution): `line` is meaningful only when `ok`.
+struct DampingLineFit {
+  bool ok = false;
+  std::string reason;
+  DampingLine line;  // `points` is set either way
+};
+// Throws std::invalid_argument only for columns of different lengths (a
+// caller's slip); runs that give no line are a result that is not ok.
+DampingLineFit FitDampingLine(const std::vector<double>& sqrt_restitution,
+                              const std::vector<double>& damping);
 
 // Table 4 (PENDUL option 3): a target run's rebounds predicted from a source
 // run's restitution, starting at the target's measured `start_rebound`,
@@ -87,9 +95,19 @@ struct RunPrediction {
     visit("deviation_pct_start", self.pct_start, Quantity::kPercent, "% of start_xmax");
   }
 };
-RunPrediction PredictRun(const Pendulum& pendulum, const std::string& source_run,
-                         const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,
-                         const std::vector<double>& target_xmax,
-                         const KelvinVoigtTwoPointFit& target_fit, int start_rebound);
+
+// The prediction, or why the runs cannot give it (a run without a
+// Kelvin-Voigt fit, a start rebound the target did not measure): then
+// `prediction` holds only the runs' names and the start rebound.
+struct PredictedRun {
+  bool ok = false;
+  std::string reason;
+  RunPrediction prediction;
+};
+// Nothing is thrown for runs that cannot give the prediction.
+PredictedRun PredictRun(const Pendulum& pendulum, const std::string& source_run,
+                        const KelvinVoigtTwoPointFit& source_fit, const std::string& target_run,
+                        const std::vector<double>& target_xmax,
+                        const KelvinVoigtTwoPointFit& target_fit, int start_rebound);
 
 }  // namespace impactlab

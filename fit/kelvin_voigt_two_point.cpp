@@ -36,7 +36,9 @@ std::vector<double> Estimates(const Pendulum& pendulum, double mass, double xa, 
   return out;
 }
 
-void CheckInputs(const ReboundMeasurements& m, const TwoPointOptions& options) {
+// What a caller must get right: a pair among the rebounds measured, one
+// uncertainty per maximum or none.
+void CheckPreconditions(const ReboundMeasurements& m, const TwoPointOptions& options) {
   const auto [a, b] = options.rebounds;
   const int count = static_cast<int>(m.xmax.size());
   if (!(0 <= a && a < b && b < count)) {
@@ -44,22 +46,48 @@ void CheckInputs(const ReboundMeasurements& m, const TwoPointOptions& options) {
         fmt::format("the fit pair must satisfy 0 <= a < b < {} (rebounds measured), got [{}, {}]",
                     count, a, b));
   }
-  for (int n = 0; n < count; ++n) {
-    if (!(m.xmax[n] > 0.0) || !std::isfinite(m.xmax[n])) {
-      throw std::invalid_argument(
-          fmt::format("rebound {} maximum must be a positive number, got {}", n, m.xmax[n]));
-    }
-  }
   if (!m.xmax_sigma.empty() && m.xmax_sigma.size() != m.xmax.size()) {
     throw std::invalid_argument("give one uncertainty per rebound maximum, or none");
-  }
-  if (m.contact_time && !(*m.contact_time > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("contact time must be positive, got {}", *m.contact_time));
   }
 }
 
 }  // namespace
+
+std::string TwoPointRefusal(const Pendulum& pendulum, const ReboundMeasurements& m,
+                            const TwoPointOptions& options) {
+  CheckPreconditions(m, options);
+  for (std::size_t n = 0; n < m.xmax.size(); ++n) {
+    if (!(m.xmax[n] > 0.0) || !std::isfinite(m.xmax[n])) {
+      return fmt::format("rebound {} maximum must be a positive number, got {}", n, m.xmax[n]);
+    }
+  }
+  if (m.contact_time && !(*m.contact_time > 0.0)) {
+    return fmt::format("contact time must be positive, got {}", *m.contact_time);
+  }
+  const auto [a, b] = options.rebounds;
+  const double xa = m.xmax[a], xb = m.xmax[b];
+  if (xb > xa) return {};  // no dissipation: the fit's own reason says so
+  for (const double x : {xa, xb}) {
+    if (std::string beyond = SwingAmplitudeProblem(pendulum, x); !beyond.empty()) return beyond;
+  }
+  // The model's maxima before the pair's first swing faster than it: rebound
+  // 0's is the fastest.
+  if (a > 0) {
+    const double log_e =
+        std::log(SpeedFromPeakEnergy(pendulum, xb) / SpeedFromAmplitude(pendulum, xa)) / (b - a);
+    return PredictMaximumProblem(pendulum, xa, a, 0, log_e);
+  }
+  return {};
+}
+
+std::string PredictMaximumProblem(const Pendulum& pendulum, double from_x, int from, int to,
+                                  double log_restitution) {
+  if (std::string beyond = SwingAmplitudeProblem(pendulum, from_x); !beyond.empty()) {
+    return beyond;
+  }
+  return SwingSpeedProblem(
+      pendulum, SpeedFromAmplitude(pendulum, from_x) * std::exp(log_restitution * (to - from)));
+}
 
 double PredictMaximum(const Pendulum& pendulum, double from_x, int from, int to,
                       double log_restitution) {
@@ -71,14 +99,16 @@ double PredictMaximum(const Pendulum& pendulum, double from_x, int from, int to,
 KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double mass,
                                               const ReboundMeasurements& measured,
                                               const TwoPointOptions& options) {
-  CheckInputs(measured, options);
-  const auto [a, b] = options.rebounds;
-  const double xa = measured.xmax[a], xb = measured.xmax[b];
-
   KelvinVoigtTwoPointFit fit;
   fit.rebounds_used = options.rebounds;
   fit.separation = options.separation;
   fit.contact_time = measured.contact_time;
+  if (std::string refusal = TwoPointRefusal(pendulum, measured, options); !refusal.empty()) {
+    fit.reason = std::move(refusal);
+    return fit;
+  }
+  const auto [a, b] = options.rebounds;
+  const double xa = measured.xmax[a], xb = measured.xmax[b];
   if (xb > xa) {
     fit.reason = fmt::format(
         "rebound {} ({}) exceeds rebound {} ({}): the pair shows no dissipation, so no "

@@ -85,15 +85,29 @@ struct KelvinVoigtTwoPointFit {
   }
 };
 
-// Throws std::invalid_argument for a pair out of range, non-positive maxima or
-// contact time; returns ok = false with the reason when X_b > X_a.
+// Why the measurements cannot be fitted (a maximum that is not a positive
+// number, a contact time <= 0, a pair maximum no swing reaches, a model
+// rebound 0 that would swing past the horizontal), empty when they can.
+// Throws std::invalid_argument for a pair out of range or a sigma count that
+// differs from the maxima's (a caller's slip).
+std::string TwoPointRefusal(const Pendulum& pendulum, const ReboundMeasurements& measured,
+                            const TwoPointOptions& options);
+
+// Returns ok = false with the reason for measurements TwoPointRefusal
+// refuses, and when X_b > X_a; throws as TwoPointRefusal does.
 KelvinVoigtTwoPointFit FitKelvinVoigtTwoPoint(const Pendulum& pendulum, double mass,
                                               const ReboundMeasurements& measured,
                                               const TwoPointOptions& options);
 
 // Amplitude of rebound `to` predicted from the maximum `from_x` of rebound
-// `from` and a restitution: v(from_x) e^(to - from) converted back to an amplitude.
+// `from` and a restitution: v(from_x) e^(to - from) converted back to an
+// amplitude. Throws std::domain_error where PredictMaximumProblem says why.
 double PredictMaximum(const Pendulum& pendulum, double from_x, int from, int to,
                       double log_restitution);
+
+// Why PredictMaximum has no amplitude (`from_x` not in 0 <= X < L, a swing
+// past the horizontal), in the model's words; empty when it has one.
+std::string PredictMaximumProblem(const Pendulum& pendulum, double from_x, int from, int to,
+                                  double log_restitution);
 
 }  // namespace impactlab

@@ -208,7 +208,8 @@ AmplitudeSlope AmplitudeAndSlope(const Pendulum& pendulum, double speed) {
 }
 
 std::vector<double> MaximumSigmas(const std::vector<double>& xmax,
-                                  const std::vector<double>& xmax_sigma, bool* weighted) {
+                                  const std::vector<double>& xmax_sigma, bool* weighted,
+                                  std::string* refusal) {
   if (!xmax_sigma.empty() && xmax_sigma.size() != xmax.size()) {
     throw std::invalid_argument(
         fmt::format("{} maxima but {} uncertainties", xmax.size(), xmax_sigma.size()));
@@ -223,9 +224,10 @@ std::vector<double> MaximumSigmas(const std::vector<double>& xmax,
   for (std::size_t i = 0; i < xmax_sigma.size(); ++i) {
     const double s = xmax_sigma[i];
     if (!std::isnan(xmax[i]) && (!(s > 0.0) || !std::isfinite(s))) {
-      throw std::invalid_argument(fmt::format(
+      *refusal = fmt::format(
           "a least-squares fit needs every maximum's sigma > 0, or none at all; rebound {} has {}",
-          i, s));
+          i, s);
+      return {};
     }
   }
   return xmax_sigma;

@@ -76,10 +76,12 @@ struct AmplitudeSlope {
 AmplitudeSlope AmplitudeAndSlope(const Pendulum& pendulum, double speed);
 
 // Uncertainties of one run's maxima: sigma per maximum, or 1 each when none
-// are given (unweighted). Unread maxima (NaN) are ignored. Throws
-// std::invalid_argument for a mixture of zero and non-zero sigmas or a wrong
-// count.
+// are given (unweighted). Unread maxima (NaN) are ignored. A mixture of zero
+// and non-zero sigmas is data no fit can weigh: nothing is returned and
+// `refusal` says why. Throws std::invalid_argument for a wrong count (a
+// caller's slip).
 std::vector<double> MaximumSigmas(const std::vector<double>& xmax,
-                                  const std::vector<double>& xmax_sigma, bool* weighted);
+                                  const std::vector<double>& xmax_sigma, bool* weighted,
+                                  std::string* refusal);
 
 }  // namespace impactlab::fit_internal

@@ -1,6 +1,9 @@
 #include "fit/pendul.h"
 
+#include <cmath>
 #include <stdexcept>
+
+#include <fmt/format.h>
 
 namespace impactlab {
 
@@ -22,6 +25,14 @@ PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
                                  const TwoPointOptions& options, int rebound_count) {
   if (!measured.contact_time) {
     throw std::invalid_argument("PENDUL option 1 needs the contact time tau_c");
+  }
+  // PENDUL's maxima are typed in by hand: one that is not a positive number
+  // is a mistyped argument, not data the model refuses.
+  for (std::size_t n = 0; n < measured.xmax.size(); ++n) {
+    if (!(measured.xmax[n] > 0.0) || !std::isfinite(measured.xmax[n])) {
+      throw std::invalid_argument(
+          fmt::format("rebound {} maximum must be a positive number, got {}", n, measured.xmax[n]));
+    }
   }
   PendulFit out;
   out.fit = FitKelvinVoigtTwoPoint(pendulum, mass, measured, options);

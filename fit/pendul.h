@@ -32,8 +32,10 @@ struct PendulFit {
   PendulResponse response;  // released from the fit's rebound 0, so it passes through the pair
 };
 
-// Option 1. Needs the contact time; throws std::invalid_argument without it and
-// std::domain_error when the pair shows no dissipation (fit.reason).
+// Option 1. Needs the contact time and positive maxima (typed in by hand);
+// throws std::invalid_argument without them, and std::domain_error with the
+// fit's reason when the fit refuses the maxima (a pair without dissipation,
+// one past the horizontal).
 PendulFit PendulFromMeasurements(const Pendulum& pendulum, double mass,
                                  const ReboundMeasurements& measured,
                                  const TwoPointOptions& options, int rebound_count);

@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -173,26 +175,38 @@ class PeakCost final : public ceres::SizedCostFunction<1, 3, 1> {
   double x_, sigma_;
 };
 
-// The usable maxima of a run: (rebound, value).
+// The usable maxima of a run: (rebound, value), the unread (NaN) left out.
 std::vector<std::pair<int, double>> UsableMaxima(const PoyntingThomsonRun& run) {
   std::vector<std::pair<int, double>> out;
   for (std::size_t i = 0; i < run.measured.xmax.size(); ++i) {
     const double x = run.measured.xmax[i];
-    if (std::isnan(x)) continue;
-    if (!(x > 0.0) || !std::isfinite(x)) {
-      throw std::invalid_argument(
-          fmt::format("run \"{}\": rebound {} maximum must be > 0, got {}", run.name, i, x));
-    }
-    out.emplace_back(static_cast<int>(i), x);
+    if (!std::isnan(x)) out.emplace_back(static_cast<int>(i), x);
   }
-  if (out.empty()) throw std::invalid_argument(fmt::format("run \"{}\" has no maxima", run.name));
   return out;
 }
 
+// Why the run's maxima cannot be fitted (one not in 0 < X < L, none read);
+// empty when they can.
+std::string MaximaRefusal(const PoyntingThomsonRun& run) {
+  const auto maxima = UsableMaxima(run);
+  for (const auto& [i, x] : maxima) {
+    if (!(x > 0.0) || !std::isfinite(x)) {
+      return fmt::format("run \"{}\": rebound {} maximum must be > 0, got {}", run.name, i, x);
+    }
+    if (std::string beyond = SwingAmplitudeProblem(run.pendulum, x); !beyond.empty()) {
+      return fmt::format("run \"{}\": rebound {}: {}", run.name, i, beyond);
+    }
+  }
+  if (maxima.empty()) return fmt::format("run \"{}\" has no maxima", run.name);
+  return {};
+}
+
 // The start: a Kelvin-Voigt model with the data's e and mean tau_c (or peak
-// compression), split as K1 = K, K2 = 10 K, C = C.
-PoyntingThomson DefaultStart(const std::vector<PoyntingThomsonRun>& runs,
-                             const PoyntingThomsonLeastSquaresOptions& options) {
+// compression), split as K1 = K, K2 = 10 K, C = C; nothing, with `refusal`,
+// when the data fix no time scale.
+std::optional<PoyntingThomson> DefaultStart(const std::vector<PoyntingThomsonRun>& runs,
+                                            const PoyntingThomsonLeastSquaresOptions& options,
+                                            std::string* refusal) {
   double log_e = -0.2;  // when no run has two maxima
   for (const PoyntingThomsonRun& run : runs) {
     const auto maxima = UsableMaxima(run);
@@ -229,11 +243,12 @@ PoyntingThomson DefaultStart(const std::vector<PoyntingThomsonRun>& runs,
     }
   }
   if (!(k > 0.0)) {
-    throw std::invalid_argument(
+    *refusal =
         "the runs carry neither contact times nor peak compressions, so the maxima do not fix a "
-        "time scale: give options.initial");
+        "time scale: give options.initial";
+    return std::nullopt;
   }
-  return {options.mass, k, 10.0 * k, 2.0 * zeta * std::sqrt(k * options.mass)};
+  return PoyntingThomson{options.mass, k, 10.0 * k, 2.0 * zeta * std::sqrt(k * options.mass)};
 }
 
 // What the data determine, in words, and what would add the missing number.
@@ -285,21 +300,30 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
   if (!(options.mass > 0.0) || !std::isfinite(options.mass)) {
     throw std::invalid_argument(fmt::format("mass must be > 0, got {}", options.mass));
   }
-  if (runs.empty()) throw std::invalid_argument("no runs to fit");
+  PoyntingThomsonLeastSquaresFit fit;
+  fit.separation = options.separation;
+  // Data the fit cannot take: a fit that did not run, with why.
+  const auto refuse = [&](std::string why) {
+    fit.reason = std::move(why);
+    return fit;
+  };
+  if (runs.empty()) return refuse("no runs to fit");
 
   // Uncertainties: all given (weighted) or none (maxima only, unit weights).
   bool any_weighted = false, any_unweighted = false, has_tau = false, has_peak = false;
   std::vector<std::vector<double>> sigmas;
   for (const PoyntingThomsonRun& run : runs) {
     bool weighted = false;
-    sigmas.push_back(
-        fit_internal::MaximumSigmas(run.measured.xmax, run.measured.xmax_sigma, &weighted));
+    std::string refusal;
+    sigmas.push_back(fit_internal::MaximumSigmas(run.measured.xmax, run.measured.xmax_sigma,
+                                                 &weighted, &refusal));
+    if (!refusal.empty()) return refuse(refusal);
     (weighted ? any_weighted : any_unweighted) = true;
-    UsableMaxima(run);  // validates
+    if (std::string why = MaximaRefusal(run); !why.empty()) return refuse(why);
     if (run.measured.contact_time) {
       has_tau = true;
       if (!(*run.measured.contact_time > 0.0) || !(run.measured.contact_time_sigma > 0.0)) {
-        throw std::invalid_argument(fmt::format(
+        return refuse(fmt::format(
             "run \"{}\": a fitted contact time needs tau_c > 0 and sigma > 0, got {} +- {}",
             run.name, *run.measured.contact_time, run.measured.contact_time_sigma));
       }
@@ -307,25 +331,26 @@ PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     if (run.peak_compression) {
       has_peak = true;
       if (!(run.peak_compression->value > 0.0) || !(run.peak_compression->sigma > 0.0)) {
-        throw std::invalid_argument(
+        return refuse(
             fmt::format("run \"{}\": a peak compression needs value > 0 and sigma > 0", run.name));
       }
     }
   }
   if (any_weighted && any_unweighted) {
-    throw std::invalid_argument("give maxima uncertainties for every run or for none");
+    return refuse("give maxima uncertainties for every run or for none");
   }
   const bool weighted = any_weighted;
   if (!weighted && (has_tau || has_peak)) {
-    throw std::invalid_argument(
+    return refuse(
         "contact times and peak compressions can only be fitted with the maxima's uncertainties "
         "(residuals of different units need sigmas to be weighed)");
   }
 
-  PoyntingThomsonLeastSquaresFit fit;
-  fit.separation = options.separation;
-  const PoyntingThomson start_model =
-      options.initial ? *options.initial : DefaultStart(runs, options);
+  std::string no_start;
+  const std::optional<PoyntingThomson> start =
+      options.initial ? options.initial : DefaultStart(runs, options, &no_start);
+  if (!start) return refuse(no_start);
+  const PoyntingThomson& start_model = *start;
   std::array<double, 3> theta = {std::log(start_model.stiffness1), std::log(start_model.stiffness2),
                                  std::log(start_model.damping)};
   const std::array<double, 3> theta0 = theta;

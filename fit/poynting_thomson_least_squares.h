@@ -143,10 +143,13 @@ struct PoyntingThomsonLeastSquaresFit {
   }
 };
 
-// Throws std::invalid_argument for no runs, a run with fewer than one usable
-// maximum, inconsistent uncertainties (all observations need sigma > 0, or
-// none may and then only maxima are fitted), or bad options. Everything else,
-// including a start where contact never ends, is a result with a status.
+// Data it cannot take (no runs, a run without a usable maximum or with one
+// not in 0 < X < L, inconsistent uncertainties: all observations need
+// sigma > 0, or none may and then only maxima are fitted; no time scale to
+// start from) is a fit that did not run (status.Ran() false) with the
+// reason. Throws std::invalid_argument only for bad options or mass (the
+// caller checks them before any work). Everything else, including a start
+// where contact never ends, is a result with a status.
 PoyntingThomsonLeastSquaresFit FitPoyntingThomsonLeastSquares(
     const std::vector<PoyntingThomsonRun>& runs, const PoyntingThomsonLeastSquaresOptions& options);
 

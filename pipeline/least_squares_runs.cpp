@@ -16,15 +16,6 @@
 namespace impactlab {
 namespace {
 
-// A fit whose inputs its stage refused: only why (FitStatus::Ran is false).
-template <typename Fit>
-Fit Refused(Separation separation, const std::string& why) {
-  Fit out;
-  out.separation = separation;
-  out.reason = why;
-  return out;
-}
-
 // The run's observations as the fits take them. Every observation of a fit
 // must carry an uncertainty, or none: a contact time without one is left out
 // when the maxima have theirs (it would weigh arbitrarily against them).
@@ -57,23 +48,17 @@ void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separa
   ReboundMeasurements measured = fits.fitted;
   if (!measured.xmax_sigma.empty() && measured.xmax_sigma.front() <= 0.0)
     measured.xmax_sigma.clear();
-  try {
-    KelvinVoigtLeastSquaresOptions options = fit.kelvin_voigt;
-    options.separation = separation;
-    fits.kelvin_voigt_least_squares = FitKelvinVoigtLeastSquares(pendulum, mass, measured, options);
-  } catch (const std::exception& e) {
-    fits.kelvin_voigt_least_squares = Refused<KelvinVoigtLeastSquaresFit>(separation, e.what());
-  }
-  try {
-    PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
-    options.mass = mass;
-    options.separation = separation;
-    options.initial = StartFromKelvinVoigt(fits, mass);
-    fits.poynting_thomson = FitPoyntingThomsonLeastSquares(
-        {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, options);
-  } catch (const std::exception& e) {
-    fits.poynting_thomson = Refused<PoyntingThomsonLeastSquaresFit>(separation, e.what());
-  }
+  // A fit refuses data it cannot take as a fit that did not run, with why.
+  KelvinVoigtLeastSquaresOptions kelvin_voigt = fit.kelvin_voigt;
+  kelvin_voigt.separation = separation;
+  fits.kelvin_voigt_least_squares =
+      FitKelvinVoigtLeastSquares(pendulum, mass, measured, kelvin_voigt);
+  PoyntingThomsonLeastSquaresOptions poynting_thomson = fit.poynting_thomson;
+  poynting_thomson.mass = mass;
+  poynting_thomson.separation = separation;
+  poynting_thomson.initial = StartFromKelvinVoigt(fits, mass);
+  fits.poynting_thomson = FitPoyntingThomsonLeastSquares(
+      {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, poynting_thomson);
 }
 
 std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pendulum, double mass,
@@ -87,17 +72,13 @@ std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pe
     }
   }
   if (joint.size() < 2) return {};
-  try {
-    PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
-    options.mass = mass;
-    options.separation = separation;
-    for (const RunResult& run : runs) {
-      if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
-    }
-    return {FitPoyntingThomsonLeastSquares(joint, options)};
-  } catch (const std::exception& e) {
-    return {Refused<PoyntingThomsonLeastSquaresFit>(separation, e.what())};
+  PoyntingThomsonLeastSquaresOptions options = fit.poynting_thomson;
+  options.mass = mass;
+  options.separation = separation;
+  for (const RunResult& run : runs) {
+    if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
   }
+  return {FitPoyntingThomsonLeastSquares(joint, options)};
 }
 
 namespace {
@@ -320,39 +301,34 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
         joint.size());
     return std::nullopt;
   }
-  try {
-    JointFitOptions joint_options = fit.restitution_models;
-    joint_options.leave_one_out = leave_one_out;
-    SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
-    ModelComparison out;
-    out.run_ids = std::move(c.run_names);
-    for (JointModelFit& m : c.models) out.restitution_models.push_back({std::move(m), ""});
-    // The laws' predictions of the same maxima (no contact times: the same data).
-    const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
-    ContactLawFitOptions options = fit.contact_laws;
-    options.separation = inputs.separation;
-    options.use_contact_times = false;
-    options.leave_one_out = leave_one_out;
-    options.intervals = false;  // the comparison judges by the fit, not the parameters' ranges
-    for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
-      ComparedContactLaw law;
-      try {
-        law.fit = FitContactLaw(kind, law_runs, options);
-      } catch (const std::exception& e) {
-        law.fit.law = ContactLawName(kind);
-        law.fit.reason = e.what();
-      }
-      law.log_restitution_spread = LogRestitutionSpread(law.fit);
-      out.contact_laws.push_back(std::move(law));
-    }
-    const std::vector<Judged> models = JudgedModels(out);
-    Judge(out, models, leave_one_out);
-    Evidence(out, models, comparable, inputs.pendulum);
-    return out;
-  } catch (const std::exception& e) {
-    *why = fmt::format("model comparison skipped: {}", e.what());
+  JointFitOptions joint_options = fit.restitution_models;
+  joint_options.leave_one_out = leave_one_out;
+  SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
+  if (!c.ok) {
+    *why = fmt::format("model comparison skipped: {}", c.reason);
     return std::nullopt;
   }
+  ModelComparison out;
+  out.run_ids = std::move(c.run_names);
+  for (JointModelFit& m : c.models) out.restitution_models.push_back({std::move(m), ""});
+  // The laws' predictions of the same maxima (no contact times: the same data);
+  // a law the runs cannot take is a fit that is not ok, with its reason.
+  const std::vector<LawRun> law_runs = LawRunsOf(inputs, comparable);
+  ContactLawFitOptions options = fit.contact_laws;
+  options.separation = inputs.separation;
+  options.use_contact_times = false;
+  options.leave_one_out = leave_one_out;
+  options.intervals = false;  // the comparison judges by the fit, not the parameters' ranges
+  for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
+    ComparedContactLaw law;
+    law.fit = FitContactLaw(kind, law_runs, options);
+    law.log_restitution_spread = LogRestitutionSpread(law.fit);
+    out.contact_laws.push_back(std::move(law));
+  }
+  const std::vector<Judged> models = JudgedModels(out);
+  Judge(out, models, leave_one_out);
+  Evidence(out, models, comparable, inputs.pendulum);
+  return out;
 }
 
 std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOptions& fit,
@@ -398,16 +374,8 @@ std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOpti
   }
   // The laws are independent problems: with jobs > 1 they run side by side
   // (the damper's and the free exponent's leave-one-out dominate).
-  const auto fit_law = [&](ContactLawKind kind) {
-    try {
-      return FitContactLaw(kind, law_runs, options);
-    } catch (const std::exception& e) {
-      ContactLawFit failed;
-      failed.law = ContactLawName(kind);
-      failed.reason = e.what();
-      return failed;
-    }
-  };
+  // A law the runs cannot take is a fit that is not ok, with its reason.
+  const auto fit_law = [&](ContactLawKind kind) { return FitContactLaw(kind, law_runs, options); };
   std::vector<std::future<ContactLawFit>> pending;
   for (ContactLawKind kind : to_fit) {
     pending.push_back(

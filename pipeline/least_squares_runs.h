@@ -15,7 +15,8 @@ namespace impactlab {
 // Into `fits`: Kelvin-Voigt over all maxima the run's fits are fitted to, and
 // Poynting-Thomson from them (with the contact time when it has an
 // uncertainty), started from the run's two-point Kelvin-Voigt fit. A fit
-// whose inputs its stage refuses holds that reason, never thrown.
+// whose inputs its stage refuses holds that reason (fit/ returns it as a fit
+// that did not run).
 void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separation,
                         const FitOptions& fit, const std::string& run_id, RunFits& fits);
 

@@ -99,21 +99,39 @@ std::string FitProblem(const Run& run, const RunMeasurement& measured, const Ses
   return {};
 }
 
+// A run's fits, or why the fit and the model refuse its data ("FILE: KEY:
+// reason", `fits` then empty); a pair without dissipation is not a refusal
+// but a two-point fit that is not ok, with its reason.
+struct RunFitting {
+  bool refused = false;
+  std::string reason;
+  RunFits fits;
+};
+
 // The closed-form Kelvin-Voigt fit of a measured run with Table 2's
 // deviations and the model's figures, then its least-squares fits, for a
-// run FitProblem passes; a pair without dissipation is a fit that is not
-// ok, with its reason.
-RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& session,
-               const Pendulum& pendulum, Separation separation, const FitOptions& fit_options) {
+// run FitProblem passes.
+RunFitting FitRun(const Run& run, const RunMeasurement& measured, const Session& session,
+                  const Pendulum& pendulum, Separation separation, const FitOptions& fit_options) {
+  RunFitting result;
+  const auto refuse = [&](const std::string& why) {
+    result.refused = true;
+    result.reason = fmt::format("{}: run \"{}\": {}", session.manifest.string(), run.id, why);
+    return result;
+  };
   RunFits out = FitInputs(measured, session);
   TwoPointOptions options;
   options.rebounds = run.fit_rebounds;
   options.separation = separation;
   const double mass = session.apparatus->mass;
+  if (std::string why = TwoPointRefusal(pendulum, out.fitted, options); !why.empty()) {
+    return refuse(why);
+  }
   KelvinVoigtTwoPointFit fit = FitKelvinVoigtTwoPoint(pendulum, mass, out.fitted, options);
   if (!fit.ok) {
     out.kelvin_voigt = std::move(fit);
-    return out;
+    result.fits = std::move(out);
+    return result;
   }
   for (std::size_t n = 0; n < measured.xmax.size(); ++n) {
     const double deviation = fit.predicted_xmax[n].value - measured.xmax[n];
@@ -122,15 +140,24 @@ RunFits FitRun(const Run& run, const RunMeasurement& measured, const Session& se
     out.deviation_pct_x0.push_back(100.0 * deviation / run.initial_displacement);
   }
   const FittedRun fitted_run{measured.xmax, run.initial_displacement, run.first_rebound};
-  if (measured.t_peak.empty()) out.model_peak_times = ModelPeakTimes(pendulum, fitted_run, fit);
+  if (measured.t_peak.empty()) {
+    if (std::string why = ModelPeakTimesProblem(pendulum, fitted_run, fit); !why.empty()) {
+      return refuse(why);
+    }
+    out.model_peak_times = ModelPeakTimes(pendulum, fitted_run, fit);
+  }
   if (fit.stiffness) {
+    if (std::string why = ModelResponseProblem(pendulum, fitted_run, fit); !why.empty()) {
+      return refuse(why);
+    }
     const SampledHistory response = ModelResponse(pendulum, mass, fitted_run, fit);
     out.model_response = {response.time, response.displacement};
     out.model_residual = ResidualCurve(measured.measured_displacement, out.model_response);
   }
   out.kelvin_voigt = std::move(fit);
   FitRunLeastSquares(pendulum, mass, separation, fit_options, run.id, out);
-  return out;
+  result.fits = std::move(out);
+  return result;
 }
 
 // A previous result's measurement, when the run's inputs are unchanged and
@@ -189,15 +216,14 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
       return out;
     }
     const auto start = std::chrono::steady_clock::now();
-    try {
-      out.fits = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
-    } catch (const std::logic_error&) {
-      // The fit's and the model's own refusals of the data (fit/, model/
-      // throw invalid_argument or domain_error for them): the measurement
+    RunFitting fitting = FitRun(run, out.measured, session, pendulum, separation, run_options.fit);
+    if (fitting.refused) {
+      // The fit's and the model's own refusals of the data: the measurement
       // stays, with why it cannot be fitted.
-      out.reason = RunFailureReason(std::current_exception(), session, run);
+      out.reason = std::move(fitting.reason);
       return out;
     }
+    out.fits = std::move(fitting.fits);
     out.seconds.fit =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const KelvinVoigtTwoPointFit& fit = *out.fits.kelvin_voigt;
@@ -310,10 +336,9 @@ std::optional<SessionKelvinVoigt> AnalyseAcrossRuns(const std::vector<RunResult>
   }
   out.spread = SpreadOf(out.stiffness);
   if (out.run_ids.size() >= 2) {
-    try {
-      out.damping_line = FitDampingLine(out.sqrt_restitution, out.damping);
-    } catch (const std::invalid_argument&) {
-      // Runs of equal restitution: no line, the table stands without it.
+    // Runs of equal restitution give no line: the table stands without it.
+    if (DampingLineFit line = FitDampingLine(out.sqrt_restitution, out.damping); line.ok) {
+      out.damping_line = std::move(line.line);
     }
   }
   return out;
@@ -518,12 +543,9 @@ void CheckSweepsAgainstPendulum(const Session& session, const Pendulum& pendulum
     int used = 0;
     for (std::size_t n = 0; n < m.rebound_duration.size() && n < m.xmax.size(); ++n) {
       if (n >= m.rebound_duration_sigma.size() || !(m.rebound_duration_sigma[n] > 0.0)) continue;
-      double half = 0.0;
-      try {
-        half = HalfPeriod(pendulum, m.xmax[n]);
-      } catch (const std::domain_error&) {
-        continue;
-      }
+      const std::optional<double> half_period = HalfPeriodIfSwings(pendulum, m.xmax[n]);
+      if (!half_period) continue;  // no swing reaches it: its duration says nothing of L or g
+      const double half = *half_period;
       const double sigma = m.rebound_duration_sigma[n] / half;
       sum_w += 1.0 / (sigma * sigma);
       sum_wr += m.rebound_duration[n] / half / (sigma * sigma);
@@ -739,12 +761,13 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
       skipped("both runs must reduce to a Kelvin-Voigt fit");
       continue;
     }
-    try {
-      result.predictions.push_back(PredictRun(pendulum, source->id, *source->fits.kelvin_voigt,
-                                              target->id, target->measured.xmax,
-                                              *target->fits.kelvin_voigt, p.start_rebound));
-    } catch (const std::exception& error) {
-      skipped(error.what());  // the fit's own refusal (fit/ throws for it)
+    PredictedRun predicted =
+        PredictRun(pendulum, source->id, *source->fits.kelvin_voigt, target->id,
+                   target->measured.xmax, *target->fits.kelvin_voigt, p.start_rebound);
+    if (predicted.ok) {
+      result.predictions.push_back(std::move(predicted.prediction));
+    } else {
+      skipped(predicted.reason);
     }
   }
   return result;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "model/kelvin_voigt.h"
@@ -219,14 +220,26 @@ TEST_CASE("joint: subsets and bad input") {
   CHECK(Model(c, "common").maxima == 15);
   options.runs = {"nope"};
   CHECK_THROWS_AS(CompareRestitutionModels(ThesisRuns(), options), std::invalid_argument);
+  // Runs that cannot be compared: a comparison that is not ok, with why.
   options.runs = {"0.234"};
-  CHECK_THROWS_AS(CompareRestitutionModels(ThesisRuns(), options), std::invalid_argument);
+  SessionModelComparison refused = CompareRestitutionModels(ThesisRuns(), options);
+  CHECK_FALSE(refused.ok);
+  CHECK(refused.reason == "a model comparison needs at least two runs, got 1");
+  CHECK(refused.models.empty());
   auto runs = ThesisRuns();
   runs[0].measured.xmax_sigma.clear();
-  CHECK_THROWS_AS(CompareRestitutionModels(runs, {}), std::invalid_argument);
+  refused = CompareRestitutionModels(runs, {});
+  CHECK_FALSE(refused.ok);
+  CHECK(refused.reason == fmt::format("run '{}': joint fits compare chi^2 across runs and need "
+                                      "every maximum's sigma > 0",
+                                      runs[0].name));
   runs = ThesisRuns();
   runs[1].measured.xmax = {0.1, NAN, NAN, NAN, NAN};
-  CHECK_THROWS_AS(CompareRestitutionModels(runs, {}), std::invalid_argument);
+  refused = CompareRestitutionModels(runs, {});
+  CHECK_FALSE(refused.ok);
+  CHECK(refused.reason ==
+        fmt::format("run '{}': a joint fit needs at least two read maxima per run, got 1",
+                    runs[1].name));
   runs = ThesisRuns();
   runs[2].measured.xmax[3] = NAN;  // unread: skipped
   const SessionModelComparison d = CompareRestitutionModels(runs, {});

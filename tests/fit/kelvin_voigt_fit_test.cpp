@@ -98,17 +98,30 @@ TEST_CASE("damping_line: points on C = a (1 - b s) give a and b exactly, with ze
   const double a = 77.44, b = 1.014;
   std::vector<double> s = {0.80, 0.82, 0.85, 0.87, 0.90}, c;
   for (double x : s) c.push_back(a * (1.0 - b * x));
-  const DampingLine line = FitDampingLine(s, c);
+  const DampingLineFit fit = FitDampingLine(s, c);
+  REQUIRE(fit.ok);
+  const DampingLine& line = fit.line;
   CHECK(line.a.value == Approx(a).epsilon(1e-12));
   CHECK(line.b.value == Approx(b).epsilon(1e-12));
   CHECK(line.a.sigma == Approx(0.0).margin(1e-9));
-  CHECK_THROWS_AS(FitDampingLine({0.8, 0.8}, {1.0, 2.0}), std::invalid_argument);
+}
+
+TEST_CASE("damping_line: runs of one restitution, or one run, give no line, said as a value") {
+  const DampingLineFit equal = FitDampingLine({0.8, 0.8}, {1.0, 2.0});
+  CHECK_FALSE(equal.ok);
+  CHECK(equal.reason == "the damping line needs runs of different restitution");
+  CHECK(equal.line.points == 2);
+  const DampingLineFit one = FitDampingLine({0.8}, {1.0});
+  CHECK_FALSE(one.ok);
+  CHECK_THAT(one.reason, Catch::Contains("at least two runs") && Catch::Contains("got 1"));
+  // Columns of different lengths are a caller's slip, not data.
+  CHECK_THROWS_AS(FitDampingLine({0.8, 0.9}, {1.0}), std::invalid_argument);
 }
 
 TEST_CASE("damping_line: standard errors match the textbook regression formulas") {
   const std::vector<double> s = {0.80, 0.82, 0.85, 0.87, 0.90};
   const std::vector<double> c = {14.1, 12.9, 10.2, 9.0, 6.8};
-  const DampingLine line = FitDampingLine(s, c);
+  const DampingLine line = FitDampingLine(s, c).line;
   // Independent: normal equations, sigma^2 = RSS/(n - 2), var(alpha) = sigma^2 sum(s^2)/(n Sxx).
   double sum_s = 0, sum_c = 0, sum_ss = 0, sum_sc = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "fit/joint_fits.h"
@@ -199,12 +200,36 @@ TEST_CASE("kv_least_squares: growing maxima are a diagnostic, not NaN") {
   CHECK(fit.log_restitution.value > 0.0);
   CHECK(std::isfinite(fit.log_restitution.sigma));
   CHECK_FALSE(fit.stiffness.has_value());
+}
+
+TEST_CASE("kv_least_squares: data it cannot take is a fit that did not run, with why") {
+  ReboundMeasurements m;
+  m.contact_time = 350e-6;
   m.xmax = {0.2};
-  CHECK_THROWS_AS(FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {}), std::invalid_argument);
+  KelvinVoigtLeastSquaresFit fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
+  CHECK_FALSE(fit.ok);
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason == "a least-squares fit needs at least two maxima, got 1");
   m.xmax = {0.2, 0.1};
   m.xmax_sigma = {0.001, 0.0};
-  CHECK_THROWS_WITH(FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {}),
-                    Catch::Contains("sigma"));
+  fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason ==
+        "a least-squares fit needs every maximum's sigma > 0, or none at all; rebound 1 has 0");
+  m.xmax_sigma.clear();
+  m.xmax = {0.2, -0.1};
+  fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason == "rebound 1 maximum must be > 0, got -0.1");
+  // A maximum no swing reaches (X >= L) is refused in the model's words.
+  m.xmax = {kPendulum.length, 0.1};
+  fit = FitKelvinVoigtLeastSquares(kPendulum, kBarMass, m, {});
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason == SwingAmplitudeProblem(kPendulum, kPendulum.length));
+  CHECK_THAT(fit.reason, Catch::Contains("0 <= X < L"));
+  // Options and mass are the caller's to get right: still thrown.
+  m.xmax = {0.2, 0.1};
+  CHECK_THROWS_AS(FitKelvinVoigtLeastSquares(kPendulum, 0.0, m, {}), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------
@@ -388,7 +413,39 @@ TEST_CASE("pt_least_squares: a start where contact never ends is a status, not a
   std::vector<PoyntingThomsonRun> runs = data.runs;
   runs[0].measured.xmax_sigma.clear();
   options.separation = Separation::kForce;
-  CHECK_THROWS_AS(FitPoyntingThomsonLeastSquares(runs, options), std::invalid_argument);
+  const PoyntingThomsonLeastSquaresFit refused = FitPoyntingThomsonLeastSquares(runs, options);
+  CHECK_FALSE(refused.ok);
+  CHECK_FALSE(refused.status.Ran());
+  CHECK_THAT(refused.reason, Catch::StartsWith("contact times and peak compressions can only be "
+                                               "fitted with the maxima's uncertainties"));
+}
+
+TEST_CASE("pt_least_squares: data it cannot take is a fit that did not run, with why") {
+  const PtData data = MakeRuns(kPoyntingThomsonTruth, Separation::kForce, {0.4}, true, true);
+  PoyntingThomsonLeastSquaresOptions options;
+  options.mass = kBarMass;
+  options.separation = Separation::kForce;
+  PoyntingThomsonLeastSquaresFit fit = FitPoyntingThomsonLeastSquares({}, options);
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason == "no runs to fit");
+  CHECK(fit.separation == Separation::kForce);
+  std::vector<PoyntingThomsonRun> runs = data.runs;
+  runs[0].measured.xmax.assign(runs[0].measured.xmax.size(), NAN);
+  fit = FitPoyntingThomsonLeastSquares(runs, options);
+  CHECK_FALSE(fit.status.Ran());
+  CHECK(fit.reason == fmt::format("run \"{}\" has no maxima", runs[0].name));
+  // Maxima alone, no start: nothing fixes the time scale.
+  runs = data.runs;
+  for (PoyntingThomsonRun& run : runs) {
+    run.measured.contact_time.reset();
+    run.peak_compression.reset();
+  }
+  fit = FitPoyntingThomsonLeastSquares(runs, options);
+  CHECK_FALSE(fit.status.Ran());
+  CHECK_THAT(fit.reason, Catch::Contains("do not fix a time scale"));
+  // Options and mass are the caller's to get right: still thrown.
+  options.mass = 0.0;
+  CHECK_THROWS_AS(FitPoyntingThomsonLeastSquares(data.runs, options), std::invalid_argument);
 }
 
 TEST_CASE("pt_least_squares: reported standard errors cover the truth about 68 % of the time") {
