@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <limits>
 
@@ -15,6 +16,22 @@
 
 namespace impactlab {
 namespace {
+
+// A session-level fit whose integration failed on the data (the ODE
+// integrator's step-size failures are still thrown by model/): that product
+// fails alone with why, as a run does in ReduceRunOrFail, and the other
+// products stand. Programming errors (logic_error) are not caught.
+template <typename Fit>
+Fit FitOrNumericalFailure(const std::function<Fit()>& fit, const std::function<void(Fit&)>& name) {
+  try {
+    return fit();
+  } catch (const std::runtime_error& error) {
+    Fit failed;
+    name(failed);
+    failed.reason = fmt::format("the fit's integration failed: {}", error.what());
+    return failed;
+  }
+}
 
 // The run's observations as the fits take them. Every observation of a fit
 // must carry an uncertainty, or none: a contact time without one is left out
@@ -78,7 +95,9 @@ std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pe
   for (const RunResult& run : runs) {
     if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
   }
-  return {FitPoyntingThomsonLeastSquares(joint, options)};
+  return {FitOrNumericalFailure<PoyntingThomsonLeastSquaresFit>(
+      [&] { return FitPoyntingThomsonLeastSquares(joint, options); },
+      [&](PoyntingThomsonLeastSquaresFit& f) { f.separation = separation; })};
 }
 
 namespace {
@@ -303,7 +322,9 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
   }
   JointFitOptions joint_options = fit.restitution_models;
   joint_options.leave_one_out = leave_one_out;
-  SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
+  SessionModelComparison c = FitOrNumericalFailure<SessionModelComparison>(
+      [&] { return CompareRestitutionModels(joint, joint_options); },
+      [](SessionModelComparison&) {});
   if (!c.ok) {
     *why = fmt::format("model comparison skipped: {}", c.reason);
     return std::nullopt;
@@ -321,7 +342,9 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
   options.intervals = false;  // the comparison judges by the fit, not the parameters' ranges
   for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
     ComparedContactLaw law;
-    law.fit = FitContactLaw(kind, law_runs, options);
+    law.fit = FitOrNumericalFailure<ContactLawFit>(
+        [&] { return FitContactLaw(kind, law_runs, options); },
+        [&](ContactLawFit& f) { f.law = ContactLawName(kind); });
     law.log_restitution_spread = LogRestitutionSpread(law.fit);
     out.contact_laws.push_back(std::move(law));
   }
@@ -375,7 +398,11 @@ std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOpti
   // The laws are independent problems: with jobs > 1 they run side by side
   // (the damper's and the free exponent's leave-one-out dominate).
   // A law the runs cannot take is a fit that is not ok, with its reason.
-  const auto fit_law = [&](ContactLawKind kind) { return FitContactLaw(kind, law_runs, options); };
+  const auto fit_law = [&](ContactLawKind kind) {
+    return FitOrNumericalFailure<ContactLawFit>(
+        [&] { return FitContactLaw(kind, law_runs, options); },
+        [&](ContactLawFit& f) { f.law = ContactLawName(kind); });
+  };
   std::vector<std::future<ContactLawFit>> pending;
   for (ContactLawKind kind : to_fit) {
     pending.push_back(
