@@ -13,25 +13,10 @@
 #include "fit/kelvin_voigt_least_squares.h"
 #include "fit/poynting_thomson_least_squares.h"
 #include "model/power_law_contact.h"
+#include "pipeline/numerical_failure.h"
 
 namespace impactlab {
 namespace {
-
-// A session-level fit whose integration failed on the data (the ODE
-// integrator's step-size failures are still thrown by model/): that product
-// fails alone with why, as a run does in ReduceRunOrFail, and the other
-// products stand. Programming errors (logic_error) are not caught.
-template <typename Fit>
-Fit FitOrNumericalFailure(const std::function<Fit()>& fit, const std::function<void(Fit&)>& name) {
-  try {
-    return fit();
-  } catch (const std::runtime_error& error) {
-    Fit failed;
-    name(failed);
-    failed.reason = fmt::format("the fit's integration failed: {}", error.what());
-    return failed;
-  }
-}
 
 // The run's observations as the fits take them. Every observation of a fit
 // must carry an uncertainty, or none: a contact time without one is left out
@@ -68,14 +53,19 @@ void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separa
   // A fit refuses data it cannot take as a fit that did not run, with why.
   KelvinVoigtLeastSquaresOptions kelvin_voigt = fit.kelvin_voigt;
   kelvin_voigt.separation = separation;
-  fits.kelvin_voigt_least_squares =
-      FitKelvinVoigtLeastSquares(pendulum, mass, measured, kelvin_voigt);
+  fits.kelvin_voigt_least_squares = FitOrNumericalFailure<KelvinVoigtLeastSquaresFit>(
+      [&] { return FitKelvinVoigtLeastSquares(pendulum, mass, measured, kelvin_voigt); },
+      [&](KelvinVoigtLeastSquaresFit& f) { f.separation = separation; });
   PoyntingThomsonLeastSquaresOptions poynting_thomson = fit.poynting_thomson;
   poynting_thomson.mass = mass;
   poynting_thomson.separation = separation;
   poynting_thomson.initial = StartFromKelvinVoigt(fits, mass);
-  fits.poynting_thomson = FitPoyntingThomsonLeastSquares(
-      {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, poynting_thomson);
+  fits.poynting_thomson = FitOrNumericalFailure<PoyntingThomsonLeastSquaresFit>(
+      [&] {
+        return FitPoyntingThomsonLeastSquares({AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)},
+                                              poynting_thomson);
+      },
+      [&](PoyntingThomsonLeastSquaresFit& f) { f.separation = separation; });
 }
 
 std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pendulum, double mass,
