@@ -120,7 +120,8 @@ struct TwoLinkFitResult {
   // False when the fit refused its data: `reason` says what, `refused` which
   // kind, and only what was measured before the refusal is filled (the free
   // parameters with their starts, fitted = start, none determined; each
-  // channel read so far with its noise and samples; a1's ring-down and the
+  // channel read so far with its noise and samples, its RMS misfits NaN as
+  // nothing was simulated; a1's ring-down and the
   // measured impact once the record was read). chi2, the Jacobian's figures
   // and the iterations are then empty or 0.
   bool ok = false;
