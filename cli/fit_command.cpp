@@ -110,6 +110,14 @@ void AddFitCommand(CLI::App& app, Action& action) {
       const TwoLinkFitRun run = FitTwoLinkToLog(start, *log, experiment, options);
       const TwoLinkFitResult& result = run.fit;
       line.Clear();
+      if (!result.ok) {
+        // Nothing is written. A log the fit cannot take keeps the exit status
+        // of a bad command line (docs/two-link-fit.md), a start it cannot
+        // simulate that of the model's domain.
+        fmt::print(stderr, "error: {}\n", result.reason);
+        return result.refused == TwoLinkFitRefusal::kStartParameters ? kExitModelDomain
+                                                                     : kExitUsage;
+      }
 
       fs::create_directories(args->out / "logs", ec);
       if (ec) throw InputError({args->out, "", std::nullopt}, "cannot create: " + ec.message());

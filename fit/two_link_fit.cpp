@@ -114,13 +114,19 @@ class Problem {
  public:
   Problem(const TwoLinkParameters& start, const TwoLinkMeasurement& m, const TwoLinkFitOptions& o)
       : start_(start), measurement_(m), options_(o) {
+    // A record the fit cannot take is data, said in refusal(); the
+    // constructor stops there, keeping what it read before.
     const std::size_t n = m.time_s.size();
-    if (n < 10) throw std::invalid_argument("two-link fit: the record has fewer than 10 samples");
+    if (n < 10) {
+      refusal_ = "two-link fit: the record has fewer than 10 samples";
+      return;
+    }
     rate_ = static_cast<double>(n - 1) / (m.time_s.back() - m.time_s.front());
     if (!(rate_ > 0.0) || !std::isfinite(rate_)) {
-      throw std::invalid_argument(
+      refusal_ =
           fmt::format("two-link fit: the record's time must increase (it runs from {} s to {} s)",
-                      m.time_s.front(), m.time_s.back()));
+                      m.time_s.front(), m.time_s.back());
+      return;
     }
     start_.sensors.sample_rate_hz = rate_;
     start_.cases[o.case_number - 1].duration_s = m.time_s.back();
@@ -145,8 +151,9 @@ class Problem {
       if (sources[c]->has_value()) {
         channel.measured = &sources[c]->value();
         if (channel.measured->size() != n) {
-          throw std::invalid_argument(fmt::format("two-link fit: channel {} has {} samples, not {}",
-                                                  kChannelNames[c], channel.measured->size(), n));
+          refusal_ = fmt::format("two-link fit: channel {} has {} samples, not {}",
+                                 kChannelNames[c], channel.measured->size(), n);
+          return;
         }
         channel.sigma = NoiseSigma(*channel.measured);
         if (c < 2) {
@@ -185,6 +192,9 @@ class Problem {
     }
   }
 
+  // Why the record cannot be fitted (empty: it can); the rest of the
+  // problem is then only what was read before.
+  const std::string& refusal() const { return refusal_; }
   int parameter_count() const { return static_cast<int>(free_.size()); }
   int residual_count() const {
     int count = measured_frequency_ ? 1 : 0;
@@ -345,6 +355,7 @@ class Problem {
   TwoLinkParameters start_;
   const TwoLinkMeasurement& measurement_;
   const TwoLinkFitOptions& options_;
+  std::string refusal_;
   double rate_ = 0.0;
   std::vector<FreeParameter> free_;
   std::vector<Channel> channels_;
@@ -618,6 +629,39 @@ Eigen::MatrixXd FittedValuesCovariance(const Problem& problem,
   return SecantSandwich(secants.covariance, unweight, meat);
 }
 
+// A fit that did not run: what was read before `reason` stopped it, each
+// free parameter at its start and not determined, each channel read with its
+// noise and samples but no misfit (NaN: nothing was simulated to compare).
+TwoLinkFitResult Refused(const Problem& problem, TwoLinkFitRefusal kind, const std::string& reason,
+                         std::chrono::steady_clock::time_point clock_start) {
+  TwoLinkFitResult result;
+  result.ok = false;
+  result.reason = reason;
+  result.refused = kind;
+  result.fitted = problem.ParametersAt(problem.StartPoint());
+  for (const FreeParameter& f : problem.free()) {
+    FittedParameter out;
+    out.name = f.name;
+    out.start = f.start;
+    out.value = {f.start, 0.0};
+    out.determined = false;
+    result.parameters.push_back(out);
+  }
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t c = 0; c < problem.channels().size(); ++c) {
+    const Channel& channel = problem.channels()[c];
+    if (!channel.measured) continue;
+    result.channels.push_back(
+        {kChannelNames[c], none, none, channel.sigma, static_cast<int>(channel.measured->size())});
+  }
+  result.measured_frequency_hz = problem.measured_frequency();
+  result.measured_impact_s = problem.measured_impact();
+  result.termination = reason;
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
 }  // namespace
 
 bool TwoLinkFitOptions::Check(std::string* error) const {
@@ -641,8 +685,13 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   if (!options.Check(&error)) throw std::invalid_argument(error);
   const auto clock_start = std::chrono::steady_clock::now();
   Problem problem(start, measurement, options);
+  if (!problem.refusal().empty())
+    return Refused(problem, TwoLinkFitRefusal::kRecord, problem.refusal(), clock_start);
   const Evaluation first = problem.Evaluate(problem.StartPoint());
-  if (!first.ok) throw std::domain_error("two-link fit: the start parameters cannot be simulated");
+  if (!first.ok) {
+    return Refused(problem, TwoLinkFitRefusal::kStartParameters,
+                   "two-link fit: the start parameters cannot be simulated", clock_start);
+  }
   problem.set_max_steps(kStepBudget * first.steps);
 
   // Each start runs the stages. Start 0 is the given
@@ -802,6 +851,7 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   result.simulations = problem.simulations();
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  result.ok = true;
   return result;
 }
 

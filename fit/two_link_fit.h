@@ -108,7 +108,26 @@ struct ChannelMatch {
   int samples = 0;
 };
 
+// What the fit refused, when it did (TwoLinkFitResult::refused).
+enum class TwoLinkFitRefusal {
+  kNone,
+  kRecord,           // too few samples, a time that does not increase, a channel whose
+                     // sample count is not the record's
+  kStartParameters,  // the start parameters' case cannot be simulated
+};
+
 struct TwoLinkFitResult {
+  // False when the fit refused its data: `reason` says what, `refused` which
+  // kind, and only what was measured before the refusal is filled (the free
+  // parameters with their starts, fitted = start, none determined; each
+  // channel read so far with its noise and samples, its RMS misfits NaN as
+  // nothing was simulated; a1's ring-down and the
+  // measured impact once the record was read). chi2, the Jacobian's figures
+  // and the iterations are then empty or 0.
+  bool ok = false;
+  std::string reason;
+  TwoLinkFitRefusal refused = TwoLinkFitRefusal::kNone;
+
   TwoLinkParameters fitted;
   std::vector<FittedParameter> parameters;
   std::vector<UndeterminedCombination> undetermined;
@@ -133,8 +152,11 @@ struct TwoLinkFitResult {
   std::string Summary() const;  // a Markdown report: parameters, combinations, channels
 };
 
-// Throws std::invalid_argument for bad options or an unknown key (naming
-// it), std::domain_error when the start parameters cannot be simulated.
+// A record of fewer than 10 samples, whose time does not increase, or with
+// a channel whose sample count is not the time's, and start parameters that
+// cannot be simulated, are a result with !ok and the reason (data, not a
+// caller's mistake). Throws std::invalid_argument for bad options or an
+// unknown key (naming it): what the caller asked, not what the data are.
 TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
                                       const TwoLinkMeasurement& measurement,
                                       const TwoLinkFitOptions& options);

@@ -36,6 +36,11 @@ TwoLinkFitRun FitTwoLinkToLog(const TwoLinkParameters& start, const Log& log,
                               const LogSeries& experiment, const TwoLinkFitOptions& options) {
   TwoLinkFitRun run;
   run.fit = FitTwoLinkSimulation(start, TwoLinkMeasurementOfLog(log, experiment), options);
+  if (!run.fit.ok) {  // refused: nothing fitted to simulate
+    run.fitted_simulation.ok = false;
+    run.fitted_simulation.reason = "not simulated: " + run.fit.reason;
+    return run;
+  }
   const TwoLinkModel model(run.fit.fitted);
   run.fitted_simulation = SimulateTwoLink(model, run.fit.fitted.cases[options.case_number - 1], {});
   return run;

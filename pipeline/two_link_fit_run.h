@@ -13,8 +13,10 @@
 namespace impactlab {
 
 struct TwoLinkFitRun {
-  TwoLinkFitResult fit;
-  TwoLinkRecord fitted_simulation;  // the fitted parameters, the fitted case, SI
+  TwoLinkFitResult fit;             // !fit.ok: the fit refused the log or the start (its reason)
+  TwoLinkRecord fitted_simulation;  // the fitted parameters, the fitted case, SI; empty, !ok
+                                    // ("not simulated: " and the fit's reason) when the fit
+                                    // refused
 };
 
 // The experiment's channels by the simulator's names (multibody/two_link_channels.h),
@@ -24,8 +26,9 @@ struct TwoLinkFitRun {
 TwoLinkMeasurement TwoLinkMeasurementOfLog(const Log& log, const LogSeries& experiment);
 
 // Fits `start` to the log's experiment (FitTwoLinkSimulation) and simulates
-// the fitted case (a record with !ok where the model refuses it). Throws what
-// FitTwoLinkSimulation throws.
+// the fitted case (a record with !ok where the model refuses it). A log or
+// start the fit refuses is a run with !fit.ok and its reason; throws only what
+// FitTwoLinkSimulation throws for the caller's options and keys.
 TwoLinkFitRun FitTwoLinkToLog(const TwoLinkParameters& start, const Log& log,
                               const LogSeries& experiment, const TwoLinkFitOptions& options);
 

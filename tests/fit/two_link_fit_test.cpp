@@ -154,14 +154,5 @@ TEST_CASE("The two-link fit refuses an unknown parameter, naming it", "[two_link
                     Catch::Contains("beam1.stiffness"));
 }
 
-TEST_CASE("The two-link fit refuses a record whose time does not increase", "[two_link_fit]") {
-  TwoLinkMeasurement m;
-  m.time_s.assign(11, 0.25);  // every row at the same time: no sample rate
-  TwoLinkFitOptions options;
-  options.free = {"case1.start_delay_s"};
-  CHECK_THROWS_WITH(FitTwoLinkSimulation(TwoLinkParameters::Nominal(), m, options),
-                    Catch::Contains("time must increase"));
-}
-
 }  // namespace
 }  // namespace impactlab
