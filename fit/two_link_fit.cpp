@@ -631,7 +631,7 @@ Eigen::MatrixXd FittedValuesCovariance(const Problem& problem,
 
 // A fit that did not run: what was read before `reason` stopped it, each
 // free parameter at its start and not determined, each channel read with its
-// noise and samples but no misfit (NaN: nothing was simulated to compare).
+// noise and samples but no misfit (nothing was simulated to compare).
 TwoLinkFitResult Refused(const Problem& problem, TwoLinkFitRefusal kind, const std::string& reason,
                          std::chrono::steady_clock::time_point clock_start) {
   TwoLinkFitResult result;
@@ -647,12 +647,11 @@ TwoLinkFitResult Refused(const Problem& problem, TwoLinkFitRefusal kind, const s
     out.determined = false;
     result.parameters.push_back(out);
   }
-  const double none = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t c = 0; c < problem.channels().size(); ++c) {
     const Channel& channel = problem.channels()[c];
     if (!channel.measured) continue;
-    result.channels.push_back(
-        {kChannelNames[c], none, none, channel.sigma, static_cast<int>(channel.measured->size())});
+    result.channels.push_back({kChannelNames[c], std::nullopt, std::nullopt, channel.sigma,
+                               static_cast<int>(channel.measured->size())});
   }
   result.measured_frequency_hz = problem.measured_frequency();
   result.measured_impact_s = problem.measured_impact();
@@ -873,9 +872,12 @@ std::string TwoLinkFitResult::Summary() const {
   out +=
       "\n| channel | RMS at start | RMS fitted | noise sigma | samples |\n"
       "| --- | ---: | ---: | ---: | ---: |\n";
+  const auto misfit = [](const std::optional<double>& rms) {
+    return rms ? fmt::format("{:.4g}", *rms) : std::string("—");  // not simulated
+  };
   for (const ChannelMatch& c : channels) {
-    out += fmt::format("| {} | {:.4g} | {:.4g} | {:.3g} | {} |\n", c.channel, c.rms_start,
-                       c.rms_fitted, c.sigma, c.samples);
+    out += fmt::format("| {} | {} | {} | {:.3g} | {} |\n", c.channel, misfit(c.rms_start),
+                       misfit(c.rms_fitted), c.sigma, c.samples);
   }
   out += fmt::format("\nchi2 {:.6g} on {} degrees of freedom; Birge ratio {:.3g}\n", chi2, dof,
                      birge_ratio);

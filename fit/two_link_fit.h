@@ -103,8 +103,10 @@ struct UndeterminedCombination {
 
 struct ChannelMatch {
   std::string channel;
-  double rms_start = 0.0, rms_fitted = 0.0;  // SI
-  double sigma = 0.0;                        // the noise used
+  // RMS misfits at the start and fitted (SI); none in a fit that refused
+  // its data, which simulated nothing to compare.
+  std::optional<double> rms_start, rms_fitted;
+  double sigma = 0.0;  // the noise used
   int samples = 0;
 };
 
@@ -120,7 +122,7 @@ struct TwoLinkFitResult {
   // False when the fit refused its data: `reason` says what, `refused` which
   // kind, and only what was measured before the refusal is filled (the free
   // parameters with their starts, fitted = start, none determined; each
-  // channel read so far with its noise and samples, its RMS misfits NaN as
+  // channel read so far with its noise and samples, without RMS misfits as
   // nothing was simulated; a1's ring-down and the
   // measured impact once the record was read). chi2, the Jacobian's figures
   // and the iterations are then empty or 0.

@@ -80,7 +80,8 @@ TEST_CASE(
   CHECK(fit.channels[0].channel == "q1");
   CHECK(fit.channels[0].samples == 11);
   CHECK(fit.channels[0].sigma == Approx(1e-4 / std::sqrt(12.0)));
-  CHECK(std::isnan(fit.channels[0].rms_start));
+  CHECK_FALSE(fit.channels[0].rms_start.has_value());  // nothing was simulated
+  CHECK_FALSE(fit.channels[0].rms_fitted.has_value());
   CHECK(fit.simulations == 0);
 }
 
