@@ -421,8 +421,9 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   // ones that prevent it are a misread stretch (OffCurve), which is left out
   // and recorded. A curve bent towards the stretch hides part of it, so the
   // samples off each refitted curve are taken in turn, while they change.
-  if (!fit.ok) {
-    std::vector<bool> off = OffCurve(fit.best_weighted_residual, std::vector<bool>(n, false));
+  const auto leave_out_stretch = [&](const Eigen::VectorXd& weighted_residual)
+      -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
+    std::vector<bool> off = OffCurve(weighted_residual, std::vector<bool>(n, false));
     CurveFit refit;
     bool settled = false;
     for (int pass = 0; pass < 6 && !settled; ++pass) {
@@ -444,8 +445,46 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       settled = next == off;
       off = std::move(next);
     }
-    refit.ok = refit.ok && settled;
-    if (refit.ok) {
+    if (!(refit.ok && settled)) return std::nullopt;
+    return std::make_pair(std::move(off), std::move(refit));
+  };
+  // A stretch the curve follows closely enough to hide it, or that makes
+  // the whole curve ring about it (so that the residuals' robust scale grows
+  // and no sample stands out), shows against a curve through the other
+  // samples. The stretch is one run of samples in time (the tracking on a
+  // mark): runs of one to three twentieths of the swing's samples, the
+  // shortest first, each left out in turn; the first whose curve through the
+  // rest is monotone starts the search above.
+  const auto leave_out_a_run = [&]() -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
+    constexpr int kBlocks = 20;
+    if (n < 4 * kBlocks) return std::nullopt;
+    const int max_blocks = static_cast<int>(kOffCurveMaxShare * kBlocks);
+    for (int length = 1; length <= max_blocks; ++length) {
+      for (int first = 0; first + length <= kBlocks; ++first) {
+        const int begin = n * first / kBlocks, end = n * (first + length) / kBlocks;
+        std::vector<Eigen::Index> kept;
+        for (int i = 0; i < n; ++i) {
+          if (i < begin || i >= end) kept.push_back(i);
+        }
+        const CurveFit rest =
+            FitCurve(Rows(samples, kept), std::min(max_order, static_cast<int>(kept.size()) / 4),
+                     release_x, options, shared_sigma_volts);
+        if (!rest.ok) continue;
+        Eigen::VectorXd residual(n);
+        for (int i = 0; i < n; ++i) {
+          residual(i) =
+              samples.weight(i) * (samples.v(i) - rest.curve.VoltsAt(out.ideal_displacement[i]));
+        }
+        if (auto found = leave_out_stretch(residual)) return found;
+      }
+    }
+    return std::nullopt;
+  };
+  if (!fit.ok) {
+    auto left_out = leave_out_stretch(fit.best_weighted_residual);
+    if (!left_out) left_out = leave_out_a_run();
+    if (left_out) {
+      const std::vector<bool>& off = left_out->first;
       for (int i = 0; i < n; ++i) {
         if (!off[static_cast<std::size_t>(i)]) continue;
         if (i == 0 || !off[static_cast<std::size_t>(i - 1)]) {
@@ -463,7 +502,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       keep(out.time_s);
       keep(out.ideal_displacement);
       keep(out.volts);
-      fit = std::move(refit);
+      fit = std::move(left_out->second);
     }
   }
   if (!fit.ok) return Refusal(fit.reason + UnreadStretch(out.ideal_displacement, release_x));
