@@ -384,8 +384,8 @@ TEST_CASE("graticule: a lattice not found in the working copy is looked for clos
 // Randomised seed 1022 (with the generator's handling), calibration R-0.713:
 // a grid at 2 % of full scale, its lines half a pixel wide, under sensor
 // noise of 3 % (a person sees it contrast-stretched). Its pixels lie below
-// the ridge votes' floor of three noise sigmas, and the Hough directions
-// were a label's and the trace's, 18 degrees off ("found 2 of the 11
+// the ridge votes' floor of three noise sigmas, and the vertical family's
+// Hough direction was 13 degrees off the grid's lines ("found 2 of the 11
 // vertical grid lines in step"). Looked at again with the floor at one and
 // a half sigmas, the grid's long lines add up and the lattice is found.
 TEST_CASE("graticule: a faint grid under heavy noise is looked for again with a lower floor") {
