@@ -649,11 +649,12 @@ std::vector<Refined> NeighboursThatPass(const PreparedPhoto& photo, std::array<i
 // search found a lattice at all (the refusal is the lines' otherwise).
 GraticuleFit SearchAndRefine(const PreparedPhoto& photo, const PreparedPhoto& working,
                              std::array<int, 2> divisions, const GraticuleOptions& options,
-                             std::chrono::steady_clock::time_point start, bool* searched) {
+                             std::chrono::steady_clock::time_point start, bool* searched,
+                             double ridge_floor_sigmas = digitize::kRidgeFloorSigmas) {
   *searched = false;
   std::string why;
   const std::optional<digitize::Lattice> lattice =
-      digitize::FindLattice(working, divisions, options.max_rotation_deg, &why);
+      digitize::FindLattice(working, divisions, options.max_rotation_deg, &why, ridge_floor_sigmas);
   if (!lattice) NotFound(photo, divisions, why, false);
   *searched = true;
   // The working copy's lattice in photo pixels.
@@ -788,18 +789,15 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   // found closer is refined and checked as any other; when none is, the
   // first look's reason stands.
   bool searched = false;
+  // A print is searched in a working copy no finer than half its screen's
+  // period (CloserShrinks): a small scan's copy is the photo itself, and
+  // what descreening leaves of the dots there made a lattice of its own
+  // (randomised seed 2002's run 0.405, 655 px wide, a 5.8 px screen: a
+  // lattice 7 divisions off that passed every check).
+  const int coarsest = static_cast<int>(std::ceil(0.5 * photo.halftone_period_px));
+  const PreparedPhoto working = photo.shrink < coarsest ? WorkingCopyAt(photo, coarsest) : photo;
   try {
-    // A print is searched in a working copy no finer than half its screen's
-    // period (CloserShrinks): a small scan's copy is the photo itself, and
-    // what descreening leaves of the dots there made a lattice of its own
-    // (randomised seed 2002's run 0.405, 655 px wide, a 5.8 px screen: a
-    // lattice 7 divisions off that passed every check).
-    const int coarsest = static_cast<int>(std::ceil(0.5 * photo.halftone_period_px));
-    if (photo.shrink < coarsest) {
-      return SearchAndRefine(photo, WorkingCopyAt(photo, coarsest), divisions, options, start,
-                             &searched);
-    }
-    return SearchAndRefine(photo, photo, divisions, options, start, &searched);
+    return SearchAndRefine(photo, working, divisions, options, start, &searched);
   } catch (const InputError&) {
     if (searched) throw;  // found, and refused by its lines: not the search's doing
     for (const int shrink : CloserShrinks(photo, options)) {
@@ -809,6 +807,19 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
                                &closer_searched);
       } catch (const InputError&) {
       }
+    }
+    // Still none: the grid may be faint under heavy noise, its pixels below
+    // the votes' floor (digitize::kFaintRidgeFloorSigmas). Looked at again
+    // with the floor lowered, its long lines add up where the noise does not
+    // (randomised seed 1022's calibration: a grid at 2 % of full
+    // scale, lines half a pixel wide, sensor noise 3 %: its vertical family
+    // was taken 13 degrees off the grid's lines). A lattice found so is
+    // refined and checked as any other; when none is, the first reason stands.
+    bool faint_searched = false;
+    try {
+      return SearchAndRefine(photo, working, divisions, options, start, &faint_searched,
+                             digitize::kFaintRidgeFloorSigmas);
+    } catch (const InputError&) {
     }
     throw;
   }

@@ -71,11 +71,12 @@ struct RidgePoint {
   float weight = 0.0f;       // its height above the noise, capped near a grid line's
 };
 
-// Thin bright structure: ridge pixels above the noise, thinned to those that
-// are a local maximum across x or across y. Each votes with its height, so
-// that faint lines in heavy noise still add up, capped at about a grid
-// line's height, so that the bright traces do not outvote the grid.
-std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) {
+// Thin bright structure: ridge pixels `floor_sigmas` above the noise, thinned
+// to those that are a local maximum across x or across y. Each votes with its
+// height, so that faint lines in heavy noise still add up, capped at about a
+// grid line's height, so that the bright traces do not outvote the grid.
+std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, double floor_sigmas,
+                                    float* unit_weight) {
   // The noise is judged in the middle of the frame, where the screen is: the
   // flat surround of a scanned print would make it look smaller than it is.
   std::vector<float> sample;
@@ -87,7 +88,7 @@ std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, float* unit_weight) 
   const float median = SelectNth(sample.begin(), middle, sample.end());
   for (float& v : sample) v = std::abs(v - median);
   const float sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
-  const float threshold = std::max(median + 3.0f * sigma, 0.005f);
+  const float threshold = std::max(median + static_cast<float>(floor_sigmas) * sigma, 0.005f);
 
   const float cx = 0.5f * (ridge.cols - 1), cy = 0.5f * (ridge.rows - 1);
   std::vector<RidgePoint> points;
@@ -654,10 +655,11 @@ cv::Matx33d FitHomography(const std::vector<cv::Point2d>& from,
 }
 
 std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2> divisions,
-                                   double max_rotation_deg, std::string* why) {
+                                   double max_rotation_deg, std::string* why,
+                                   double ridge_floor_sigmas) {
   const cv::Mat1f& ridge = photo.ridge;
   float unit_weight = 0.0f;
-  const std::vector<RidgePoint> points = RidgePoints(ridge, &unit_weight);
+  const std::vector<RidgePoint> points = RidgePoints(ridge, ridge_floor_sigmas, &unit_weight);
   if (points.size() < 50) {
     *why = "no thin lines in the photo";
     return std::nullopt;

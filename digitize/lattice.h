@@ -27,9 +27,24 @@ struct Lattice {
   std::array<int, 2> lines_found = {0, 0};  // vertical, horizontal lines seen in the Hough votes
 };
 
-// nullopt when no lattice of `divisions` is found; `why` then says what failed.
+// How far above the working copy's noise (robust sigmas) a ridge pixel must
+// stand to vote: a grid line's pixels stand well above it in most photos,
+// while noise that passes only fills every Hough cell alike.
+inline constexpr double kRidgeFloorSigmas = 3.0;
+// ... and where no lattice stands out so, the floor the search looks again
+// with: a faint grid under heavy noise (sensor noise several times a thin
+// line's height) has most of its pixels below three sigmas, and the
+// directions are then the traces', labels' or a print's frame's. Its lines
+// are long, and each of their pixels above one and a half sigmas adds up
+// where the noise's, in every cell alike, does not.
+inline constexpr double kFaintRidgeFloorSigmas = 1.5;
+
+// nullopt when no lattice of `divisions` is found; `why` then says what
+// failed. Ridge pixels vote when they stand `ridge_floor_sigmas` above the
+// noise.
 std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2> divisions,
-                                   double max_rotation_deg, std::string* why);
+                                   double max_rotation_deg, std::string* why,
+                                   double ridge_floor_sigmas = kRidgeFloorSigmas);
 
 // The homography taking `from` to `to` (four or more points), by the
 // normalised direct linear transform.
