@@ -130,12 +130,8 @@ struct LawModel {
         exp(theta[0]) * PeakScale(theta[1], T(exponent), speed, mass) / (T(mass) * speed);
     const double b = ValueOf(beta);
     if (!(b >= 0.0) || !std::isfinite(b)) return false;
-    HertzDamperScaled d;
-    try {
-      d = HertzDamperScaledImpact(exponent, b, separation, 1e-9);
-    } catch (const std::exception&) {
-      return false;  // no separation there: Ceres shrinks the step
-    }
+    const HertzDamperScaled d = HertzDamperScaledImpact(exponent, b, separation, 1e-9);
+    if (!d.ok) return false;  // no separation there: Ceres shrinks the step
     *e = T(d.restitution) + T(d.d_restitution) * (beta - T(b));
     *s_c = T(d.contact_time) + T(d.d_contact_time) * (beta - T(b));
     return true;

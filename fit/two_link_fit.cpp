@@ -101,6 +101,7 @@ struct Stage {
 // What one simulation gives the fit.
 struct Evaluation {
   bool ok = false;
+  std::string reason;  // why not ok: the parameters' check, or the simulation's refusal
   Eigen::VectorXd residuals;
   double frequency_hz = 0.0;
   double impact_s = -1.0;
@@ -126,6 +127,18 @@ class Problem {
       refusal_ =
           fmt::format("two-link fit: the record's time must increase (it runs from {} s to {} s)",
                       m.time_s.front(), m.time_s.back());
+      return;
+    }
+    // The simulation logs at most kTwoLinkMaxSamples a case: a record longer
+    // than that cannot be compared sample by sample whatever the parameters,
+    // so it is the record that is refused, before anything is simulated (the
+    // product is the one the parameters' check forms below).
+    const double rate_times_duration = rate_ * m.time_s.back();
+    if (!(rate_times_duration <= kTwoLinkMaxSamples)) {
+      refusal_ = fmt::format(
+          "two-link fit: the record is too long for the simulation: {} samples over {:g} s at "
+          "{:g} Hz (rate x duration {:.7g}), over its limit of {:g} per case",
+          n, m.time_s.back(), rate_, rate_times_duration, kTwoLinkMaxSamples);
       return;
     }
     start_.sensors.sample_rate_hz = rate_;
@@ -243,30 +256,29 @@ class Problem {
     Evaluation e;
     e.residuals = Eigen::VectorXd::Zero(residual_count());
     e.channel_rms.assign(6, 0.0);
-    TwoLinkRecord record;
-    try {
-      const TwoLinkParameters p = ParametersAt(x);
-      std::string error;
-      if (!p.Check(&error)) return e;
-      const TwoLinkModel model(p);
-      TwoLinkSimulationOptions options;
-      options.relative_tolerance = options_.tolerance;
-      options.absolute_tolerance = options_.tolerance * 1e-3;
-      options.keep_state = false;
-      options.max_steps = max_steps_;
-      // The step budget bounds a trial's work; the simulator's wall-clock
-      // guard would make the fit depend on the machine's load (a trial that
-      // a busy machine runs past it becomes an infeasible point, and the fit
-      // ends elsewhere).
-      options.max_wall_seconds = std::numeric_limits<double>::infinity();
-      // A stage that looks at the record's start simulates no further.
-      if (stage_.until_s >= 0.0)
-        options.duration_s = std::min(measurement_.time_s.back(), stage_.until_s + 2.0 / rate_);
-      record = SimulateTwoLink(model, p.cases[options_.case_number - 1], options);
-    } catch (const std::exception&) {  // parameters the model does not take
+    // Parameters the model does not take, and a motion it refuses, are an
+    // infeasible point, with why.
+    const TwoLinkParameters p = ParametersAt(x);
+    if (!p.Check(&e.reason)) return e;
+    const TwoLinkModel model(p);
+    TwoLinkSimulationOptions options;
+    options.relative_tolerance = options_.tolerance;
+    options.absolute_tolerance = options_.tolerance * 1e-3;
+    options.keep_state = false;
+    options.max_steps = max_steps_;
+    // The step budget bounds a trial's work; the simulator's wall-clock
+    // guard would make the fit depend on the machine's load (a trial that
+    // a busy machine runs past it becomes an infeasible point, and the fit
+    // ends elsewhere).
+    options.max_wall_seconds = std::numeric_limits<double>::infinity();
+    // A stage that looks at the record's start simulates no further.
+    if (stage_.until_s >= 0.0)
+      options.duration_s = std::min(measurement_.time_s.back(), stage_.until_s + 2.0 / rate_);
+    const TwoLinkRecord record = SimulateTwoLink(model, p.cases[options_.case_number - 1], options);
+    if (!record.ok) {
+      e.reason = record.reason;
       return e;
     }
-    if (!record.ok) return e;  // a motion the model refuses: an infeasible point
     ++simulations_;
     e.steps = record.steps;
     const std::size_t n = measurement_.time_s.size();
@@ -689,7 +701,8 @@ TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
   const Evaluation first = problem.Evaluate(problem.StartPoint());
   if (!first.ok) {
     return Refused(problem, TwoLinkFitRefusal::kStartParameters,
-                   "two-link fit: the start parameters cannot be simulated", clock_start);
+                   "two-link fit: the start parameters cannot be simulated: " + first.reason,
+                   clock_start);
   }
   problem.set_max_steps(kStepBudget * first.steps);
 

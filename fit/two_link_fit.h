@@ -113,9 +113,11 @@ struct ChannelMatch {
 // What the fit refused, when it did (TwoLinkFitResult::refused).
 enum class TwoLinkFitRefusal {
   kNone,
-  kRecord,           // too few samples, a time that does not increase, a channel whose
-                     // sample count is not the record's
-  kStartParameters,  // the start parameters' case cannot be simulated
+  kRecord,           // too few samples, a time that does not increase, more samples
+                     // than the simulation logs a case (kTwoLinkMaxSamples), a channel
+                     // whose sample count is not the record's
+  kStartParameters,  // the start parameters' case cannot be simulated (the reason
+                     // carries the simulation's: where and why it stopped)
 };
 
 struct TwoLinkFitResult {
@@ -154,10 +156,11 @@ struct TwoLinkFitResult {
   std::string Summary() const;  // a Markdown report: parameters, combinations, channels
 };
 
-// A record of fewer than 10 samples, whose time does not increase, or with
-// a channel whose sample count is not the time's, and start parameters that
-// cannot be simulated, are a result with !ok and the reason (data, not a
-// caller's mistake). Throws std::invalid_argument for bad options or an
+// A record of fewer than 10 samples, whose time does not increase, that is
+// longer than the simulation logs a case, or with a channel whose sample count
+// is not the time's, and start parameters that cannot be simulated (the
+// simulation's reason said), are a result with !ok and the reason (data, not
+// a caller's mistake). Throws std::invalid_argument for bad options or an
 // unknown key (naming it): what the caller asked, not what the data are.
 TwoLinkFitResult FitTwoLinkSimulation(const TwoLinkParameters& start,
                                       const TwoLinkMeasurement& measurement,

@@ -3,6 +3,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include <boost/math/tools/roots.hpp>
 // odeint's steppers copy members before they are first written (harmless: they
@@ -25,31 +28,39 @@ using State = std::array<double, 2>;  // u, w
 
 // Ends an integration that cannot finish: more than `max_steps` steps tried,
 // a step size collapsed to nothing against the time, or a state no longer
-// finite (each of which would otherwise loop for ever).
+// finite (each of which would otherwise loop for ever). Check says why the
+// integration must stop after a trial step (none: it may go on).
 struct StepGuard {
   long max_steps = 0;
   long tried = 0;
   template <typename Vector>
-  void Check(double t, double dt, const Vector& x) {
+  std::optional<std::string> Check(double t, double dt, const Vector& x) {
     ++tried;
     bool finite = std::isfinite(t) && std::isfinite(dt);
     for (double v : x) finite = finite && std::isfinite(v);
     if (!finite) {
-      throw NoSeparationError(
-          fmt::format("the contact's motion is no longer finite at scaled time {:.6g}", t));
+      return fmt::format("the contact's motion is no longer finite at scaled time {:.6g}", t);
     }
     if (!(t + dt > t)) {
-      throw NoSeparationError(
-          fmt::format("the contact's step size collapsed to {:.3g} at scaled time {:.6g}", dt, t));
+      return fmt::format("the contact's step size collapsed to {:.3g} at scaled time {:.6g}", dt,
+                         t);
     }
     if (tried > max_steps) {
-      throw NoSeparationError(fmt::format(
+      return fmt::format(
           "the contact had not ended after {} steps (scaled time {:.6g}): too stiff for this "
           "integration, e.g. a damping far beyond critical",
-          max_steps, t));
+          max_steps, t);
     }
+    return std::nullopt;
   }
 };
+
+// The impact that did not end, with why.
+ScaledImpact NotEnded(ScaledImpact impact, std::string reason) {
+  impact.ok = false;
+  impact.reason = std::move(reason);
+  return impact;
+}
 using Stepper = odeint::runge_kutta_fehlberg78<State>;
 
 struct System {
@@ -105,7 +116,7 @@ ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separati
     const State before = x;
     const double t_before = t;
     const bool accepted = controlled.try_step(system, x, t, dt) == odeint::success;
-    guard.Check(t, dt, x);
+    if (std::optional<std::string> why = guard.Check(t, dt, x)) return NotEnded(out, *why);
     if (!accepted) continue;
     ++out.steps;
     const double step = t - t_before;
@@ -129,9 +140,9 @@ ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separati
       return out;
     }
   }
-  throw NoSeparationError(
-      fmt::format("the contact had not ended after {} scaled time units ({} steps)",
-                  options.max_time, out.steps));
+  return NotEnded(out,
+                  fmt::format("the contact had not ended after {} scaled time units ({} steps)",
+                              options.max_time, out.steps));
 }
 
 namespace {
@@ -188,7 +199,10 @@ ScaledImpactSensitivity IntegrateScaledImpactWithSensitivity(
     const Augmented before = x;
     const double t_before = t;
     const bool accepted = controlled.try_step(system, x, t, dt) == odeint::success;
-    guard.Check(t, dt, x);
+    if (std::optional<std::string> why = guard.Check(t, dt, x)) {
+      out.impact = NotEnded(out.impact, *why);
+      return out;
+    }
     if (!accepted) continue;
     ++out.impact.steps;
     const double step = t - t_before;
@@ -216,9 +230,11 @@ ScaledImpactSensitivity IntegrateScaledImpactWithSensitivity(
     out.d_exit_rate = e[3] - f[0] * out.d_contact_time;  // w' = -f at the end
     return out;
   }
-  throw NoSeparationError(
-      fmt::format("the contact had not ended after {} scaled time units ({} steps)",
-                  options.max_time, out.impact.steps));
+  out.impact =
+      NotEnded(out.impact, fmt::format("the contact had not ended after {} scaled time units ({} "
+                                       "steps)",
+                                       options.max_time, out.impact.steps));
+  return out;
 }
 
 ScaledState ScaledStateAt(const ScaledForce& force, double time,

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <functional>
+#include <string>
 
 #include "model/contact.h"
 
@@ -26,6 +27,11 @@ namespace impactlab {
 using ScaledForce = std::function<double(double compression, double rate)>;
 
 struct ScaledImpact {
+  // False when the contact did not end: not by max_time, not within
+  // max_steps, or the step or the state could no longer be computed; `reason`
+  // says which, at what scaled time. The figures below are then not an end's.
+  bool ok = true;
+  std::string reason;
   double contact_time = 0.0;      // s_c, scaled
   double exit_rate = 0.0;         // w at the end (negative); e = -exit_rate
   double exit_compression = 0.0;  // u at the end (0 under kinematic separation)
@@ -45,8 +51,10 @@ struct ScaledIntegrationOptions {
   long max_steps = 200'000;
 };
 
-// Throws NoSeparationError when the contact has not ended by max_time or
-// within max_steps, or when the step or the state can no longer be computed.
+// A contact that has not ended by max_time or within max_steps, or whose step
+// or state can no longer be computed, is an impact with !ok and the reason:
+// the law's failure on these parameters, a value (HertzDamperContact, whose
+// callers need an end, throws it as NoSeparationError).
 ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separation,
                                    const ScaledIntegrationOptions& options = {});
 
@@ -56,7 +64,8 @@ ScaledImpact IntegrateScaledImpact(const ScaledForce& force, Separation separati
 // ride along (inside the same error control), and the event time's
 // derivative follows from the implicit-function theorem on the event
 // function g: ds_c/dp = -(dg/dp)/(dg/ds) at the event. Exact to the
-// integration's accuracy: no differences of perturbed runs.
+// integration's accuracy: no differences of perturbed runs. A contact that
+// does not end is `impact` with !ok, as above.
 struct ScaledForceWithPartials {
   // f and its partial derivatives f_u, f_w, f_p at (u, w).
   std::function<std::array<double, 4>(double compression, double rate)> evaluate;

@@ -68,7 +68,7 @@ bool AllFinite(const std::array<double, N>& values) {
 }  // namespace
 
 template <std::size_t N>
-void OdeIntegrator<N>::Step(double limit_s) {
+OdeStepResult OdeIntegrator<N>::Step(double limit_s) {
   if (!(limit_s > t_)) {
     throw std::logic_error(fmt::format("integrator asked to step from {} s to {} s", t_, limit_s));
   }
@@ -86,9 +86,9 @@ void OdeIntegrator<N>::Step(double limit_s) {
     if (result == odeint::success && !finite) {
       impl_->step_s = 0.25 * (clipped ? limit_s - t_ : impl_->step_s);
       if (!(impl_->step_s > 1e-15 * std::max(1.0, std::abs(t_)))) {
-        throw std::runtime_error(fmt::format(
-            "the state is not finite after any step from t = {} s (forces beyond double range)",
-            t_));
+        return {false, fmt::format("the state is not finite after any step from t = {} s "
+                                   "(forces beyond double range)",
+                                   t_)};
       }
       continue;
     }
@@ -101,13 +101,13 @@ void OdeIntegrator<N>::Step(double limit_s) {
       impl_->dydt = dydt_out;
       impl_->step_s = dt;  // the size odeint suggests for the next step
       ++accepted_steps_;
-      return;
+      return {};
     }
     impl_->step_s = dt;  // the reduced size odeint suggests
     if (!(dt > 1e-15 * std::max(1.0, std::abs(t_)))) break;
   }
-  throw std::runtime_error(
-      fmt::format("ODE step size collapsed at t = {} s (last trial {} s)", t_, impl_->step_s));
+  return {false,
+          fmt::format("ODE step size collapsed at t = {} s (last trial {} s)", t_, impl_->step_s)};
 }
 
 template <std::size_t N>

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
 
 namespace impactlab {
 
@@ -22,6 +23,15 @@ struct OdeTolerances {
   double relative = 1e-12;   // per step, relative to each component and its change
   double absolute = 1e-17;   // per step, in each component's units
   double max_step_s = 0.01;  // no step longer than this, s
+};
+
+// What one Step did: it advanced, or the motion cannot be carried on from
+// time() and `reason` says why and where (the step size collapsed, or no step
+// leaves the state finite). A step that fails leaves time() and state() where
+// they were, so the caller keeps what was integrated up to there.
+struct OdeStepResult {
+  bool ok = true;
+  std::string reason;  // empty when ok
 };
 
 template <std::size_t N>
@@ -40,9 +50,11 @@ class OdeIntegrator {
   void Reset(System system, const State& y, double t_s, double first_step_s);
 
   // Takes one accepted step that ends no later than `limit_s` (ending exactly
-  // on it when it is reached). Throws std::runtime_error if the step size
-  // collapses.
-  void Step(double limit_s);
+  // on it when it is reached), or says why none can be taken: a step size
+  // below 1e-15 of the time (or of 1 s), a state no step keeps finite, or 200
+  // rejected trials. That is the motion's failure, a value; a `limit_s` not
+  // after time() is the caller's mistake and throws std::logic_error.
+  [[nodiscard]] OdeStepResult Step(double limit_s);
 
   // Replaces the state at time() (e.g. its projection onto a constraint); the
   // next step starts from it. Dense output of the last step is not changed.

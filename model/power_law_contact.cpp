@@ -148,6 +148,7 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
   CheckDamping("damping c", model.damping);
   const double beta = ScaledDamping(model, impact_speed);
   const ScaledImpact s = IntegrateScaledImpact(HertzDamperForce(model.exponent, beta), separation);
+  if (!s.ok) throw NoSeparationError(s.reason);
   return Scaled(x_star, impact_speed, s.contact_time, -s.exit_rate, s.peak_compression, s.peak_time,
                 separation);
 }
@@ -155,8 +156,12 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
 HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
                                           double tolerance) {
   if (const auto t = power_law_tables::HertzDamperImpact(exponent, beta, separation)) {
-    return {t->contact_time.value, t->restitution.value, t->contact_time.slope,
-            t->restitution.slope};
+    return {t->contact_time.value,
+            t->restitution.value,
+            t->contact_time.slope,
+            t->restitution.slope,
+            true,
+            {}};
   }
   return IntegrateHertzDamperScaledImpact(exponent, beta, separation, tolerance);
 }
@@ -177,7 +182,8 @@ HertzDamperScaled IntegrateHertzDamperScaledImpact(double exponent, double beta,
   options.tolerance = tolerance;
   const ScaledImpactSensitivity s =
       IntegrateScaledImpactWithSensitivity(force, separation, options);
-  return {s.impact.contact_time, -s.impact.exit_rate, s.d_contact_time, -s.d_exit_rate};
+  if (!s.impact.ok) return {0.0, 0.0, 0.0, 0.0, false, s.impact.reason};
+  return {s.impact.contact_time, -s.impact.exit_rate, s.d_contact_time, -s.d_exit_rate, true, {}};
 }
 
 const char* DampingFactorConventionName(DampingFactorConvention convention) {

@@ -59,8 +59,9 @@ double HertzPeakCompression(double mass, double stiffness, double exponent, doub
 // parameters (M, k, v0 > 0; 0 < n <= 10; chi, c >= 0).
 ContactResponse HertzContact(const Hertz& model, double impact_speed);
 ContactResponse HuntCrossleyContact(const HuntCrossley& model, double impact_speed);
-// Throws NoSeparationError if the contact has not ended by 1e4 t* (an
-// overdamped contact under kinematic separation creeps back for ever).
+// Throws NoSeparationError, with the integration's reason, if the contact has
+// not ended by 1e4 t* (an overdamped contact under kinematic separation
+// creeps back for ever): a ContactLaw's response must have an end.
 ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed,
                                    Separation separation);
 
@@ -69,12 +70,17 @@ ContactResponse HertzDamperContact(const HertzDamper& model, double impact_speed
 // fits need. Where model/power_law_tables.h covers n and beta (n = 3/2,
 // beta up to 1.1 kinematic, 8 force) from its Chebyshev series, to 1e-12
 // relative whatever `tolerance` asks; elsewhere integrated with the
-// variational equations (model/contact_integration.h) at `tolerance`.
+// variational equations (model/contact_integration.h) at `tolerance`. Where
+// the contact does not end (no separation at that beta, or an integration
+// that cannot finish) the result is !ok with the integration's reason, a
+// point outside the law's domain for the fits.
 struct HertzDamperScaled {
   double contact_time = 0.0;    // s_c
   double restitution = 0.0;     // e
   double d_contact_time = 0.0;  // d s_c / d beta
   double d_restitution = 0.0;   // d e / d beta
+  bool ok = true;               // false: the contact does not end (the figures are 0)
+  std::string reason;
 };
 HertzDamperScaled HertzDamperScaledImpact(double exponent, double beta, Separation separation,
                                           double tolerance = 1e-13);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -96,11 +97,14 @@ class Simulation {
                                                       : 2.0 + 0.5 * end_),
         started_(std::chrono::steady_clock::now()) {}
 
-  // The motion to its end, or to where the model refuses it: a refusal
-  // deep in the stepping (a budget, a non-finite state, a jam in an impact,
-  // a mass matrix that loses its definiteness inside the integrator's
-  // right-hand side) unwinds to here as std::domain_error and becomes the
-  // record's reason, the samples kept up to the last whole one.
+  // The motion to its end, or to where the model refuses it, the reason
+  // naming the time and the cause and the samples kept up to the last whole
+  // one. Simulate returns the refusals of the stepping (a start inside the
+  // surface, a budget, a step the integrator cannot take, a non-finite state,
+  // a beam beyond the small-deflection model, chatter) as that record; only
+  // the dynamics' own refusals deep inside a step (a jam in an impact, a loop
+  // closure that fails, a mass matrix that loses its definiteness in the
+  // integrator's right-hand side) unwind to here as std::domain_error.
   TwoLinkRecord Run();
 
  private:
@@ -112,7 +116,8 @@ class Simulation {
   Integrator::System SystemFor(const Regime& regime);
   void Emit(double up_to_s, const Regime& regime);
   void Sample(double t, const State& y, const Regime& regime);
-  void CheckStep(const Regime& regime);
+  // After every accepted step: why the motion cannot go on (none: it can).
+  std::optional<std::string> CheckStep(const Regime& regime);
   double Energy(const TwoLinkVector& q, const TwoLinkVector& v) const {
     return model_.KineticEnergy(q, v) + model_.PotentialEnergy(q);
   }
@@ -198,36 +203,35 @@ std::string WhyTooManySteps(const Rate& fastest, double t, long steps, std::size
 
 // After every accepted step: the budgets, the state's finiteness and the
 // small-deflection model's reach, each refused with its cause.
-void Simulation::CheckStep(const Regime& regime) {
+std::optional<std::string> Simulation::CheckStep(const Regime& regime) {
   const double t = integrator_.time();
   const char* motion = regime.constrained ? "constrained" : "free";
   ++record_.steps;
   if (record_.steps > step_budget_) {
-    throw std::domain_error(
-        fmt::format("two-link, {} motion: more than {} integration steps by t = {:.6f} s: {}",
-                    motion, step_budget_, t,
-                    WhyTooManySteps(FastestRate(model_.parameters()), t, record_.steps,
-                                    record_.events.size())));
+    return fmt::format(
+        "two-link, {} motion: more than {} integration steps by t = {:.6f} s: {}", motion,
+        step_budget_, t,
+        WhyTooManySteps(FastestRate(model_.parameters()), t, record_.steps, record_.events.size()));
   }
   if (record_.steps % 64 == 0) {
     const double spent =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
     if (spent > wall_budget_s_) {
-      throw std::domain_error(fmt::format(
+      return fmt::format(
           "two-link, {} motion: {:.1f} s of computing reached only t = {:.6f} s of {:g} s "
           "(limit {:.1f} s): {}",
           motion, spent, t, end_, wall_budget_s_,
           WhyTooManySteps(FastestRate(model_.parameters()), t, record_.steps,
-                          record_.events.size())));
+                          record_.events.size()));
     }
   }
   TwoLinkVector q, v;
   SplitState(integrator_.state(), &q, &v);
   if (!q.allFinite() || !v.allFinite()) {
-    throw std::domain_error(fmt::format(
+    return fmt::format(
         "two-link, {} motion: the state is not finite at t = {:.6f} s (parameters beyond the "
         "model's range; {})",
-        motion, t, FastestRate(model_.parameters()).Describe()));
+        motion, t, FastestRate(model_.parameters()).Describe());
   }
   const TwoLinkParameters& p = model_.parameters();
   const std::pair<const char*, double> deflections[] = {
@@ -237,12 +241,12 @@ void Simulation::CheckStep(const Regime& regime) {
     record_.max_deflection_ratio = std::max(record_.max_deflection_ratio, ratio);
     const TwoLinkBeam& b = std::string_view(beam) == "beam1" ? p.beam1 : p.beam2;
     if (ratio > options_.max_deflection_ratio) {
-      throw std::domain_error(fmt::format(
+      return fmt::format(
           "two-link: [{}]'s tip deflects {:.3g} m on a {:g} m beam at t = {:.6f} s, beyond the "
           "small-deflection model (limit {:g} of its length): flexural_rigidity_n_m2 = {:g} is "
           "too low for the loads",
           beam, ratio * b.length_m, b.length_m, t, options_.max_deflection_ratio,
-          b.flexural_rigidity_n_m2));
+          b.flexural_rigidity_n_m2);
     }
     if (ratio > options_.warn_deflection_ratio && !warned_deflection_) {
       warned_deflection_ = true;
@@ -254,6 +258,7 @@ void Simulation::CheckStep(const Regime& regime) {
           b.flexural_rigidity_n_m2));
     }
   }
+  return std::nullopt;
 }
 
 void Simulation::Sample(double t, const State& y, const Regime& regime) {
@@ -352,7 +357,7 @@ TwoLinkRecord Simulation::Simulate() {
   q(kLink1Angle) = q(kGearboxAAngle) = case_.q1_rad;
   q(kLink2Angle) = q(kGearboxBAngle) = case_.q4_rad;
   if (!(model_.Gap(q) > 0.0)) {
-    throw std::domain_error(
+    return Refused(
         fmt::format("two-link: the tool's tip starts {:.4g} m inside the surface", -model_.Gap(q)));
   }
   // The explicit integrator's steps cannot exceed its stability limit at the
@@ -361,7 +366,7 @@ TwoLinkRecord Simulation::Simulate() {
   const Rate fastest = FastestRate(model_.parameters());
   const double stable_step = kStableStepTimesRate / fastest.per_s;
   if (end_ / stable_step > static_cast<double>(step_budget_)) {
-    throw std::domain_error(fmt::format(
+    return Refused(fmt::format(
         "two-link: too stiff for the explicit integrator: {}, so steps of at most {:.3g} s, "
         "about {:.3g} of them for {:g} s, more than the budget of {}",
         fastest.Describe(), stable_step, end_ / stable_step, end_, step_budget_));
@@ -379,17 +384,23 @@ TwoLinkRecord Simulation::Simulate() {
     // (a phase within 1e-12 s of its limit has reached it: no step that short)
     const double reached = limit - 1e-12 * std::max(1.0, limit);
     while (!switched && integrator_.time() < reached) {
+      OdeStepResult step;
       try {
-        integrator_.Step(limit);
-      } catch (const std::exception& e) {
+        step = integrator_.Step(limit);
+      } catch (const std::domain_error& e) {
+        // The right-hand side's own refusal on a trial step (a mass matrix
+        // that loses its definiteness), said like the integrator's.
+        step = {false, e.what()};
+      }
+      if (!step.ok) {
         // A step size that collapses, a state that leaves the finite numbers
         // or a mass matrix that loses its definiteness on a trial step: a
         // motion beyond what the model's parameters allow.
-        throw std::domain_error(fmt::format("two-link, {} motion at t = {:.6f} s: {} ({})",
-                                            regime.constrained ? "constrained" : "free",
-                                            integrator_.time(), e.what(), fastest.Describe()));
+        return Refused(fmt::format("two-link, {} motion at t = {:.6f} s: {} ({})",
+                                   regime.constrained ? "constrained" : "free", integrator_.time(),
+                                   step.reason, fastest.Describe()));
       }
-      CheckStep(regime);
+      if (std::optional<std::string> why = CheckStep(regime)) return Refused(*why);
       const double t_lo = integrator_.previous_time(), t_hi = integrator_.time();
       const State& y_lo = integrator_.previous_state();
       const State& y_hi = integrator_.state();
@@ -452,7 +463,7 @@ TwoLinkRecord Simulation::Simulate() {
       }
       record_.events.push_back(record_event);
       if (static_cast<int>(record_.events.size()) > options_.max_events) {
-        throw std::domain_error(
+        return Refused(
             fmt::format("two-link: more than {} impacts and separations by t = {:.6f} s (chatter)",
                         options_.max_events, t_event));
       }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <future>
 #include <limits>
 
@@ -13,7 +12,6 @@
 #include "fit/kelvin_voigt_least_squares.h"
 #include "fit/poynting_thomson_least_squares.h"
 #include "model/power_law_contact.h"
-#include "pipeline/numerical_failure.h"
 
 namespace impactlab {
 namespace {
@@ -53,19 +51,14 @@ void FitRunLeastSquares(const Pendulum& pendulum, double mass, Separation separa
   // A fit refuses data it cannot take as a fit that did not run, with why.
   KelvinVoigtLeastSquaresOptions kelvin_voigt = fit.kelvin_voigt;
   kelvin_voigt.separation = separation;
-  fits.kelvin_voigt_least_squares = FitOrNumericalFailure<KelvinVoigtLeastSquaresFit>(
-      [&] { return FitKelvinVoigtLeastSquares(pendulum, mass, measured, kelvin_voigt); },
-      [&](KelvinVoigtLeastSquaresFit& f) { f.separation = separation; });
+  fits.kelvin_voigt_least_squares =
+      FitKelvinVoigtLeastSquares(pendulum, mass, measured, kelvin_voigt);
   PoyntingThomsonLeastSquaresOptions poynting_thomson = fit.poynting_thomson;
   poynting_thomson.mass = mass;
   poynting_thomson.separation = separation;
   poynting_thomson.initial = StartFromKelvinVoigt(fits, mass);
-  fits.poynting_thomson = FitOrNumericalFailure<PoyntingThomsonLeastSquaresFit>(
-      [&] {
-        return FitPoyntingThomsonLeastSquares({AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)},
-                                              poynting_thomson);
-      },
-      [&](PoyntingThomsonLeastSquaresFit& f) { f.separation = separation; });
+  fits.poynting_thomson = FitPoyntingThomsonLeastSquares(
+      {AsPoyntingThomsonRun(pendulum, run_id, fits.fitted)}, poynting_thomson);
 }
 
 std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pendulum, double mass,
@@ -85,9 +78,7 @@ std::vector<PoyntingThomsonLeastSquaresFit> FitSessionJointly(const Pendulum& pe
   for (const RunResult& run : runs) {
     if (!options.initial && run.ok) options.initial = StartFromKelvinVoigt(run.fits, mass);
   }
-  return {FitOrNumericalFailure<PoyntingThomsonLeastSquaresFit>(
-      [&] { return FitPoyntingThomsonLeastSquares(joint, options); },
-      [&](PoyntingThomsonLeastSquaresFit& f) { f.separation = separation; })};
+  return {FitPoyntingThomsonLeastSquares(joint, options)};
 }
 
 namespace {
@@ -312,9 +303,7 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
   }
   JointFitOptions joint_options = fit.restitution_models;
   joint_options.leave_one_out = leave_one_out;
-  SessionModelComparison c = FitOrNumericalFailure<SessionModelComparison>(
-      [&] { return CompareRestitutionModels(joint, joint_options); },
-      [](SessionModelComparison&) {});
+  SessionModelComparison c = CompareRestitutionModels(joint, joint_options);
   if (!c.ok) {
     *why = fmt::format("model comparison skipped: {}", c.reason);
     return std::nullopt;
@@ -332,9 +321,7 @@ std::optional<ModelComparison> CompareModels(const LawInputs& inputs, const FitO
   options.intervals = false;  // the comparison judges by the fit, not the parameters' ranges
   for (ContactLawKind kind : {ContactLawKind::kHuntCrossley, ContactLawKind::kHertz}) {
     ComparedContactLaw law;
-    law.fit = FitOrNumericalFailure<ContactLawFit>(
-        [&] { return FitContactLaw(kind, law_runs, options); },
-        [&](ContactLawFit& f) { f.law = ContactLawName(kind); });
+    law.fit = FitContactLaw(kind, law_runs, options);
     law.log_restitution_spread = LogRestitutionSpread(law.fit);
     out.contact_laws.push_back(std::move(law));
   }
@@ -388,11 +375,7 @@ std::vector<ContactLawFit> FitContactLaws(const LawInputs& inputs, const FitOpti
   // The laws are independent problems: with jobs > 1 they run side by side
   // (the damper's and the free exponent's leave-one-out dominate).
   // A law the runs cannot take is a fit that is not ok, with its reason.
-  const auto fit_law = [&](ContactLawKind kind) {
-    return FitOrNumericalFailure<ContactLawFit>(
-        [&] { return FitContactLaw(kind, law_runs, options); },
-        [&](ContactLawFit& f) { f.law = ContactLawName(kind); });
-  };
+  const auto fit_law = [&](ContactLawKind kind) { return FitContactLaw(kind, law_runs, options); };
   std::vector<std::future<ContactLawFit>> pending;
   for (ContactLawKind kind : to_fit) {
     pending.push_back(

@@ -11,6 +11,8 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -37,6 +39,8 @@ class ExperimentSimulation {
  public:
   explicit ExperimentSimulation(const ExperimentOptions& options);
   ExperimentResult Finish() &&;
+  // The run to its end, or to where it cannot go on: then the result is
+  // !ok with the reason, holding what was simulated before.
   void Simulate();
 
  private:
@@ -53,6 +57,7 @@ class ExperimentSimulation {
   State StartContact(double t, State y);
   State EndContact(double t, State y);
   double ContactTimescale() const;
+  void Stop(std::string reason);
 
   const ExperimentOptions& o_;
   bool wall_ = false;
@@ -262,6 +267,12 @@ State ExperimentSimulation::EndContact(double t, State y) {
   return y;
 }
 
+void ExperimentSimulation::Stop(std::string reason) {
+  result_.ok = false;
+  result_.reason = std::move(reason);
+  result_.integrator_steps = integrator_.accepted_steps();
+}
+
 void ExperimentSimulation::Simulate() {
   const double t_first = std::min(release_time_s_[kRight], release_time_s_[kLeft]);
   State y{};
@@ -290,7 +301,9 @@ void ExperimentSimulation::Simulate() {
     const double limit = std::min(boundary, phase_limit);
     integrator_.Reset(std::cref(dyn_), y, t, first_step_s);
     for (;;) {
-      integrator_.Step(limit);
+      if (const OdeStepResult step = integrator_.Step(limit); !step.ok) {
+        return Stop(fmt::format("the run cannot be integrated on: {}", step.reason));
+      }
       const State& y_lo = integrator_.previous_state();
       const State& y_hi = integrator_.state();
       const double t_hi = integrator_.time();
@@ -337,13 +350,13 @@ void ExperimentSimulation::Simulate() {
       if (t_hi >= limit) {
         if (t_hi >= phase_limit && phase_limit < boundary) {
           if (dyn_.in_contact) {
-            throw NoSeparationError(fmt::format(
+            return Stop(fmt::format(
                 "impact {} has not separated after {} s ({} separation, {} contact): the "
                 "contact law never lets go under this convention",
                 result_.impacts.back().impact, o_.integration.max_contact_time_s,
                 SeparationName(o_.separation), ContactModelName(o_.contact_model)));
           }
-          throw std::runtime_error(
+          return Stop(
               fmt::format("no impact within {} s after t = {} s", free_limit_s, phase_start_s));
         }
         y = y_hi;
@@ -389,7 +402,11 @@ SampledSwing SimulateFreeSwing(const FreeSwingOptions& o) {
   };
   emit(0.0);
   while (integrator.time() < o.duration_s) {
-    integrator.Step(o.duration_s);
+    if (const OdeStepResult step = integrator.Step(o.duration_s); !step.ok) {
+      out.ok = false;
+      out.reason = fmt::format("the free swing cannot be integrated on: {}", step.reason);
+      return out;
+    }
     emit(integrator.time());
   }
   return out;

@@ -77,10 +77,10 @@ struct SupportWireOptions {
   static constexpr double kThesisAnomalyMassPerLength = kSteelWireWeightPerLength;
 
   bool enabled = false;
-  int wires_per_bar = 4;                               // the thesis's bifilar V: 4
+  int wires_per_bar = 4;                             // the thesis's bifilar V: 4
   double mass_per_length = kSteelWireMassPerLength;  // rho, mass/length (see above)
-  double chord_length = 0.0;                           // l, length; 0: L / cos(gamma)
-  double inclination_rad = 0.0;                        // gamma, wire angle from vertical, rad
+  double chord_length = 0.0;                         // l, length; 0: L / cos(gamma)
+  double inclination_rad = 0.0;                      // gamma, wire angle from vertical, rad
   double decay_time_s = std::numeric_limits<double>::infinity();  // wire ringing decay, s
 };
 
@@ -177,6 +177,12 @@ struct ReboundTruth {
 };
 
 struct ExperimentResult {
+  // False when the run could not be simulated to its end: `reason` says why
+  // and when (a contact that never separates within
+  // integration.max_contact_time_s, no impact within ten swings, a step the
+  // integrator cannot take), and the rest is what was simulated before it.
+  bool ok = true;
+  std::string reason;
   ExperimentOptions options;
   BarParameters right;
   BarParameters left;  // zero for the wall
@@ -193,8 +199,10 @@ struct ExperimentResult {
   std::string Brief() const;  // one line: impacts, e, tau_c, maxima
 };
 
-// Runs the experiment. Throws std::invalid_argument (bad options),
-// NoSeparationError (contact never ends), std::runtime_error (integration failed).
+// Runs the experiment. Throws what options.Check() throws (std::invalid_argument
+// for a bad field, NoSeparationError for a Kelvin-Voigt contact that cannot
+// end under kinematic separation), before any work; a run that cannot be
+// simulated to its end is a result with !ok and the reason.
 ExperimentResult SimulateExperiment(const ExperimentOptions& options);
 
 // One pendulum swinging freely from rest at `release_x` (the other bar held
@@ -211,6 +219,8 @@ struct FreeSwingOptions {
   void Check() const;  // throws std::invalid_argument
 };
 struct SampledSwing {
+  bool ok = true;  // false: the integration stopped early, `reason` says where
+  std::string reason;
   std::vector<double> time_s;  // s since release
   std::vector<double> x;       // X, length units
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace impactlab {
 namespace {
@@ -104,6 +105,9 @@ SimulatedRun SimulateRun(const RunPlan& plan) {
   SimulatedRun run;
   run.experiment = SimulateExperiment(plan.experiment);
   const ExperimentResult& r = run.experiment;
+  // The session's options are the user's: a run they do not let the model
+  // simulate is outside its domain, and no session is made of it.
+  if (!r.ok) throw std::domain_error(r.reason);
   run.initial_displacement = 0.5 * (r.right.release_x + r.left.release_x);
   run.right_cell = SimulatedPhotocell::FromSeed(plan.right_cell_seed, plan.photocells);
   run.left_cell = SimulatedPhotocell::FromSeed(plan.left_cell_seed, plan.photocells);

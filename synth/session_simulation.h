@@ -42,6 +42,10 @@ struct SimulatedRun {
   Trace contact_samples;   // CSV runs: the contact circuit as a digital scope samples it
 };
 
+// Throws std::domain_error with the simulation's reason when the plan's
+// options do not let the model simulate the run to its end (its
+// ExperimentResult is !ok): the session's options are outside the model's
+// domain.
 SimulatedRun SimulateRun(const RunPlan& plan);
 
 }  // namespace impactlab

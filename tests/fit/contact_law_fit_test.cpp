@@ -280,3 +280,42 @@ TEST_CASE("What the data can inform: no contact time fixes no k, one speed fixes
 
 }  // namespace
 }  // namespace impactlab
+
+namespace impactlab {
+
+TEST_CASE(
+    "A damper law whose impact cannot be integrated to an end fails alone with its reason, "
+    "and the other laws on the same runs stand",
+    "[contact_law]") {
+  // Kelvin-Voigt runs at zeta = 0.7 (e ~ 0.046, kinematic separation). The
+  // damper starts at beta = 2 zeta = 1.4, past the ~1.215 beyond which its
+  // contact never ends under kinematic separation: the integration says so
+  // as a value, the fit's solver cannot start, and that fit alone fails.
+  const double stiffness = 4.7e5;
+  const double critical = 2.0 * std::sqrt(stiffness * kBarMass);
+  const KelvinVoigt truth{kBarMass, stiffness, 0.7 * critical};
+  LawSessionOptions options;
+  options.initial_displacements = {0.3, 0.4, 0.5, 0.6};
+  options.maxima = 3;
+  options.first_rebound = 0;
+  options.xmax_sigma = 1e-5;
+  options.seed = 5;
+  const std::vector<LawRun> runs = AsLawRuns(
+      DrawLawSession(kPendulum, KelvinVoigtContactLaw(truth, Separation::kKinematic), options));
+  const HertzDamperScaled start = HertzDamperScaledImpact(1.5, 1.4, Separation::kKinematic, 1e-9);
+  CHECK_FALSE(start.ok);
+  CHECK_THAT(start.reason, Catch::Contains("had not ended"));
+  ContactLawFitOptions fit_options;
+  fit_options.leave_one_out = false;
+  fit_options.intervals = false;
+  const ContactLawFit damper = FitContactLaw(ContactLawKind::kHertzDamper, runs, fit_options);
+  CHECK_FALSE(damper.ok);
+  CHECK(damper.law == ContactLawName(ContactLawKind::kHertzDamper));
+  CHECK_THAT(damper.reason, Catch::StartsWith("the solver failed"));
+  const ContactLawFit kelvin_voigt = FitContactLaw(ContactLawKind::kKelvinVoigt, runs, fit_options);
+  CHECK(kelvin_voigt.ok);
+  const ContactLawFit hertz = FitContactLaw(ContactLawKind::kHertz, runs, fit_options);
+  CHECK(hertz.status.Ran());
+}
+
+}  // namespace impactlab

@@ -1,7 +1,8 @@
 // The data the two-link fit refuses (fit/two_link_fit.h) come back as a
 // result that did not run, with the reason and what was read before it: a
-// record too short, one whose time does not increase, a channel whose sample
-// count is not the record's, start parameters that cannot be simulated.
+// record too short, one whose time does not increase, one longer than the
+// simulation logs a case, a channel whose sample count is not the record's,
+// start parameters that cannot be simulated.
 // Options and unknown keys, the caller's own mistakes, still throw.
 #include <cmath>
 #include <vector>
@@ -57,6 +58,41 @@ TEST_CASE("A record whose time does not increase is a refused fit, saying its sp
   CHECK(fit.parameters.empty());
 }
 
+// `n` samples 1/1024 s apart from t = 0 (a grid on which the rate, the
+// duration and their product are exact), and no channel.
+TwoLinkMeasurement Grid(int n) {
+  TwoLinkMeasurement m;
+  m.time_s.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) m.time_s[static_cast<std::size_t>(i)] = i / 1024.0;
+  return m;
+}
+
+TEST_CASE(
+    "A record longer than the simulation logs a case is a refused record, said with its "
+    "length and the limit before anything is simulated",
+    "[two_link_fit][refusals]") {
+  // 2e6 + 1 sample intervals: one over kTwoLinkMaxSamples (rate x duration).
+  const TwoLinkFitResult fit =
+      FitTwoLinkSimulation(TwoLinkParameters::Nominal(), Grid(2'000'002), FreeDelay());
+  CHECK_FALSE(fit.ok);
+  CHECK(fit.refused == TwoLinkFitRefusal::kRecord);
+  CHECK(fit.reason ==
+        "two-link fit: the record is too long for the simulation: 2000002 samples over 1953.13 s "
+        "at 1024 Hz (rate x duration 2000001), over its limit of 2e+06 per case");
+  CHECK(fit.simulations == 0);
+  CHECK(fit.parameters.empty());  // refused before anything else was read
+  CHECK(fit.channels.empty());
+  // At the limit the length passes, and the record is judged on (here a
+  // channel cut short), still without simulating.
+  TwoLinkMeasurement longest = Grid(2'000'001);
+  longest.q1_rad = std::vector<double>(5, 0.0);
+  const TwoLinkFitResult at_limit =
+      FitTwoLinkSimulation(TwoLinkParameters::Nominal(), longest, FreeDelay());
+  CHECK(at_limit.refused == TwoLinkFitRefusal::kRecord);
+  CHECK(at_limit.reason == "two-link fit: channel q1 has 5 samples, not 2000001");
+  CHECK(at_limit.simulations == 0);
+}
+
 TEST_CASE(
     "A channel whose sample count is not the record's is a refused fit, keeping what "
     "was read before it",
@@ -98,7 +134,11 @@ TEST_CASE(
   const TwoLinkFitResult fit = FitTwoLinkSimulation(stiff, m, FreeDelay());
   CHECK_FALSE(fit.ok);
   CHECK(fit.refused == TwoLinkFitRefusal::kStartParameters);
-  CHECK(fit.reason == "two-link fit: the start parameters cannot be simulated");
+  // The simulation's own reason follows: what it refused, and why.
+  CHECK_THAT(fit.reason, Catch::StartsWith("two-link fit: the start parameters cannot be "
+                                           "simulated: two-link: too stiff for the explicit "
+                                           "integrator: "));
+  CHECK_THAT(fit.reason, Catch::Contains("gear_ratio = 100000"));
   REQUIRE(fit.parameters.size() == 1);
   CHECK_FALSE(fit.parameters[0].determined);
   // Both channels were read, in the simulator's order; the fitted parameters

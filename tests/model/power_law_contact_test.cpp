@@ -195,11 +195,34 @@ TEST_CASE("A damper far beyond critical is refused within the step budget, not i
   // (Under force separation the force falls to 0 at once and the bars part.)
   const Separation sep = Separation::kKinematic;
   const auto start = std::chrono::steady_clock::now();
-  CHECK_THROWS_AS(IntegrateHertzDamperScaledImpact(1.5, 1e6, sep), NoSeparationError);
-  CHECK_THROWS_WITH(HertzDamperScaledImpact(1.5, 1e6, sep, 1e-9), Catch::Contains("steps"));
+  const HertzDamperScaled integrated = IntegrateHertzDamperScaledImpact(1.5, 1e6, sep);
+  CHECK_FALSE(integrated.ok);
+  CHECK_THAT(integrated.reason, Catch::Contains("had not ended after 200000 steps"));
+  const HertzDamperScaled looser = HertzDamperScaledImpact(1.5, 1e6, sep, 1e-9);
+  CHECK_FALSE(looser.ok);
+  CHECK_THAT(looser.reason, Catch::Contains("steps"));
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(seconds < 10.0);
+}
+
+TEST_CASE("A damper contact that creeps back for ever is said as a value, thrown by the law",
+          "[power_law]") {
+  // beta = 10 under kinematic separation: the compression decays towards 0
+  // without reaching it (u' ~ -u^n / beta), until the scaled time runs out.
+  const ScaledImpact s = IntegrateScaledImpact(
+      [](double u, double w) {
+        return 1.25 * std::copysign(std::pow(std::abs(u), 1.5), u) + 10 * w;
+      },
+      Separation::kKinematic);
+  CHECK_FALSE(s.ok);
+  CHECK_THAT(s.reason, Catch::StartsWith("the contact had not ended after"));
+  // A ContactLaw's response must have an end: HertzDamperContact throws it.
+  const double x_star = HertzPeakCompression(1.0, 1.0, 1.5, 1.0);
+  CHECK_THROWS_WITH(HertzDamperContact({1.0, 1.0, 1.5, 10.0 / x_star}, 1.0, Separation::kKinematic),
+                    Catch::StartsWith("the contact had not ended after"));
+  CHECK_THROWS_AS(HertzDamperContact({1.0, 1.0, 1.5, 10.0 / x_star}, 1.0, Separation::kKinematic),
+                  NoSeparationError);
 }
 
 TEST_CASE("The damper's derivatives in beta by the variational equations match differences",

@@ -58,13 +58,40 @@ TEST_CASE(
   const TwoLinkFitRun run = FitTwoLinkToLog(stiff, EncoderLog(), Still(20), FreeDelay());
   CHECK_FALSE(run.fit.ok);
   CHECK(run.fit.refused == TwoLinkFitRefusal::kStartParameters);
-  CHECK(run.fit.reason == "two-link fit: the start parameters cannot be simulated");
+  CHECK_THAT(run.fit.reason, Catch::StartsWith("two-link fit: the start parameters cannot be "
+                                               "simulated: two-link: too stiff"));
   REQUIRE(run.fit.channels.size() == 1);
   CHECK(run.fit.channels[0].channel == "q1");
   CHECK(run.fit.channels[0].samples == 20);
   CHECK(run.fit.channels[0].sigma > 0.0);  // at least a count / sqrt 12
   CHECK_FALSE(run.fitted_simulation.ok);
   CHECK(run.fitted_simulation.time_s.empty());
+}
+
+TEST_CASE(
+    "A log whose start the integrator cannot carry is a refused fit run saying where the "
+    "step collapsed, keeping its channel",
+    "[two_link_fit_run][refusals]") {
+  // A tolerance no double meets: the arm rests until its motors start at
+  // 0.1 s (a still state's steps have no error), and there the first step
+  // collapses. The integrator says so as a value, the simulation as its
+  // record's reason, the fit as its own; the log's measurement stands.
+  TwoLinkFitOptions options = FreeDelay();
+  options.tolerance = 1e-300;
+  const TwoLinkFitRun run =
+      FitTwoLinkToLog(TwoLinkParameters::Nominal(), EncoderLog(), Still(200), options);
+  CHECK_FALSE(run.fit.ok);
+  CHECK(run.fit.refused == TwoLinkFitRefusal::kStartParameters);
+  CHECK_THAT(run.fit.reason,
+             Catch::StartsWith("two-link fit: the start parameters cannot be simulated: "
+                               "two-link, free motion at t = 0.100000 s: "));
+  CHECK_THAT(run.fit.reason, Catch::Contains("ODE step size collapsed at t = 0.1 s"));
+  REQUIRE(run.fit.channels.size() == 1);
+  CHECK(run.fit.channels[0].samples == 200);
+  CHECK(run.fit.channels[0].sigma > 0.0);
+  CHECK(run.fit.simulations == 0);
+  CHECK_FALSE(run.fitted_simulation.ok);
+  CHECK(run.fitted_simulation.reason == "not simulated: " + run.fit.reason);
 }
 
 }  // namespace

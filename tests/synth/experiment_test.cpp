@@ -149,6 +149,16 @@ TEST_CASE("experiment: a single free swing follows the exact pendulum") {
   CHECK(worst < /*max_sample_error_in=*/1e-9);
 }
 
+TEST_CASE("experiment: a free swing the integrator cannot carry stops, saying where") {
+  FreeSwingOptions o;
+  o.integration.relative_tolerance = 1e-300;  // no double meets it
+  o.integration.absolute_tolerance = 1e-300;
+  const SampledSwing s = SimulateFreeSwing(o);
+  CHECK_FALSE(s.ok);
+  CHECK_THAT(s.reason, Catch::Contains("ODE step size collapsed at t = 0 s"));
+  CHECK(s.time_s.size() == 1);  // the release's sample, all that was integrated
+}
+
 TEST_CASE("experiment: Kelvin-Voigt zeta >= 1 with kinematic separation is a clear error") {
   ExperimentOptions o;
   const double critical = 2.0 * std::sqrt(o.kelvin_voigt.stiffness * o.mass);
@@ -320,7 +330,7 @@ TEST_CASE("experiment: Poynting-Thomson with kinematic separation matches the re
   }
 }
 
-TEST_CASE("experiment: a contact that never separates is a NoSeparationError") {
+TEST_CASE("experiment: a contact that never separates is a run that stops, saying so") {
   // At the triple root x1 = v0 exp(-r t) (t + r t^2) never returns to 0.
   const double m = ExperimentOptions{}.mass;
   const double k1 = 4e5;
@@ -328,7 +338,29 @@ TEST_CASE("experiment: a contact that never separates is a NoSeparationError") {
   ExperimentOptions o =
       PoyntingThomsonPair({k1, 8.0 * k1, 8.0 * k1 / (3.0 * r)}, Separation::kKinematic);
   o.integration.max_contact_time_s = 0.005;
-  CHECK_THROWS_AS(SimulateExperiment(o), NoSeparationError);
+  const ExperimentResult result = SimulateExperiment(o);
+  CHECK_FALSE(result.ok);
+  CHECK_THAT(result.reason, Catch::Contains("has not separated after 0.005 s"));
+  // What was simulated before it: the rebounds up to the impact that never
+  // ended, which began and has no end.
+  REQUIRE_FALSE(result.impacts.empty());
+  CHECK(result.impacts.back().start_time_s > 0.0);
+  CHECK(result.impacts.back().end_time_s == 0.0);
+  CHECK(result.rebounds_average.size() == result.impacts.size());
+}
+
+TEST_CASE("experiment: a step the integrator cannot take is a run that stops, saying where") {
+  // Tolerances no double can meet: every trial step is rejected until the
+  // step size collapses, at the release.
+  ExperimentOptions o = SymmetricKelvinVoigt(Separation::kKinematic);
+  o.integration.relative_tolerance = 1e-300;
+  o.integration.absolute_tolerance = 1e-300;
+  const ExperimentResult result = SimulateExperiment(o);
+  CHECK_FALSE(result.ok);
+  CHECK_THAT(result.reason, Catch::StartsWith("the run cannot be integrated on: ODE step size "
+                                              "collapsed at t = 0 s"));
+  CHECK(result.impacts.empty());
+  CHECK(result.integrator_steps == 0);
 }
 
 // ---------------------------------------------------------------------------
