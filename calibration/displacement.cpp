@@ -138,8 +138,13 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
     return out;
   }
   const double span_s = trace.time_s.back() - trace.time_s.front();
-  if (!stretches.empty() &&
-      (stretches.front().first == 0 || misread_s > limits.max_span_fraction * span_s)) {
+  // A trace whose own voltages span no more than the calibration's could be
+  // the bar's, shifted whole (a zero mistyped): its stretches far outside
+  // then cannot be told from that, and none is left out.
+  const double calibrated_v = curve.volts_max() - curve.volts_min();
+  const bool shifted_whole = v_hi - v_lo <= (1.0 + limits.shift_fits_span) * calibrated_v;
+  if (!stretches.empty() && (stretches.front().first == 0 || shifted_whole ||
+                             misread_s > limits.max_span_fraction * span_s)) {
     // Where the trace begins (the release, at X0) a calibration may truly
     // not reach; and a line followed over much of the sweep leaves too
     // little of the bar's own trace to read it by.
@@ -149,9 +154,11 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
     }
     out.reason = fmt::format(
         "{}, far outside at t = {} ({:.0f} % of the trace{}): the line read there is not the "
-        "bar's trace, or the calibration does not cover what this run needs",
+        "bar's trace, or the calibration does not cover what this run needs{}",
         outside_said, where, 100.0 * misread_s / span_s,
-        stretches.front().first == 0 ? ", from its start" : "");
+        stretches.front().first == 0 ? ", from its start" : "",
+        shifted_whole ? " (its volts span no more than the calibration's: a zero_div mistyped?)"
+                      : "");
     return out;
   }
   out.ok = true;

@@ -30,6 +30,12 @@ struct MisreadLimits {
   // The stretches left out may cover at most this fraction of the trace's
   // span: beyond it the trace read is mostly not the bar's, 1.
   double max_span_fraction = 1.0 / 3.0;
+  // A trace whose volts span no more than the calibrated span and this
+  // fraction of it could be the bar's trace shifted whole (a zero mistyped:
+  // the impacts' stretches beyond X = 0, the release's pulled in): its
+  // stretches far outside are not left out, 1. A line followed off the trace
+  // adds its own reach to the trace's span.
+  double shift_fits_span = 0.02;
 };
 
 // A trace converted, or why the calibration cannot convert it.
@@ -37,7 +43,8 @@ struct DisplacementConversion {
   // false: `reason` says why (a trace without samples; more than one sample
   // in fifty outside the calibrated voltages but near them: the calibration
   // does not cover what the run needs; or stretches far outside that begin
-  // the trace or cover more than MisreadLimits allow); `history` and the
+  // the trace, cover more than MisreadLimits allow, or lie on a trace that
+  // fits the calibrated volts shifted whole); `history` and the
   // counts still hold what was converted and what was not.
   bool ok = false;
   std::string reason;

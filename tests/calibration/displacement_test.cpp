@@ -142,5 +142,24 @@ TEST_CASE("displacement: a line far outside from the trace's start, or over much
                               Catch::Contains("not the bar's trace"));
 }
 
+TEST_CASE("displacement: a trace shifted whole (a zero mistyped) is refused, not left out") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // The bar's swings, released from X0, its volts all 0.3 V low: at every
+  // impact far below the volts of X = 0, while its own span is the
+  // calibration's. Which of its stretches are the bar's cannot be told.
+  Trace run;
+  for (int i = 0; i <= 800; ++i) {
+    const double t = 0.0025 * i;
+    run.time_s.push_back(t);
+    run.volts.push_back(LinearCell(x0 * std::abs(std::cos(std::numbers::pi * t)), x0) - 0.3);
+    run.sigma_volts.push_back(5e-4);
+  }
+  const DisplacementConversion shifted = DisplacementFromVolts(run, calibration);
+  CHECK_FALSE(shifted.ok);
+  CHECK_THAT(shifted.reason,
+             Catch::Contains("far outside") && Catch::Contains("a zero_div mistyped?"));
+}
+
 }  // namespace
 }  // namespace impactlab
