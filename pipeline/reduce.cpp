@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include <fmt/chrono.h>
 #include <fmt/format.h>
@@ -625,6 +626,27 @@ void WarnOfLeftOutStretches(SessionResult& result) {
   }
 }
 
+// A run whose bar's trace had stretches far outside its calibrated voltages,
+// left out as misread before its rebounds were read: said, as a calibration's
+// are, so that a reader looks at the overlay.
+void WarnOfMisreadRunStretches(SessionResult& result) {
+  for (const RunResult& run : result.runs) {
+    for (const auto& [cell, bar] :
+         {std::pair{"right", &run.measured.right}, std::pair{"left", &run.measured.left}}) {
+      if (!run.ok || !*bar || (*bar)->left_out_from_s.empty()) continue;
+      std::string stretches;
+      for (std::size_t i = 0; i < (*bar)->left_out_from_s.size(); ++i) {
+        stretches += fmt::format("{}{:.4g} .. {:.4g} s", i == 0 ? "" : ", ",
+                                 (*bar)->left_out_from_s[i], (*bar)->left_out_to_s[i]);
+      }
+      result.warnings.push_back(fmt::format(
+          "run \"{}\": its {} trace lies far outside its calibrated voltages at t = {}, left "
+          "out as misread (a mark, a scratch or a grid line followed?): see its overlay",
+          run.id, cell, stretches));
+    }
+  }
+}
+
 // Every run, calibration and log the manifest could read.
 SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions& options) {
   SessionResult result;
@@ -722,6 +744,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   result.runs = std::move(runs);
   WarnOfUnreachedFailures(plan, calibrations, result);
   WarnOfLeftOutStretches(result);
+  WarnOfMisreadRunStretches(result);
   MarkAnomalies(pendulum, result.runs);
   CheckTypedReleases(session, result);
   CheckSweepsAgainstPendulum(session, pendulum, result);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -119,6 +120,24 @@ std::string VoltageScaleHint(const Trace& trace, const PhotocellCurve& curve,
         calibration_id);
   }
   return {};
+}
+
+// Which rebounds (session numbering) each bar's trace shows a maximum of, in
+// words: where a run has too few, whether the photo lacks them or one bar's
+// reading lost them.
+std::string ReboundsShown(const RunMeasurement& measured) {
+  std::string said;
+  for (const auto& [cell, bar] :
+       {std::pair{"right", &measured.right}, std::pair{"left", &measured.left}}) {
+    if (!*bar) continue;
+    std::string numbers;
+    for (std::size_t i = 0; i < (*bar)->xmax.size(); ++i) {
+      numbers += fmt::format("{}{}", i == 0 ? "" : ", ", (*bar)->Number(i));
+    }
+    said += fmt::format("{}the {} bar's trace shows {}", said.empty() ? "" : ", ", cell,
+                        numbers.empty() ? "no rebound" : "rebounds " + numbers);
+  }
+  return said;
 }
 
 }  // namespace
@@ -334,6 +353,9 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   // mapping (0 for a CSV): a maximum carries it whole, through the curve's
   // slope there, as it carries the curve's own error.
   std::map<std::string, double> mapping_sigma_volts;
+  // Per bar, the stretches of its trace left out as misread (far outside its
+  // calibrated voltages), which its rebounds report.
+  std::map<std::string, std::vector<std::pair<double, double>>> left_out_s;
   for (const char* cell : {"right", "left"}) {
     const auto trace_it = run.traces.find(cell);
     if (trace_it == run.traces.end()) continue;
@@ -354,13 +376,26 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     if (!read_trace(cell, trace_it->second, trace)) return false;
     DisplacementConversion converted =
         Timed(seconds.extract, [&] { return DisplacementFromVolts(trace, calibration); });
-    if (!converted.ok) {
+    const std::string hint =
+        converted.ok && converted.left_out == 0
+            ? std::string()
+            : VoltageScaleHint(trace, calibration.curve, trace_it->second, cal_it->second);
+    // Stretches far outside are a line that is not the trace, unless both
+    // ends of the ranges say that a voltage scale or zero is off: then every
+    // sample is, and none can be read.
+    if (!converted.ok || !hint.empty()) {
       return Stopped(
           result,
           {{trace_it->second.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
-           converted.reason +
-               VoltageScaleHint(trace, calibration.curve, trace_it->second, cal_it->second)});
+           (converted.ok ? fmt::format("{} of {} samples lie far outside the calibrated range "
+                                       "{:.4g} .. {:.4g} V: the calibration does not cover what "
+                                       "this run needs",
+                                       converted.left_out, trace.volts.size(),
+                                       calibration.curve.volts_min(), calibration.curve.volts_max())
+                         : converted.reason) +
+               hint});
     }
+    left_out_s[cell] = std::move(converted.left_out_s);
     histories[cell] = std::move(converted.history);
     curves[cell] = &calibration.curve;
     mapping_sigma_volts[cell] = trace_it->second.csv ? 0.0 : photo->mapping_sigma_volts.at(cell);
@@ -395,15 +430,23 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     return
         [&shared_sigma_at, cell = std::string(cell)](double x) { return shared_sigma_at(cell, x); };
   };
+  const auto report_left_out = [&](BarRebounds& bar, const std::string& cell) {
+    for (const auto& [from, to] : left_out_s[cell]) {
+      bar.left_out_from_s.push_back(from);
+      bar.left_out_to_s.push_back(to);
+    }
+  };
   if (histories.count("right")) {
     out.right = extract(histories["right"]);
     if (!out.right) return false;
     AddCurveSigma(*out.right, curve_sigma("right"));
+    report_left_out(*out.right, "right");
   }
   if (histories.count("left")) {
     out.left = extract(histories["left"]);
     if (!out.left) return false;
     AddCurveSigma(*out.left, curve_sigma("left"));
+    report_left_out(*out.left, "left");
   }
   // Gaps up to a tenth of a half swing (18 degrees of phase) are bridged: a
   // cubic carries the swing across one to a millionth of its amplitude.
@@ -439,9 +482,9 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     return Stopped(result,
                    {{session.manifest, RunKey(run), std::nullopt},
                     fmt::format("only {} rebound(s) from rebound 0 (first_rebound = {}) are "
-                                "complete in the traces{}; at least 2 are needed",
-                                both.xmax.size(), run.first_rebound,
-                                disagreement ? " (" + disagreement->why + ")" : "")});
+                                "complete in the traces ({}{}); at least 2 are needed",
+                                both.xmax.size(), run.first_rebound, ReboundsShown(out),
+                                disagreement ? "; " + disagreement->why : "")});
   }
   const std::size_t stride = std::max<std::size_t>(1, average.time_s.size() / 4000);
   for (std::size_t i = 0; i < average.time_s.size(); i += stride) {

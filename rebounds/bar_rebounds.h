@@ -25,6 +25,10 @@ struct BarRebounds {
   std::vector<double> duration;              // s, between the flank's zero crossings
   std::vector<double> duration_sigma;        // s, one-sigma, same length
   Estimate release;                          // X0 as the history shows it (sigma 0: not known)
+  // Stretches of the bar's trace left out as misread before its rebounds were
+  // read (far outside its calibrated voltages: calibration/displacement.h),
+  // each one's first and last sample's times, s; empty when none.
+  std::vector<double> left_out_from_s, left_out_to_s;
 
   // What the results file keeps of a bar (options/result_fields.h).
   template <typename Self, typename Visit>
@@ -37,6 +41,9 @@ struct BarRebounds {
     visit("duration", self.duration, Quantity::kSeconds, "each rebound's impact-to-impact time");
     visit("duration_std_error", self.duration_sigma, Quantity::kSeconds, "its standard error");
     visit("release_x", self.release, Quantity::kLength, "X0 as this bar's trace shows it");
+    visit("left_out_from", self.left_out_from_s, Quantity::kSeconds,
+          "where each stretch of the trace left out as misread starts, s since release");
+    visit("left_out_to", self.left_out_to_s, Quantity::kSeconds, "where it ends");
   }
 
   // Row i's rebound (session numbering).

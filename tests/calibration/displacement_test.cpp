@@ -1,6 +1,7 @@
 #include "calibration/displacement.h"
 
 #include <cmath>
+#include <numbers>
 
 #include <catch2/catch.hpp>
 
@@ -46,7 +47,7 @@ TEST_CASE("displacement: a run's volts read through its cell's curve, sigma from
   }
 }
 
-TEST_CASE("displacement: samples beyond the calibrated volts are dropped, too many refused") {
+TEST_CASE("displacement: samples just beyond the calibrated volts are dropped, too many refused") {
   const double x0 = 0.3;
   const CalibrationResult calibration = LinearCalibration(x0);
   Trace run;
@@ -54,22 +55,110 @@ TEST_CASE("displacement: samples beyond the calibrated volts are dropped, too ma
     run.time_s.push_back(0.01 * i);
     run.volts.push_back(LinearCell(0.5 * x0, x0));
   }
-  run.volts[7] = 5.0;  // one in a hundred outside: dropped
+  // 1.03 X0: 3 % of the calibrated span beyond it, where a run a little
+  // longer than its calibration would read (the margin is 1 %).
+  const double just_beyond = LinearCell(1.03 * x0, x0);
+  run.volts[7] = just_beyond;  // one in a hundred outside: dropped
   const DisplacementConversion one = DisplacementFromVolts(run, calibration);
   CHECK(one.ok);
   CHECK(one.dropped == 1);
+  CHECK(one.left_out == 0);
   CHECK(one.history.time_s.size() == 99);
-  run.volts[8] = run.volts[9] = 5.0;  // three in a hundred: the curve does not cover the run
+  run.volts[30] = run.volts[60] =
+      just_beyond;  // three in a hundred: the curve does not cover the run
   // Refused as a value, with what was converted kept beside the reason.
   const DisplacementConversion three = DisplacementFromVolts(run, calibration);
   CHECK_FALSE(three.ok);
-  CHECK_THAT(three.reason,
-             Catch::Contains("3 of 100 samples") && Catch::Contains("calibrated range"));
+  CHECK_THAT(three.reason, Catch::Contains("3 of 100 samples") &&
+                               Catch::Contains("calibrated range") &&
+                               Catch::Contains("does not cover what this run needs"));
   CHECK(three.dropped == 3);
   CHECK(three.history.time_s.size() == 97);
   const DisplacementConversion empty = DisplacementFromVolts(Trace{}, calibration);
   CHECK_FALSE(empty.ok);
   CHECK(empty.reason == "the trace has no samples");
+}
+
+// A bar's swing, as its trace reads it: X between 0.1 and 0.9 X0.
+double SwingX(double t, double x0) {
+  return x0 * (0.5 + 0.4 * std::sin(2.0 * std::numbers::pi * t));
+}
+
+// 401 samples over 1 s of the swing, 0.5 mV noise each (none drawn: the
+// samples lie on the curve), with the samples from `from_s` to `to_s`
+// following a straight line instead (a scratch), from the trace down to
+// `end_volts`; the reading jumps back to the trace after it.
+Trace SwingWithScratch(double x0, double from_s, double to_s, double end_volts) {
+  Trace run;
+  const double from_volts = LinearCell(SwingX(from_s, x0), x0);
+  for (int i = 0; i <= 400; ++i) {
+    const double t = 0.0025 * i;
+    const bool scratch = t >= from_s - 1e-12 && t <= to_s + 1e-12;
+    run.time_s.push_back(t);
+    run.volts.push_back(scratch
+                            ? from_volts + (end_volts - from_volts) * (t - from_s) / (to_s - from_s)
+                            : LinearCell(SwingX(t, x0), x0));
+    run.sigma_volts.push_back(5e-4);
+  }
+  return run;
+}
+
+TEST_CASE("displacement: a line followed far outside the calibrated volts is left out whole") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // The reading leaves the trace as it rises to its peak, at 0.2 s, and
+  // follows a scratch down to -0.3 V (35 % of the span below the range) by
+  // 0.3 s: 41 samples, 29 of them inside the calibrated volts.
+  const Trace run = SwingWithScratch(x0, 0.2, 0.3, -0.3);
+  const DisplacementConversion converted = DisplacementFromVolts(run, calibration);
+  REQUIRE(converted.ok);
+  CHECK(converted.dropped == 0);
+  REQUIRE(converted.left_out_s.size() == 1);
+  CHECK(converted.left_out_s[0].first == Approx(0.2));
+  CHECK(converted.left_out_s[0].second == Approx(0.3));
+  CHECK(converted.left_out == 41);
+  // What is kept is the trace, read exactly.
+  const DisplacementHistory& h = converted.history;
+  REQUIRE(h.time_s.size() == run.time_s.size() - 41);
+  for (std::size_t i = 0; i < h.time_s.size(); ++i) {
+    CHECK(h.displacement[i] == Approx(SwingX(h.time_s[i], x0)).margin(1e-9));
+  }
+}
+
+TEST_CASE("displacement: a line far outside from the trace's start, or over much of it, refused") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);
+  // From the start: the release, where a calibration may truly not reach.
+  const DisplacementConversion start =
+      DisplacementFromVolts(SwingWithScratch(x0, 0.0, 0.1, -0.3), calibration);
+  CHECK_FALSE(start.ok);
+  CHECK_THAT(start.reason,
+             Catch::Contains("far outside at t = 0 .. 0.1 s") && Catch::Contains("from its start"));
+  // Over 0.2 .. 0.6 s, 40 % of the trace: too little of the bar's own is left.
+  const DisplacementConversion most =
+      DisplacementFromVolts(SwingWithScratch(x0, 0.2, 0.6, -0.3), calibration);
+  CHECK_FALSE(most.ok);
+  CHECK_THAT(most.reason, Catch::Contains("far outside at t = 0.2 .. 0.6 s (40 % of the trace)") &&
+                              Catch::Contains("not the bar's trace"));
+}
+
+TEST_CASE("displacement: a trace shifted whole (a zero mistyped) is refused, not left out") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // The bar's swings, released from X0, its volts all 0.3 V low: at every
+  // impact far below the volts of X = 0, while its own span is the
+  // calibration's. Which of its stretches are the bar's cannot be told.
+  Trace run;
+  for (int i = 0; i <= 800; ++i) {
+    const double t = 0.0025 * i;
+    run.time_s.push_back(t);
+    run.volts.push_back(LinearCell(x0 * std::abs(std::cos(std::numbers::pi * t)), x0) - 0.3);
+    run.sigma_volts.push_back(5e-4);
+  }
+  const DisplacementConversion shifted = DisplacementFromVolts(run, calibration);
+  CHECK_FALSE(shifted.ok);
+  CHECK_THAT(shifted.reason,
+             Catch::Contains("far outside") && Catch::Contains("a zero_div mistyped?"));
 }
 
 }  // namespace

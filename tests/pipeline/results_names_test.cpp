@@ -359,7 +359,16 @@ TEST_CASE("results_names: docs/results.md lists every name of the files, and no 
     options.jobs = 2;
     Session session = ReadManifest(r.session).session;
     session.reduction.average_stiffness = r.average_stiffness;
-    const SessionResult result = ReduceSession(session, options);
+    SessionResult result = ReduceSession(session, options);
+    // No sample session's run trace lies far outside its calibrated volts:
+    // one bar is given a stretch left out as misread, so that its names are
+    // written (tests/pipeline/trace_session_test.cpp reads one).
+    for (RunResult& run : result.runs) {
+      if (!run.ok || !run.measured.left || r.products != Products::kFit) continue;
+      run.measured.left->left_out_from_s = {1.0};
+      run.measured.left->left_out_to_s = {1.1};
+      break;
+    }
     Add(vocabulary, result);
     files.push_back(dir.path() /
                     fmt::format("{}-{}.h5", files.size(), r.session.filename().string()));

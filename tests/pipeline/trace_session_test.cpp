@@ -252,6 +252,51 @@ TEST_CASE("trace_session: run volts on another scale than the calibration's say 
                                         Catch::Contains("0.799 times the calibration's"));
 }
 
+TEST_CASE("trace_session: a line followed far outside the calibration is left out and said") {
+  // The left trace's reading leaves it 0.1 s before session rebound 1's
+  // crest and follows a scratch down, far below the volts of X = 0, for
+  // 0.15 s, then jumps back to the trace: that stretch is left out whole,
+  // the bar's crest with it, and the run reads on its other samples and the
+  // right bar's, each maximum within its error of the model's.
+  testing::TempDir dir;
+  const Written w = WriteSession(dir.path(), 0.405, 0.005);
+  Trace left = ReadTraceCsv(dir.path() / "traces" / "run-left.csv");
+  const double from_s = w.truth.peak_time[2] - 0.1, to_s = from_s + 0.15;
+  const double low = LeftCell(0.0) - 0.5 * (LeftCell(0.405) - LeftCell(0.0));
+  double from_volts = 0.0;
+  for (std::size_t i = 0; i < left.time_s.size(); ++i) {
+    const double t = left.time_s[i];
+    if (t < from_s) from_volts = left.volts[i];
+    if (t >= from_s && t <= to_s) {
+      left.volts[i] = from_volts + (low - from_volts) * (t - from_s) / (to_s - from_s);
+    }
+  }
+  WriteTraceCsv(dir.path() / "traces" / "run-left.csv", left);
+  const SessionResult result = ReduceSession(ReadManifest(dir.path()).session, {});
+  const RunResult& run = result.runs[0];
+  INFO(run.Status());
+  REQUIRE(run.ok);
+  REQUIRE(run.measured.left);
+  REQUIRE(run.measured.left->left_out_from_s.size() == 1);
+  // From where the trace, falling back in time from the scratch, falls 3
+  // sigma below it (some 20 ms).
+  CHECK(run.measured.left->left_out_from_s[0] < from_s);
+  CHECK(run.measured.left->left_out_from_s[0] > from_s - 0.04);
+  CHECK(run.measured.left->left_out_to_s[0] == Approx(to_s).margin(1e-3));
+  CHECK(run.measured.right->left_out_from_s.empty());
+  REQUIRE(run.measured.xmax.size() >= 4);
+  for (std::size_t n = 0; n < run.measured.xmax.size(); ++n) {
+    INFO("rebound " << n);
+    CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5.0 * run.measured.xmax_sigma[n]);
+    CHECK(std::abs(run.measured.xmax[n] - w.truth.xmax[n + 1]) < 5e-4 * 0.405);  // 0.05 % of X0
+  }
+  const auto said = std::find_if(result.warnings.begin(), result.warnings.end(), [](auto& w) {
+    return w.find("left out as misread") != std::string::npos;
+  });
+  REQUIRE(said != result.warnings.end());
+  CHECK_THAT(*said, Catch::Contains("run \"run\": its left trace lies far outside"));
+}
+
 TEST_CASE("trace_session: a run time axis the pendulum's period contradicts is warned about") {
   // Durations read to ~0.05 %: the run's traces on a time axis 2 % slow (a
   // mistyped time_per_div or time unit) are named with the ratio; as
@@ -670,7 +715,7 @@ TEST_CASE("reuse: values that are not finite or disagree in size are named") {
   bad.measured_displacement.value = {0.0};
   CHECK_THAT(ReuseProblem(bad), Catch::Contains("displacement/time has 2 values"));
   bad = r;
-  bad.right = BarRebounds{{0}, {0.3}, {std::nan("")}, {0.1}, {0.0}, {0.5}, {0.0}, {}};
+  bad.right = BarRebounds{{0}, {0.3}, {std::nan("")}, {0.1}, {0.0}, {0.5}, {0.0}, {}, {}, {}};
   CHECK_THAT(ReuseProblem(bad), Catch::Equals("rebounds/right/xmax_std_error[0] is nan"));
 }
 
