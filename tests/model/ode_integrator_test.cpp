@@ -21,6 +21,18 @@ void BlowingUp(const Integrator::State& y, Integrator::State& dydt, double) {
   dydt[0] = y[0] < 1e6 ? y[0] * y[0] : std::numeric_limits<double>::quiet_NaN();
 }
 
+// dy/dt = -y from y = 1 at t0, first step 1e-3.
+void StartDecay(Integrator& integrator, double t0) {
+  Integrator::State y{};
+  y[0] = 1.0;
+  integrator.Reset(
+      [](const Integrator::State& s, Integrator::State& dydt, double) {
+        dydt.fill(0.0);
+        dydt[0] = -s[0];
+      },
+      y, t0, 1e-3);
+}
+
 TEST_CASE("ode integrator: a right-hand side that turns NaN is refused, never stepped into") {
   // odeint alone accepts the step whose error estimate is NaN.
   Integrator integrator({1e-8, 1e-12, 0.1});
@@ -44,14 +56,7 @@ TEST_CASE("ode integrator: tolerances no step can meet are a collapse said with 
   // y' = -y from y = 1 at t = 3: every trial's error estimate exceeds a
   // tolerance of 1e-300, so the step shrinks until it is nothing against t.
   Integrator integrator({1e-300, 1e-300, 0.1});
-  Integrator::State y{};
-  y[0] = 1.0;
-  integrator.Reset(
-      [](const Integrator::State& s, Integrator::State& dydt, double) {
-        dydt.fill(0.0);
-        dydt[0] = -s[0];
-      },
-      y, 3.0, 1e-3);
+  StartDecay(integrator, 3.0);
   const OdeStepResult step = integrator.Step(4.0);
   CHECK_FALSE(step.ok);
   CHECK_THAT(step.reason, Catch::StartsWith("ODE step size collapsed at t = 3 s"));
@@ -62,14 +67,7 @@ TEST_CASE("ode integrator: tolerances no step can meet are a collapse said with 
 
 TEST_CASE("ode integrator: a step that advances says so and lands on its limit") {
   Integrator integrator({1e-10, 1e-14, 0.5});
-  Integrator::State y{};
-  y[0] = 1.0;
-  integrator.Reset(
-      [](const Integrator::State& s, Integrator::State& dydt, double) {
-        dydt.fill(0.0);
-        dydt[0] = -s[0];
-      },
-      y, 0.0, 1e-3);
+  StartDecay(integrator, 0.0);
   OdeStepResult step;
   while (integrator.time() < 1.0) {
     step = integrator.Step(1.0);
