@@ -80,6 +80,60 @@ TEST_CASE(
   CHECK(std::abs(width.value - truth_s) < 3.0 * width.sigma);
 }
 
+// A ring drawn about a pulse's fall (randomised seed 2009's run 0.713) crosses
+// both levels 0.3 division before it, a stroke across the levels as bright as
+// the trace, and its lower arc runs above the rest level towards the fall.
+// The tracking followed the arc: samples 0.12-0.19 division above the rest
+// level, within a quarter of the step of it, were taken for the rest level's
+// first, and the fall was searched for between them and the pulse level's
+// last, where the ring's stroke was taken for it: the width 4.5 % short at
+// 28 of its sigmas. A sample more than a trace width off its level is no
+// sample of it, and a stroke where the levels' ends show the beam still on a
+// level is not the edge.
+TEST_CASE("digitize: a ring drawn about a pulse's fall is not taken for the fall") {
+  cv::setNumThreads(1);
+  constexpr double kRiseDiv = 2.3, kFallDiv = 8.62;
+  constexpr double kPulseY = -2.675, kRestY = -3.875;
+  const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
+  RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(1600, 3));
+  // The ring's left side across both levels, and its lower arc towards the
+  // fall above the rest level.
+  testing::Scratch(photo.image, photo, {kFallDiv - 0.34, kPulseY + 0.2},
+                   {kFallDiv - 0.32, kRestY + 0.3}, 0.8, 6);
+  testing::Scratch(photo.image, photo, {kFallDiv - 0.32, kRestY + 0.3},
+                   {kFallDiv - 0.1, kRestY + 0.2}, 0.8, 6);
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "ringed.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
+  REQUIRE(traces.size() == 3);
+  DigitizedTrace contact = traces[2];
+  REQUIRE(contact.settings.impact);
+  // The tracking as on seed 2009: the pulse level's samples end at the
+  // ring, then samples on its lower arc, then none up to just past the fall.
+  std::vector<cv::Point2d> samples;
+  for (const cv::Point2d& p : contact.screen_div) {
+    if (p.x > kFallDiv - 0.34 && p.x < kFallDiv + 0.03) continue;
+    if (p.x >= kFallDiv + 0.03 && samples.back().x <= kFallDiv - 0.34) {
+      for (double x = kFallDiv - 0.3; x < kFallDiv - 0.1; x += 0.02) {
+        samples.push_back({x, kRestY + 0.3 - 0.1 * (x - kFallDiv + 0.32) / 0.22});
+      }
+    }
+    samples.push_back(p);
+  }
+  contact.screen_div = samples;
+
+  const std::optional<ContactPulseFit> fit = MeasurePulse(prepared, graticule, contact);
+  REQUIRE(fit);
+  const double px_per_s = graticule.px_per_div / kContactTimePerDiv;
+  const double truth_s = (kFallDiv - kRiseDiv) * kContactTimePerDiv;
+  const Estimate& width = fit->pulse.width_s;
+  const double error_px = (width.value - truth_s) * px_per_s;
+  INFO("width " << width.value * 1e6 << " +- " << width.sigma * 1e6 << " us, truth "
+                << truth_s * 1e6 << " us: " << error_px << " px off");
+  CHECK(std::abs(error_px) < 1.0);
+  CHECK(std::abs(width.value - truth_s) < 3.0 * width.sigma);
+}
+
 // A label written across the rest level before the rise (randomised seed
 // 1022's run 0.405: "x0 = .405" along the rest level up to the rise) reads
 // as a short stretch at the pulse's level. The bars touch once in a sweep:
