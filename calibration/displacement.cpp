@@ -89,6 +89,25 @@ std::vector<std::pair<std::size_t, std::size_t>> MisreadStretches(
   return stretches;
 }
 
+// Whether a stretch lies beyond the calibrated voltages on the side of the
+// release, X0 (judged by its sample furthest out). The trace begins at the
+// release, where a calibration from a smaller swing truly does not reach;
+// beyond the other end, X = 0, the bar never is before its first impact, so
+// a stretch there that begins the trace is a line followed instead of the
+// release's (a pen stroke drawn in from the bezel, a grid line), like any
+// other.
+bool BeyondRelease(const Trace& trace, const PhotocellCurve& curve,
+                   const std::pair<std::size_t, std::size_t>& stretch) {
+  std::size_t furthest = stretch.first;
+  for (std::size_t i = stretch.first; i <= stretch.second; ++i) {
+    if (BeyondRange(curve, trace.volts[i]) > BeyondRange(curve, trace.volts[furthest])) {
+      furthest = i;
+    }
+  }
+  const bool release_above = curve.VoltsAt(curve.x_max()) > curve.VoltsAt(0.0);
+  return (trace.volts[furthest] > curve.volts_max()) == release_above;
+}
+
 }  // namespace
 
 DisplacementConversion DisplacementFromVolts(const Trace& trace,
@@ -143,8 +162,10 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
   // then cannot be told from that, and none is left out.
   const double calibrated_v = curve.volts_max() - curve.volts_min();
   const bool shifted_whole = v_hi - v_lo <= (1.0 + limits.shift_fits_span) * calibrated_v;
-  if (!stretches.empty() && (stretches.front().first == 0 || shifted_whole ||
-                             misread_s > limits.max_span_fraction * span_s)) {
+  const bool from_start = !stretches.empty() && stretches.front().first == 0 &&
+                          BeyondRelease(trace, curve, stretches.front());
+  if (!stretches.empty() &&
+      (from_start || shifted_whole || misread_s > limits.max_span_fraction * span_s)) {
     // Where the trace begins (the release, at X0) a calibration may truly
     // not reach; and a line followed over much of the sweep leaves too
     // little of the bar's own trace to read it by.
@@ -155,8 +176,7 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
     out.reason = fmt::format(
         "{}, far outside at t = {} ({:.0f} % of the trace{}): the line read there is not the "
         "bar's trace, or the calibration does not cover what this run needs{}",
-        outside_said, where, 100.0 * misread_s / span_s,
-        stretches.front().first == 0 ? ", from its start" : "",
+        outside_said, where, 100.0 * misread_s / span_s, from_start ? ", from its start" : "",
         shifted_whole ? " (its volts span no more than the calibration's: a zero_div mistyped?)"
                       : "");
     return out;

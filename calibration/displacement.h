@@ -43,8 +43,9 @@ struct DisplacementConversion {
   // false: `reason` says why (a trace without samples; more than one sample
   // in fifty outside the calibrated voltages but near them: the calibration
   // does not cover what the run needs; or stretches far outside that begin
-  // the trace, cover more than MisreadLimits allow, or lie on a trace that
-  // fits the calibrated volts shifted whole); `history` and the
+  // the trace beyond the release's end of the calibrated volts, cover more
+  // than MisreadLimits allow, or lie on a trace that fits the calibrated
+  // volts shifted whole); `history` and the
   // counts still hold what was converted and what was not.
   bool ok = false;
   std::string reason;

@@ -110,7 +110,8 @@ struct ReboundExtraction {
   std::vector<double> impact_times;
   // X0 as the history shows it: the release swing's fitted amplitude, with
   // its standard error from the fall's fit (0 where too few samples fell to
-  // fit it and the top sample stands for it).
+  // fit it and the top sample stands for it); 0 and 0 where the history
+  // begins after the first impact and does not show the release at all.
   Estimate release;
 };
 

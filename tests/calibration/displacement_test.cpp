@@ -128,9 +128,10 @@ TEST_CASE("displacement: a line followed far outside the calibrated volts is lef
 TEST_CASE("displacement: a line far outside from the trace's start, or over much of it, refused") {
   const double x0 = 0.3;
   const CalibrationResult calibration = LinearCalibration(x0);
-  // From the start: the release, where a calibration may truly not reach.
+  // From the start beyond X0's end (2.6 V, 35 % of the span above the
+  // range): the release, where a calibration may truly not reach.
   const DisplacementConversion start =
-      DisplacementFromVolts(SwingWithScratch(x0, 0.0, 0.1, -0.3), calibration);
+      DisplacementFromVolts(SwingWithScratch(x0, 0.0, 0.1, 2.6), calibration);
   CHECK_FALSE(start.ok);
   CHECK_THAT(start.reason,
              Catch::Contains("far outside at t = 0 .. 0.1 s") && Catch::Contains("from its start"));
@@ -140,6 +141,27 @@ TEST_CASE("displacement: a line far outside from the trace's start, or over much
   CHECK_FALSE(most.ok);
   CHECK_THAT(most.reason, Catch::Contains("far outside at t = 0.2 .. 0.6 s (40 % of the trace)") &&
                               Catch::Contains("not the bar's trace"));
+}
+
+TEST_CASE("displacement: a line from the trace's start beyond X = 0 is left out, not refused") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // The bar is at X0 when the sweep begins and never below X = 0 before its
+  // first impact: a line read from the start down to -0.3 V (35 % of the
+  // span below the volts of X = 0) is not the release, but a stroke the
+  // reading followed (randomised seeds 2013's run 0.405, 2020's run 0.405).
+  const Trace run = SwingWithScratch(x0, 0.0, 0.1, -0.3);
+  const DisplacementConversion converted = DisplacementFromVolts(run, calibration);
+  REQUIRE(converted.ok);
+  REQUIRE(converted.left_out_s.size() == 1);
+  CHECK(converted.left_out_s[0].first == Approx(0.0));
+  CHECK(converted.left_out_s[0].second == Approx(0.1));
+  CHECK(converted.left_out == 41);
+  const DisplacementHistory& h = converted.history;
+  REQUIRE(h.time_s.size() == run.time_s.size() - 41);
+  for (std::size_t i = 0; i < h.time_s.size(); ++i) {
+    CHECK(h.displacement[i] == Approx(SwingX(h.time_s[i], x0)).margin(1e-9));
+  }
 }
 
 TEST_CASE("displacement: a trace shifted whole (a zero mistyped) is refused, not left out") {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include <catch2/catch.hpp>
@@ -217,6 +218,52 @@ TEST_CASE(
     INFO("rebound " << rb.number);
     CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
   }
+}
+
+TEST_CASE("rebounds: a fall read from 72 % of X0, then a gap into rebound 1's rise, gives X0") {
+  Truth truth = Simulate(0.405, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  const double quarter = s.impact_time[0];  // the release's fall, t = 0 to the first impact
+  // As randomised seed 1034's run 0.405 read its right bar: the fall from
+  // 72 % of X0 (its top and hold lost) down to 41 %, then nothing until
+  // rebound 1 has risen to about 45 % of its peak, lower than the fall's
+  // last sample, as if the bar were still falling.
+  const double from = quarter * std::acos(0.72) * 2.0 / std::numbers::pi;
+  const double to = quarter * std::acos(0.41) * 2.0 / std::numbers::pi;
+  DropSamples(truth.history, -1.0, from);
+  DropSamples(truth.history, to, s.impact_time[0] + 0.12);
+
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  CHECK(r.release.value == Approx(0.405).epsilon(2e-3));
+  CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(2e-3));
+  REQUIRE(r.rebounds.size() == 5);
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+  }
+}
+
+TEST_CASE("rebounds: a history that begins after the first impact is numbered from the release") {
+  Truth truth = Simulate(0.323, 2e-3, 0.0, 1);
+  const ReboundSequence& s = truth.sequence;
+  // The release's whole fall lost (left out as a line followed instead of
+  // the trace, or under a mark): the history begins on rebound 1's rise.
+  // The sweep is triggered at the release, t = 0, so the first impact is
+  // due a quarter period later, and the first rebound seen is rebound 1,
+  // not the release.
+  DropSamples(truth.history, -1.0, s.impact_time[0] + 0.03);
+
+  const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+  REQUIRE(r.ok);
+  CHECK(r.release.sigma == 0.0);  // X0 is not known from this history
+  std::vector<int> numbers;
+  for (const ExtractedRebound& rb : r.rebounds) {
+    numbers.push_back(rb.number);
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+    CHECK(rb.t_peak.value == Approx(s.peak_time[rb.number]).margin(1e-6));
+  }
+  CHECK(numbers == std::vector<int>{1, 2, 3, 4, 5});
 }
 
 // The history up to `end_s` only: a sweep that ends before the record does.
