@@ -300,6 +300,46 @@ constexpr double kOffCurve = 8.0, kOffCurveEdge = 3.0;
 // At most this share of the swing's samples may be left out so: beyond it
 // the reading itself is in doubt, not a stretch of it.
 constexpr double kOffCurveMaxShare = 0.15;
+// Unless what was read there is plainly another line: a hand mark or a label
+// the tracking followed lies a tenth of the cell's swing in volts or more off
+// the curve through the rest (its median sample), where the trace's own
+// reading errors are hundredths. Then up to this share of the samples may go
+// (near the release the bar is slow: a mark crossed there holds many of
+// them), while it spans at most a third of the swing in X and leaves a
+// twentieth of the samples or more on each side of it: the curve through
+// the rest is read on both sides. At the swing's ends the curve over the
+// stretch would be the fit's extrapolation, and its offset from it no
+// evidence of another line.
+constexpr double kMarkMaxShare = 0.4, kMarkMinOffset = 0.1;
+constexpr double kMarkMaxSpan = 1.0 / 3.0, kMarkMinBeyond = 0.05;
+
+// Whether the samples in `off` may be left out of the curve through the
+// rest (`curve`): few of them, or one plainly other line (kMarkMaxShare).
+bool MayLeaveOut(const std::vector<bool>& off, const std::vector<double>& x,
+                 const std::vector<double>& volts, const PhotocellCurve& curve, double release_x) {
+  const auto n = static_cast<double>(off.size());
+  std::vector<double> offset;
+  std::size_t first = off.size(), last = 0;
+  double x_lo = release_x, x_hi = 0.0;
+  for (std::size_t i = 0; i < off.size(); ++i) {
+    if (!off[i]) continue;
+    offset.push_back(std::abs(volts[i] - curve.VoltsAt(x[i])));
+    first = std::min(first, i);
+    last = i;
+    x_lo = std::min(x_lo, x[i]);
+    x_hi = std::max(x_hi, x[i]);
+  }
+  if (offset.empty()) return true;
+  const auto count = static_cast<double>(offset.size());
+  if (count <= kOffCurveMaxShare * n) return true;
+  if (count > kMarkMaxShare * n) return false;
+  std::nth_element(offset.begin(), offset.begin() + offset.size() / 2, offset.end());
+  const double span_volts = std::abs(curve.VoltsAt(release_x) - curve.VoltsAt(0.0));
+  if (offset[offset.size() / 2] < kMarkMinOffset * span_volts) return false;
+  const bool at_end = static_cast<double>(first) < kMarkMinBeyond * n ||
+                      static_cast<double>(off.size() - 1 - last) < kMarkMinBeyond * n;
+  return !at_end && x_hi - x_lo <= kMarkMaxSpan * release_x;
+}
 
 // True where a sample's weighted residual is off the curve, its scale from
 // the samples not in `off_before`.
@@ -432,7 +472,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
         if (!off[static_cast<std::size_t>(i)]) kept.push_back(i);
       }
       const auto left_out = static_cast<double>(n) - static_cast<double>(kept.size());
-      if (left_out == 0.0 || left_out > kOffCurveMaxShare * n || kept.size() < 8) break;
+      if (left_out == 0.0 || left_out > kMarkMaxShare * n || kept.size() < 8) break;
       refit = FitCurve(Rows(samples, kept), std::min(max_order, static_cast<int>(kept.size()) / 4),
                        release_x, options, shared_sigma_volts);
       // Off the curve fitted to the rest (the BIC's, where none is monotone).
@@ -445,20 +485,24 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       settled = next == off;
       off = std::move(next);
     }
-    if (!(refit.ok && settled)) return std::nullopt;
+    if (!(refit.ok && settled &&
+          MayLeaveOut(off, out.ideal_displacement, out.volts, refit.curve, release_x))) {
+      return std::nullopt;
+    }
     return std::make_pair(std::move(off), std::move(refit));
   };
   // A stretch the curve follows closely enough to hide it, or that makes
   // the whole curve ring about it (so that the residuals' robust scale grows
   // and no sample stands out), shows against a curve through the other
   // samples. The stretch is one run of samples in time (the tracking on a
-  // mark): runs of one to three twentieths of the swing's samples, the
-  // shortest first, each left out in turn; the first whose curve through the
-  // rest is monotone starts the search above.
+  // mark): runs of one to eight twentieths of the swing's samples (a mark
+  // crossed near the release holds many), the shortest first, each left out
+  // in turn; the first whose curve through the rest is monotone starts the
+  // search above, which judges what it leaves out (MayLeaveOut).
   const auto leave_out_a_run = [&]() -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
     constexpr int kBlocks = 20;
     if (n < 4 * kBlocks) return std::nullopt;
-    const int max_blocks = static_cast<int>(kOffCurveMaxShare * kBlocks);
+    const int max_blocks = static_cast<int>(kMarkMaxShare * kBlocks);
     for (int length = 1; length <= max_blocks; ++length) {
       for (int first = 0; first + length <= kBlocks; ++first) {
         const int begin = n * first / kBlocks, end = n * (first + length) / kBlocks;
