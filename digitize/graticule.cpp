@@ -788,7 +788,7 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   // 0.405, 1008's run 0.713: 2800-4600 px wide, lines 1.6-6 px). A lattice
   // found closer is refined and checked as any other; when none is, the
   // first look's reason stands.
-  bool searched = false;
+  bool searched = false;  // whether the first look found a lattice (closer looks follow either way)
   // A print is searched in a working copy no finer than half its screen's
   // period (CloserShrinks): a small scan's copy is the photo itself, and
   // what descreening leaves of the dots there made a lattice of its own
@@ -799,7 +799,14 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
   try {
     return SearchAndRefine(photo, working, divisions, options, start, &searched);
   } catch (const InputError&) {
-    if (searched) throw;  // found, and refused by its lines: not the search's doing
+    // A lattice found and refused by its lines is looked for closer too: in
+    // a large photo the working copy's Hough lines can be the grid's every
+    // other line or the bezel's, a lattice of the wrong size that no move
+    // of a division mends (randomised seed 3017's calibration L-0.405, 2874
+    // px wide: a lattice of 99 px a division refused at 7.6 px RMS, the
+    // grid's 172 px one found closer), or a lattice its lines say against
+    // (seed 2026's calibration: its line y = 2 div unseen). The
+    // first refusal stands when nothing closer passes every check.
     for (const int shrink : CloserShrinks(photo, options)) {
       bool closer_searched = false;
       try {
