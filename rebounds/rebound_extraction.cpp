@@ -59,7 +59,12 @@ Crossing FlankCrossing(const DisplacementHistory& h, std::size_t peak, double t_
     // frequency, and crossing c returns that shape's crossing, not the
     // data's (a trace on a time axis 2 % long read the model's durations to
     // 0.05 %; crossing X = 0 reads 2.3 % longer).
-    const double phase = std::asin(std::clamp(x[i] / amplitude, -1.0, 1.0));
+    // A sample at or beyond the amplitude (a fit whose offset is well below
+    // zero) has no phase on the swing: it says nothing of when the flank
+    // crosses, and its weight cos^2(pi/2) ~ 1e-33 would state that crossing's
+    // error as 1e13 s where it is the only one.
+    if (std::abs(x[i]) >= 0.99 * amplitude) continue;
+    const double phase = std::asin(x[i] / amplitude);
     const double weight = std::cos(phase) * std::cos(phase);
     all_time.push_back(h.time_s[i] + step * phase / omega);
     all_weight.push_back(weight);
@@ -273,10 +278,9 @@ constexpr double kLongStepOfHalfSwing = 0.05;
 // of the top), falls across the gap to sample `next` at less than half its
 // average speed so far. A falling bar only speeds up until it meets the
 // other; a sample past a gap that is reached so slowly lies beyond the
-// impact the gap hides, on the next rebound's rise (randomised seed 1034's run 0.405: the right trace's
-// fall read from 72 % of X0 down to 41 %, 0.23 s of gap over the impact,
-// then 32 % on the rise, which the release's fit took for the fall's end,
-// and X0 came out half its size).
+// impact the gap hides, on the next rebound's rise (randomised seed 1034's run 0.405: the right
+// trace's fall read from 72 % of X0 down to 41 %, 0.23 s of gap over the impact, then 32 % on the
+// rise, which the release's fit took for the fall's end, and X0 came out half its size).
 bool SlowsAcross(const DisplacementHistory& h, std::size_t top, std::size_t last,
                  std::size_t next) {
   const auto& x = h.displacement;
