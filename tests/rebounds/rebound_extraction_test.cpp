@@ -92,6 +92,14 @@ TEST_CASE("rebounds: with noise correlated along the trace the maxima's pulls st
 }
 
 // Drops the samples of `h` within [from, to] s: a faint stretch of a photo.
+// Every maximum read from a noiseless history, against the model's.
+void CheckMaximaAgainstTruth(const ReboundExtraction& r, const ReboundSequence& s) {
+  for (const ExtractedRebound& rb : r.rebounds) {
+    INFO("rebound " << rb.number);
+    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
+  }
+}
+
 void DropSamples(DisplacementHistory& h, double from, double to) {
   DisplacementHistory kept;
   for (std::size_t i = 0; i < h.time_s.size(); ++i) {
@@ -230,10 +238,7 @@ TEST_CASE("rebounds: a history missing the release's top and its first impact is
   const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
   REQUIRE(r.rebounds.size() == 5);
   CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(1e-3));
-  for (const ExtractedRebound& rb : r.rebounds) {
-    INFO("rebound " << rb.number);
-    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
-  }
+  CheckMaximaAgainstTruth(r, s);
 }
 
 TEST_CASE(
@@ -248,10 +253,7 @@ TEST_CASE(
   REQUIRE(r.rebounds.size() == 5);
   CHECK(r.rebounds[0].number == 1);
   CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(1e-3));
-  for (const ExtractedRebound& rb : r.rebounds) {
-    INFO("rebound " << rb.number);
-    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
-  }
+  CheckMaximaAgainstTruth(r, s);
 }
 
 TEST_CASE("rebounds: a fall read from 72 % of X0, then a gap into rebound 1's rise, gives X0") {
@@ -271,10 +273,7 @@ TEST_CASE("rebounds: a fall read from 72 % of X0, then a gap into rebound 1's ri
   CHECK(r.release.value == Approx(0.405).epsilon(2e-3));
   CHECK(r.impact_times[0] == Approx(s.impact_time[0]).margin(2e-3));
   REQUIRE(r.rebounds.size() == 5);
-  for (const ExtractedRebound& rb : r.rebounds) {
-    INFO("rebound " << rb.number);
-    CHECK(rb.xmax.value == Approx(s.xmax[rb.number]).epsilon(1e-7));
-  }
+  CheckMaximaAgainstTruth(r, s);
 }
 
 TEST_CASE("rebounds: a history that begins after the first impact is numbered from the release") {
