@@ -462,8 +462,8 @@ ReboundExtraction ExtractRebounds(const DisplacementHistory& h, const Pendulum& 
   // taken for the release it would number every rebound after it one or
   // more too low. The walk then starts at the first impact the clock puts
   // after t = 0, and X0 is not known from this history.
-  const double first_impact_due = 0.5 * HalfPeriod(pendulum, largest);
   double half_period = HalfPeriod(pendulum, largest);
+  const double first_impact_due = 0.5 * half_period;
   double impact = first_impact_due;
   if (FirstAbove(h, threshold) <= first_impact_due) {
     const ReleaseSwing release = FindReleaseSwing(h, pendulum, threshold);
