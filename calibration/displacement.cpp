@@ -108,6 +108,23 @@ bool BeyondRelease(const Trace& trace, const PhotocellCurve& curve,
   return (trace.volts[furthest] > curve.volts_max()) == release_above;
 }
 
+// Whether a stretch that begins the trace may be the release beyond the
+// calibration: its last sample outside the calibrated volts is at the
+// release (t = 0) or after it. Before the release the bar rests at X0 and
+// reads the same volts just after it: where a calibration from a smaller
+// swing truly does not reach, the samples beyond it run on past the release
+// while the bar swings in (slowly: for tens of milliseconds); a stretch
+// whose samples beyond all lie before the release, the trace read within
+// the calibrated volts from there on, is a line followed in the sweep's part
+// before the trigger, not the bar.
+bool ReachesRelease(const Trace& trace, const PhotocellCurve& curve,
+                    const std::pair<std::size_t, std::size_t>& stretch) {
+  for (std::size_t i = stretch.second + 1; i-- > stretch.first;) {
+    if (!curve.Covers(trace.volts[i])) return trace.time_s[i] >= 0.0;
+  }
+  return true;
+}
+
 }  // namespace
 
 DisplacementConversion DisplacementFromVolts(const Trace& trace,
@@ -163,7 +180,8 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
   const double calibrated_v = curve.volts_max() - curve.volts_min();
   const bool shifted_whole = v_hi - v_lo <= (1.0 + limits.shift_fits_span) * calibrated_v;
   const bool from_start = !stretches.empty() && stretches.front().first == 0 &&
-                          BeyondRelease(trace, curve, stretches.front());
+                          BeyondRelease(trace, curve, stretches.front()) &&
+                          ReachesRelease(trace, curve, stretches.front());
   if (!stretches.empty() &&
       (from_start || shifted_whole || misread_s > limits.max_span_fraction * span_s)) {
     // Where the trace begins (the release, at X0) a calibration may truly

@@ -209,8 +209,67 @@ struct CurveFit {
   Eigen::VectorXd best_weighted_residual;
 };
 
+// Whether a curve turns over only where the samples leave the swing unread
+// and only within its band: wherever its slope has the other sign than at
+// mid-swing, that is outside the samples' span [u_lo, u_hi] (in u) and by no
+// more than kTurnInsideBand standard deviations of the slope (from `band`,
+// the coefficients' covariance). Where the samples leave an end of the swing
+// unread (the bar is fast at X = 0, and a sparse trace may show nothing
+// there) a high order extrapolates, and a turn it makes there within its
+// band is no evidence that the cell folds back.
+constexpr double kTurnInsideBand = 3.0;
+
+bool TurnsOnlyWhereUnread(const Eigen::VectorXd& coefficients, const Eigen::MatrixXd& band,
+                          double u_lo, double u_hi) {
+  const int order = static_cast<int>(coefficients.size()) - 1;
+  Eigen::VectorXd t(order + 1), dt(order + 1);
+  Chebyshev(0.0, order, t, &dt);
+  const double mid_slope = coefficients.dot(dt);
+  constexpr int kGrid = 2048;
+  for (int k = 0; k <= kGrid; ++k) {
+    const double u = -1.0 + 2.0 * k / kGrid;
+    Chebyshev(u, order, t, &dt);
+    const double slope = coefficients.dot(dt);  // in u: its sign and its z are what count
+    if (slope * mid_slope > 0.0) continue;
+    if (u >= u_lo && u <= u_hi) return false;
+    if (std::abs(slope) > kTurnInsideBand * std::sqrt(std::max(0.0, dt.dot(band * dt)))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The widest stretch of the swing (in u, over [-1, 1]) that holds no sample.
+// From a fifth of the swing on, the samples leave too much unread for any
+// curve there to be more than the fit's guess (UnreadStretch says so when a
+// calibration is refused), and the second look takes no lower order there.
+constexpr double kMaxUnread = 0.2;  // of the swing
+
+double WidestUnread(const Eigen::VectorXd& u) {
+  std::vector<double> sorted(u.data(), u.data() + u.size());
+  sorted.push_back(-1.0);
+  sorted.push_back(1.0);
+  std::sort(sorted.begin(), sorted.end());
+  double widest = 0.0;
+  for (std::size_t i = 1; i < sorted.size(); ++i)
+    widest = std::max(widest, sorted[i] - sorted[i - 1]);
+  return widest;
+}
+
+// The coefficients padded with zeros to `terms` (a lower order's curve in a
+// higher order's terms).
+Eigen::VectorXd Padded(const Eigen::VectorXd& coefficients, Eigen::Index terms) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(terms);
+  out.head(coefficients.size()) = coefficients;
+  return out;
+}
+
+// `second_look`: a best order that turns over only where no sample is,
+// within its band (TurnsOnlyWhereUnread), may give way to the first lower
+// order whose curve is monotone, its band widened to cover both.
 CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
-                  const CalibrationOptions& options, double shared_sigma_volts) {
+                  const CalibrationOptions& options, double shared_sigma_volts,
+                  bool second_look = false) {
   const Eigen::Index n = samples.size();
   const Eigen::MatrixXd& basis = samples.basis;
   const Eigen::VectorXd &v = samples.v, &weight = samples.weight;
@@ -246,20 +305,25 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
   // than that says when an inner tenth of the trace is left out (curve_band.h), plus
   // the error every sample shares (a constant in volts: T_0 = 1 everywhere).
   constexpr int kJackknifeBlocks = 10;
-  const auto curve_of = [&](int index, double inflation) {
-    const OrderFit& fit = fits[index];
-    std::vector<double> coefficients(fit.coefficients.data(),
-                                     fit.coefficients.data() + fit.coefficients.size());
+  const auto band_of = [&](int index, double inflation) -> Eigen::MatrixXd {
     const Eigen::MatrixXd weighted_basis = weight.asDiagonal() * basis.leftCols(index + 2);
-    Eigen::MatrixXd band = curve_band::Widened(
-        fit.covariance * inflation, curve_band::BlockJackknifeCovariance(
-                                        weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
+    return curve_band::Widened(fits[index].covariance * inflation,
+                               curve_band::BlockJackknifeCovariance(
+                                   weighted_basis, weight.cwiseProduct(v), kJackknifeBlocks));
+  };
+  const auto curve_from = [&](std::vector<double> coefficients, Eigen::MatrixXd band,
+                              const Eigen::MatrixXd& inflated) {
     band(0, 0) += shared_sigma_volts * shared_sigma_volts;
     std::vector<double> covariance(band.data(), band.data() + band.size());
-    const Eigen::MatrixXd inflated = fit.covariance * inflation;
     std::vector<double> fit_covariance(inflated.data(), inflated.data() + inflated.size());
     return PhotocellCurve(release_x, std::move(coefficients), std::move(covariance),
                           options.range_margin, std::move(fit_covariance));
+  };
+  const auto curve_of = [&](int index, double inflation) {
+    const OrderFit& fit = fits[index];
+    return curve_from(std::vector<double>(fit.coefficients.data(),
+                                          fit.coefficients.data() + fit.coefficients.size()),
+                      band_of(index, inflation), fit.covariance * inflation);
   };
   const int best = by_bic.front();
   out.best_weighted_residual = weighted_residual_of(best);
@@ -285,6 +349,35 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
       out.correlation_inflation = inflation;
       out.ok = true;
       break;
+    }
+    if (!out.ok && second_look) {
+      // The best order turns over only where no sample is, within its band:
+      // the first lower order (in the BIC's ranking) whose curve is
+      // monotone is taken, in the best order's terms and with the best
+      // order's band widened by the two curves' difference, so that its
+      // band covers both.
+      const Eigen::MatrixXd band = band_of(best, best_inflation);
+      const Eigen::VectorXd& best_c = fits[best].coefficients;
+      const double u_lo = basis.col(1).minCoeff(), u_hi = basis.col(1).maxCoeff();  // T_1 = u
+      if (WidestUnread(basis.col(1)) < kMaxUnread * 2.0 &&
+          TurnsOnlyWhereUnread(best_c, band, u_lo, u_hi)) {
+        for (const int index : by_bic) {
+          if (index >= best) continue;
+          const Eigen::Index terms = best_c.size(), own = index + 2;
+          const Eigen::VectorXd c = Padded(fits[index].coefficients, terms);
+          const Eigen::VectorXd difference = c - best_c;
+          const double inflation = inflation_of(index);
+          Eigen::MatrixXd inflated = Eigen::MatrixXd::Zero(terms, terms);
+          inflated.topLeftCorner(own, own) = fits[index].covariance * inflation;
+          PhotocellCurve curve = curve_from(std::vector<double>(c.data(), c.data() + terms),
+                                            band + difference * difference.transpose(), inflated);
+          if (NonMonotone(curve, release_x)) continue;
+          out.curve = std::move(curve);
+          out.correlation_inflation = inflation;
+          out.ok = true;
+          break;
+        }
+      }
     }
     if (!out.ok) out.reason = std::move(*problem);
   }
@@ -313,32 +406,75 @@ constexpr double kOffCurveMaxShare = 0.15;
 constexpr double kMarkMaxShare = 0.4, kMarkMinOffset = 0.1;
 constexpr double kMarkMaxSpan = 1.0 / 3.0, kMarkMinBeyond = 0.05;
 
-// Whether the samples in `off` may be left out of the curve through the
-// rest (`curve`): few of them, or one plainly other line (kMarkMaxShare).
-bool MayLeaveOut(const std::vector<bool>& off, const std::vector<double>& x,
-                 const std::vector<double>& volts, const PhotocellCurve& curve, double release_x) {
-  const auto n = static_cast<double>(off.size());
+// How far the samples in `off` lie from `curve` and where: their count, the
+// median offset in volts, the first and last index and the X they span.
+struct OffStretch {
+  std::size_t count = 0, first = 0, last = 0;
+  double median_offset_volts = 0.0, x_lo = 0.0, x_hi = 0.0;
+};
+
+OffStretch Describe(const std::vector<bool>& off, std::size_t from, std::size_t to,
+                    const std::vector<double>& x, const std::vector<double>& volts,
+                    const PhotocellCurve& curve, double release_x) {
+  OffStretch out{0, to, from, 0.0, release_x, 0.0};
   std::vector<double> offset;
-  std::size_t first = off.size(), last = 0;
-  double x_lo = release_x, x_hi = 0.0;
-  for (std::size_t i = 0; i < off.size(); ++i) {
+  for (std::size_t i = from; i < to; ++i) {
     if (!off[i]) continue;
     offset.push_back(std::abs(volts[i] - curve.VoltsAt(x[i])));
-    first = std::min(first, i);
-    last = i;
-    x_lo = std::min(x_lo, x[i]);
-    x_hi = std::max(x_hi, x[i]);
+    out.first = std::min(out.first, i);
+    out.last = i;
+    out.x_lo = std::min(out.x_lo, x[i]);
+    out.x_hi = std::max(out.x_hi, x[i]);
   }
-  if (offset.empty()) return true;
-  const auto count = static_cast<double>(offset.size());
-  if (count <= kOffCurveMaxShare * n) return true;
-  if (count > kMarkMaxShare * n) return false;
+  out.count = offset.size();
+  if (offset.empty()) return out;
   std::nth_element(offset.begin(), offset.begin() + offset.size() / 2, offset.end());
+  out.median_offset_volts = offset[offset.size() / 2];
+  return out;
+}
+
+// Whether a stretch is plainly another line (kMarkMaxShare): far off the
+// curve, within a third of X0, and with the curve read on both sides of it.
+bool PlainlyAnotherLine(const OffStretch& stretch, std::size_t n, const PhotocellCurve& curve,
+                        double release_x) {
+  const auto samples = static_cast<double>(n);
   const double span_volts = std::abs(curve.VoltsAt(release_x) - curve.VoltsAt(0.0));
-  if (offset[offset.size() / 2] < kMarkMinOffset * span_volts) return false;
-  const bool at_end = static_cast<double>(first) < kMarkMinBeyond * n ||
-                      static_cast<double>(off.size() - 1 - last) < kMarkMinBeyond * n;
-  return !at_end && x_hi - x_lo <= kMarkMaxSpan * release_x;
+  if (stretch.median_offset_volts < kMarkMinOffset * span_volts) return false;
+  const bool at_end = static_cast<double>(stretch.first) < kMarkMinBeyond * samples ||
+                      static_cast<double>(n - 1 - stretch.last) < kMarkMinBeyond * samples;
+  return !at_end && stretch.x_hi - stretch.x_lo <= kMarkMaxSpan * release_x;
+}
+
+// Whether the samples in `off` may be left out of the curve through the
+// rest (`curve`): few of them, or one plainly other line, or several
+// stretches of which those that are not plainly other lines are few
+// together (a trace crossed by more than one mark: each is judged by its
+// own offset and reach, not by the others').
+// `second_look`: several stretches may be judged each by itself.
+bool MayLeaveOut(const std::vector<bool>& off, const std::vector<double>& x,
+                 const std::vector<double>& volts, const PhotocellCurve& curve, double release_x,
+                 bool second_look) {
+  const std::size_t n = off.size();
+  const OffStretch all = Describe(off, 0, n, x, volts, curve, release_x);
+  const auto samples = static_cast<double>(n);
+  const auto count = static_cast<double>(all.count);
+  if (count <= kOffCurveMaxShare * samples) return true;
+  if (count > kMarkMaxShare * samples) return false;
+  if (PlainlyAnotherLine(all, n, curve, release_x)) return true;
+  if (!second_look) return false;
+  double not_marks = 0.0;
+  for (std::size_t i = 0; i < n;) {
+    if (!off[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < n && off[end]) ++end;
+    const OffStretch run = Describe(off, i, end, x, volts, curve, release_x);
+    if (!PlainlyAnotherLine(run, n, curve, release_x)) not_marks += static_cast<double>(run.count);
+    i = end;
+  }
+  return not_marks <= kOffCurveMaxShare * samples;
 }
 
 // True where a sample's weighted residual is off the curve, its scale from
@@ -407,7 +543,7 @@ std::string UnreadStretch(std::vector<double> x, double release_x) {
     if (x[i] - x[i - 1] > x[widest + 1] - x[widest]) widest = i - 1;
   }
   const double gap = x[widest + 1] - x[widest];
-  if (gap < 0.2 * release_x) return {};
+  if (gap < kMaxUnread * release_x) return {};
   return fmt::format(
       "; the trace's samples leave X = {:.4g} .. {:.4g} unread ({:.0f} % of the swing), where "
       "no curve is determined",
@@ -461,8 +597,9 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   // ones that prevent it are a misread stretch (OffCurve), which is left out
   // and recorded. A curve bent towards the stretch hides part of it, so the
   // samples off each refitted curve are taken in turn, while they change.
-  const auto leave_out_stretch = [&](const Eigen::VectorXd& weighted_residual)
-      -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
+  const auto leave_out_stretch =
+      [&](const Eigen::VectorXd& weighted_residual,
+          bool second_look) -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
     std::vector<bool> off = OffCurve(weighted_residual, std::vector<bool>(n, false));
     CurveFit refit;
     bool settled = false;
@@ -474,7 +611,7 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       const auto left_out = static_cast<double>(n) - static_cast<double>(kept.size());
       if (left_out == 0.0 || left_out > kMarkMaxShare * n || kept.size() < 8) break;
       refit = FitCurve(Rows(samples, kept), std::min(max_order, static_cast<int>(kept.size()) / 4),
-                       release_x, options, shared_sigma_volts);
+                       release_x, options, shared_sigma_volts, second_look);
       // Off the curve fitted to the rest (the BIC's, where none is monotone).
       Eigen::VectorXd residual(n);
       for (int i = 0; i < n; ++i) {
@@ -486,7 +623,8 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
       off = std::move(next);
     }
     if (!(refit.ok && settled &&
-          MayLeaveOut(off, out.ideal_displacement, out.volts, refit.curve, release_x))) {
+          MayLeaveOut(off, out.ideal_displacement, out.volts, refit.curve, release_x,
+                      second_look))) {
       return std::nullopt;
     }
     return std::make_pair(std::move(off), std::move(refit));
@@ -499,7 +637,8 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   // crossed near the release holds many), the shortest first, each left out
   // in turn; the first whose curve through the rest is monotone starts the
   // search above, which judges what it leaves out (MayLeaveOut).
-  const auto leave_out_a_run = [&]() -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
+  const auto leave_out_a_run =
+      [&](bool second_look) -> std::optional<std::pair<std::vector<bool>, CurveFit>> {
     constexpr int kBlocks = 20;
     if (n < 4 * kBlocks) return std::nullopt;
     const int max_blocks = static_cast<int>(kMarkMaxShare * kBlocks);
@@ -512,21 +651,34 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
         }
         const CurveFit rest =
             FitCurve(Rows(samples, kept), std::min(max_order, static_cast<int>(kept.size()) / 4),
-                     release_x, options, shared_sigma_volts);
+                     release_x, options, shared_sigma_volts, second_look);
         if (!rest.ok) continue;
         Eigen::VectorXd residual(n);
         for (int i = 0; i < n; ++i) {
           residual(i) =
               samples.weight(i) * (samples.v(i) - rest.curve.VoltsAt(out.ideal_displacement[i]));
         }
-        if (auto found = leave_out_stretch(residual)) return found;
+        if (auto found = leave_out_stretch(residual, second_look)) return found;
       }
     }
     return std::nullopt;
   };
   if (!fit.ok) {
-    auto left_out = leave_out_stretch(fit.best_weighted_residual);
-    if (!left_out) left_out = leave_out_a_run();
+    auto left_out = leave_out_stretch(fit.best_weighted_residual, false);
+    if (!left_out) left_out = leave_out_a_run(false);
+    // A second look, only where the first found no curve (so that nothing
+    // it found changes): a turn where no sample is and within the curve's
+    // band is no fold (FitCurve), and a trace crossed by several marks has
+    // each judged by itself (MayLeaveOut).
+    if (!left_out) {
+      CurveFit second = FitCurve(samples, max_order, release_x, options, shared_sigma_volts, true);
+      if (second.ok) {
+        fit = std::move(second);
+      } else {
+        left_out = leave_out_stretch(second.best_weighted_residual, true);
+        if (!left_out) left_out = leave_out_a_run(true);
+      }
+    }
     if (left_out) {
       const std::vector<bool>& off = left_out->first;
       for (int i = 0; i < n; ++i) {

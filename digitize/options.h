@@ -160,6 +160,11 @@ struct TraceOptions {
   // the traces, docs/digitizing.md) are kept from the traces. Off: every
   // line is offered to the tracking, as a scratch is.
   bool hand_marks = true;
+  // Not a setting: a trace on the grid's lines no brighter than them is
+  // still taken when it is far wider than they are (a bold trace saturated
+  // like them). The digitizer turns it on only to read again a photo whose
+  // every reading failed (docs/digitizing.md).
+  bool tell_bold_by_width = false;
 
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {

@@ -658,6 +658,22 @@ double ShareOnGridLines(const DigitizedTrace& trace, const GraticuleFit& graticu
   return static_cast<double>(on) / trace.screen_div.size();
 }
 
+// A trace saturated like the grid's lines (a bold line printed in a
+// report's figure, in the grid's own ink) stands no higher than they do, and
+// where it runs along one for much of the sweep (a contact level, a
+// calibration's flat ends) it lies on the lines as a grid line followed by
+// mistake does. A person tells it from them by its width: a grid line
+// followed is measured as wide as the grid's lines (0.8-1.2 times on the
+// ridge image of thin lines; up to 1.6 on the images of bold and wide lines,
+// where a halftone's rows of dots and the lines' crossings widen it), while
+// a bold trace measures twice to three times their width.
+constexpr double kWiderThanGridLine = 1.75;
+
+bool WiderThanGridLines(const DigitizedTrace& trace, const GraticuleFit& graticule) {
+  return graticule.line_width_px > 0.0 &&
+         trace.width_px >= kWiderThanGridLine * graticule.line_width_px;
+}
+
 // A hinted point may lie this far outside its trace's band (the tracking's
 // strip reaches as far), divisions.
 constexpr double kHintBandMarginDiv = 0.15;
@@ -743,22 +759,26 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
     DigitizedTrace trace;
     if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
     // What lies on the grid's lines and stands out only as much as they do
-    // is a grid line. Off them no line of the graticule can pass for a trace,
-    // however faint the trace (a print's bright graticule, a fast beam).
+    // is a grid line, unless it is far wider than they are (WiderThanGridLines,
+    // on a last reading). Off them no line of the graticule can pass for a trace, however faint
+    // the trace (a print's bright graticule, a fast beam).
     const bool bright_enough =
         trace.height >= options.min_height_over_grid * graticule.line_contrast ||
-        ShareOnGridLines(trace, graticule) < 0.5;
+        ShareOnGridLines(trace, graticule) < 0.5 ||
+        (options.tell_bold_by_width && WiderThanGridLines(trace, graticule));
     const bool seen = !trace.trace.time_s.empty() && trace.coverage >= options.min_coverage;
     if (seen && !bright_enough) {
       // Say what was seen: a line along the sweep, but no brighter than the grid.
       throw InputError(
           {photo.source, "traces." + request.name, std::nullopt},
           fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % of the "
-                      "sweep, but it stands only {:.2f} times as high as a grid line, at least "
-                      "{:.2f} needed to tell it from one{}",
+                      "sweep, but it stands only {:.2f} times as high as a grid line and {:.2f} "
+                      "times as wide, at least {:.2f} as high or {:.2f} as wide needed to tell it "
+                      "from one{}",
                       request.name, BandText(request.settings), 100.0 * trace.coverage,
-                      trace.height / graticule.line_contrast, options.min_height_over_grid,
-                      PointsAdvice(request)));
+                      trace.height / graticule.line_contrast,
+                      trace.width_px / graticule.line_width_px, options.min_height_over_grid,
+                      kWiderThanGridLine, PointsAdvice(request)));
     }
     if (!seen) {
       throw InputError(

@@ -143,6 +143,40 @@ TEST_CASE("displacement: a line far outside from the trace's start, or over much
                               Catch::Contains("not the bar's trace"));
 }
 
+TEST_CASE(
+    "displacement: a line beyond X0's volts that ends before the release, the trace back "
+    "within the calibrated volts after it, is left out, not refused") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // The sweep begins 0.1 s before the release, the bar held at 0.9 X0; the
+  // reading follows a line at 2.6 V (35 % of the span beyond X0's volts)
+  // until 0.06 s before the release, then the trace (randomised seed 1018's
+  // run 0.405: 4 samples 0.036 V beyond, before the release). Had the
+  // calibration not reached the release, the samples beyond would run on
+  // past it.
+  Trace run;
+  for (int i = -40; i <= 400; ++i) {
+    const double t = 0.0025 * i;
+    run.time_s.push_back(t);
+    run.volts.push_back(t <= -0.06 + 1e-12 ? 2.6
+                        : t < 0.0          ? LinearCell(0.9 * x0, x0)
+                                           : LinearCell(SwingX(t, x0), x0));
+    run.sigma_volts.push_back(5e-4);
+  }
+  const DisplacementConversion converted = DisplacementFromVolts(run, calibration);
+  REQUIRE(converted.ok);
+  REQUIRE(converted.left_out_s.size() == 1);
+  CHECK(converted.left_out_s[0].first == Approx(-0.1));
+  CHECK(converted.left_out_s[0].second == Approx(-0.06));
+  CHECK(converted.left_out == 17);
+  // The same line running on past the release is refused as before: there
+  // the calibration may truly not reach.
+  for (std::size_t i = 0; i < run.time_s.size() && run.time_s[i] <= 0.01; ++i) run.volts[i] = 2.6;
+  const DisplacementConversion past = DisplacementFromVolts(run, calibration);
+  CHECK_FALSE(past.ok);
+  CHECK_THAT(past.reason, Catch::Contains("from its start"));
+}
+
 TEST_CASE("displacement: a line from the trace's start beyond X = 0 is left out, not refused") {
   const double x0 = 0.3;
   const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V

@@ -156,6 +156,43 @@ TEST_CASE("digitize: a bold printed trace lying along a grid line is told from i
   CHECK(rms < 0.15 * trace.width_px);
 }
 
+// Randomised seed 2021, calibration L-0.713: a 2.3 division trace printed
+// bold in the grid's own ink, on a halftone whose grid lines are themselves
+// about 10 px wide. Read on the image of bold lines the trace was followed
+// well (its samples on the generator's centre line), but it stands no
+// higher than the saturated grid lines, and it runs along a horizontal one
+// over half its samples: it was refused as a grid line followed by mistake.
+// A grid line followed is measured as wide as a grid line; this trace is
+// nearly three times as wide, and is read when the photo, every reading of
+// it having failed, is read once more telling the trace by its width.
+TEST_CASE("digitize: a bold trace as dark as the grid and lying along its lines is told by width") {
+  testing::TempDir dir;
+  const GeneratedCalibration g = LoadGeneratedCalibration(dir, 2021, "L-0.713");
+  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
+  const DigitizeOptions options;
+  const DigitizeResult result =
+      DigitizePhoto(g.photo, {10, 8}, TraceRequestsOf(g.calibration), options);
+  INFO(result.Failure());
+  REQUIRE(result.ok);
+  REQUIRE(result.traces.size() == 1);
+  const DigitizedTrace& trace = result.traces[0];
+  const double far_px = 0.2 * trace.width_px;
+  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
+  INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
+                              << " more than " << far_px << " px off the truth, RMS " << rms
+                              << " px, width " << trace.width_px << " px against the grid's "
+                              << result.graticule.line_width_px << ", height " << trace.height
+                              << " against the grid's " << result.graticule.line_contrast);
+  // Measured: 722 samples over 71 % of the sweep, 76 more than a fifth of the
+  // width (5.4 px) off, 2.8 px RMS (a tenth of the width), the trace 27 px
+  // wide against the grid lines' 9.6 and 1.27 times as high.
+  CHECK(trace.height < options.traces.min_height_over_grid * result.graticule.line_contrast);
+  CHECK(trace.width_px > 2.0 * result.graticule.line_width_px);
+  CHECK(trace.coverage > 0.5);
+  CHECK(far <= trace.centre_px.size() / 8);
+  CHECK(rms < 0.15 * trace.width_px);
+}
+
 // Randomised seed 1032, calibration R-0.713: a figure scanned with a 5 px
 // halftone screen, its calibration trace printed about 0.3 division bold,
 // and a pen arrow drawn beside it. The thin reading lost the trace's core and
