@@ -411,9 +411,13 @@ std::vector<StrokeNeighbour> LineNeighbours(const RowReader& reader, const Grati
 struct StrokeEdge {
   PulseEdge edge;  // time_s and sigma_s in screen divisions
   double fwhm_px = 0.0, height = 0.0;
-  double separation = HUGE_VAL;  // to the nearest grid line, in the two's mean widths
-  bool line_as_expected = true;  // the nearest line's scale within its prior's reach
-  bool line_measured = true;     // the nearest line's profile read, not assumed
+  double separation = HUGE_VAL;              // to the nearest grid line, in the two's mean widths
+  bool line_as_expected = true;              // the nearest line's scale within its prior's reach
+  bool line_measured = true;                 // the nearest line's profile read, not assumed
+  double lean = 0.0, lean_sigma = HUGE_VAL;  // dx/dy across the bands, screen divisions
+  // The bands lean far more than a contact edge can: a line crossing the
+  // levels (a hair, a hand-drawn ring's arc), not the beam's stroke.
+  bool crossing_line = false;
 };
 
 // What the pulse's other edge showed: the same beam at the same speed draws
@@ -428,6 +432,7 @@ struct StrokeData {
   double guess_div = 0.0, mid_div = 0.0;
   double px_per_div = 0.0, reach_px = 0.0, width_px = 0.0;
   double half_length_px = 0.0;  // of every profile read
+  double step_widths = 0.0;     // the levels' distance in trace widths
   Rows rows;                    // the stroke's rows
   std::vector<double> total;    // their mean
   double total_y = 0.0;         // and its height
@@ -453,6 +458,7 @@ std::optional<StrokeData> ReadStroke(const RowReader& reader, const GraticuleFit
   const double half_length = d.reach_px + std::max(4.0 * width_px, 12.0);
   d.half_length_px = half_length;
   const double span = std::abs(high_div - low_div);
+  d.step_widths = span * d.px_per_div / std::max(width_px, 1.0);
   RowPlan plan;
   plan.bottom = std::min(low_div, high_div);
   plan.top = std::max(low_div, high_div);
@@ -565,6 +571,7 @@ std::optional<StrokeEdge> FitEdge(const RowReader& reader, const GraticuleFit& g
       sxy += (xs[i] - mx) * (ys[i] - my);
     }
     const double lean = sxy / syy;  // dx/dy
+    out.lean = lean;
     double rss = 0.0;
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const double r = xs[i] - (mx + lean * (ys[i] - my));
@@ -576,6 +583,19 @@ std::optional<StrokeEdge> FitEdge(const RowReader& reader, const GraticuleFit& g
     // scatter does not pin down is shrunk towards none.
     constexpr double kLeanPrior = 0.05;  // dx/dy
     const double lean_variance = scatter * scatter / syy;
+    out.lean_sigma = std::sqrt(lean_variance);
+    // A contact edge leans by a few hundredths (an RC edge's settling by
+    // about a tenth); a hair or a drawn ring's arc crossing the levels at a
+    // slant leans by tenths (randomised seeds 1034's run 0.405 and 4023's run
+    // 0.713: -0.58 and 0.59, to +-0.03).
+    // The bands' rows lie a quarter of the step from each level; within 0.7
+    // trace width of one they see its corner's glow, the leaving level's
+    // on one side and the reaching level's on the other, which leans them
+    // too (a 2.2-width step's stroke on a clean photo leans so): a lean is
+    // only read where the rows are clear of that, a step of 2.8 widths.
+    constexpr double kLeastCrossingLean = 0.25, kLeanSigmas = 3.0, kCornerClearSteps = 2.8;
+    out.crossing_line = d.step_widths >= kCornerClearSteps &&
+                        std::abs(lean) - kLeanSigmas * out.lean_sigma > kLeastCrossingLean;
     const double shrink = kLeanPrior * kLeanPrior / (kLeanPrior * kLeanPrior + lean_variance);
     const double lever = mid_div - total_y;
     out.edge.time_s = total_x + shrink * lean * lever;
@@ -686,6 +706,34 @@ JumpMeasure FitJump(const RowReader& reader, const GraticuleFit& graticule, cons
   return out;
 }
 
+// Whether sample i lies on the level at `level_div` (within `off_level_div`
+// of it) where the trace runs level: the samples from it away from the edge
+// (`side` -1: before it, +1: after it), over two trace widths (and 10
+// samples at least) along the sweep, lie at the level (nine in ten of them)
+// and rise or fall by at most a third of a division per division. A line
+// crossing the level's height at a slant passes within a trace width of it
+// over several samples, and a drawn ring's top runs flat beside it, but
+// neither runs along it.
+bool RunsLevel(const std::vector<cv::Point2d>& screen, int i, int side, double level_div,
+               double off_level_div, double width_div) {
+  if (std::abs(screen[i].y - level_div) > off_level_div) return false;
+  constexpr double kFlatSlope = 0.35;
+  constexpr int kLeastSamples = 10;
+  const double reach = 2.0 * width_div;
+  double s1 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, off = 0;
+  const int n = static_cast<int>(screen.size());
+  for (int j = i, k = 0; j >= 0 && j < n; j += side, ++k) {
+    const double dx = screen[j].x - screen[i].x, dy = screen[j].y - screen[i].y;
+    if (k >= kLeastSamples && std::abs(dx) > reach) break;
+    s1 += 1, sx += dx, sy += dy, sxx += dx * dx, sxy += dx * dy;
+    if (std::abs(screen[j].y - level_div) > off_level_div) off += 1;
+  }
+  if (off > 0.1 * s1) return false;
+  const double det = s1 * sxx - sx * sx;
+  if (s1 < 3 || !(det > 0.0)) return true;
+  return std::abs((s1 * sxy - sx * sy) / det) <= kFlatSlope;
+}
+
 }  // namespace
 
 std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
@@ -770,9 +818,9 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   // the fall's window 0.16 division beyond the true fall, which was then
   // searched for nowhere near it). Such samples are passed over, so that
   // the window reaches the level's own samples.
+  const double off_level = std::min(0.25 * std::abs(high - low), trace.width_px / px_per_div);
+  auto at_level = [&](int i, double level) { return std::abs(screen[i].y - level) <= off_level; };
   {
-    const double off_level = std::min(0.25 * std::abs(high - low), trace.width_px / px_per_div);
-    auto at_level = [&](int i, double level) { return std::abs(screen[i].y - level) <= off_level; };
     while (rise_before > 0 && !at_level(rise_before, rest_level)) --rise_before;
     while (rise_after + 1 < fall_before && !at_level(rise_after, pulse_level)) ++rise_after;
     while (fall_before - 1 > rise_after && !at_level(fall_before, pulse_level)) --fall_before;
@@ -796,10 +844,18 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   };
   const std::optional<StrokeData> rise_data = read_at(rise_before, rise_after);
   const std::optional<StrokeData> fall_data = read_at(fall_before, fall_after);
+  // An edge where a line crosses the levels at a slant (crossing_line): the
+  // levels' rows are crossed by it too, each at its own place, so their
+  // mirror image is the line's, not the edge's.
+  bool rise_crossed = false, fall_crossed = false;
   auto stroke_at = [&](int before, int after, const StrokeHint* hint) {
     const std::optional<StrokeData>& data = before == rise_before ? rise_data : fall_data;
     std::optional<StrokeEdge> edge;
     if (data) edge = FitEdge(reader, graticule, *data, hint);
+    if (edge && edge->crossing_line) {
+      (before == rise_before ? rise_crossed : fall_crossed) = true;
+      edge.reset();
+    }
     const double x0 = screen[before].x, x1 = screen[after].x;
     const double x = edge ? edge->edge.time_s : 0.0;
     if (edge && (x < x0 - 0.5 * width_div || x > x1 + 0.5 * width_div)) {
@@ -893,7 +949,8 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   constexpr double kCornerWidths = 0.7;
   std::vector<double> gaps;
   for (const JumpMeasure* j : {&rise_jump, &fall_jump}) {
-    if (j->mirror && std::isfinite(j->gap_px)) gaps.push_back(j->gap_px);
+    const bool crossed = j == &rise_jump ? rise_crossed : fall_crossed;
+    if (j->mirror && std::isfinite(j->gap_px) && !crossed) gaps.push_back(j->gap_px);
   }
   const double circuit_gap_px =
       gaps.empty() ? 0.0 : std::accumulate(gaps.begin(), gaps.end(), 0.0) / gaps.size();
@@ -902,8 +959,8 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   const double lag_div = kLagShare * lag_gap_div;
   // No lag at all on a switched edge: held at none (a tiny sigma).
   const double lag_sigma_div = std::max(kLagSpread * lag_gap_div, 1e-7);
-  auto jump_of = [&](const JumpMeasure& j) -> std::optional<PulseEdge> {
-    if (!mirrored || !j.mirror) return std::nullopt;
+  auto jump_of = [&](const JumpMeasure& j, bool crossed) -> std::optional<PulseEdge> {
+    if (!mirrored || !j.mirror || crossed) return std::nullopt;
     PulseEdge edge = *j.mirror;
     if (gaps.size() == 2) {
       const double beyond_corners_px =
@@ -921,7 +978,20 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     std::optional<PulseEdge> stroke, jump, alone;
   };
   auto measures = [&](int before, int after, const std::optional<StrokeEdge>& stroke,
-                      const std::optional<PulseEdge>& jump, const JumpMeasure& levels) {
+                      const std::optional<PulseEdge>& jump, const JumpMeasure& levels,
+                      bool crossed) {
+    if (crossed && !stroke) {
+      // The tracking may have followed the crossing line from one level to
+      // the other, and its samples there, passing through a level's height,
+      // be taken for the level's: the edge lies between the last sample of
+      // the level the beam leaves and the first of the one it reaches where
+      // each runs level.
+      const double leaving = before == rise_before ? rest_level : pulse_level;
+      const double reaching = before == rise_before ? pulse_level : rest_level;
+      while (before > 0 && !RunsLevel(screen, before, -1, leaving, off_level, width_div)) --before;
+      while (after + 1 < n && !RunsLevel(screen, after, +1, reaching, off_level, width_div))
+        ++after;
+    }
     const double x0 = screen[before].x, x1 = screen[after].x;
     const double spacing_sigma = (x1 - x0) / std::sqrt(12.0);
     EdgeMeasures m;
@@ -984,7 +1054,7 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     // the edge (a slowly settling edge), when that is narrower than the
     // samples' spacing; else between the levels' ends, as a sampled trace
     // would.
-    if (levels.bound && levels.bound->sigma_s < spacing_sigma) {
+    if (levels.bound && levels.bound->sigma_s < spacing_sigma && !crossed) {
       m.alone = levels.bound;
     } else {
       const double guess = 0.5 * (x0 + x1);
@@ -994,10 +1064,10 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     }
     return m;
   };
-  const EdgeMeasures rise_m =
-      measures(rise_before, rise_after, rise, jump_of(rise_jump), rise_jump);
-  const EdgeMeasures fall_m =
-      measures(fall_before, fall_after, fall, jump_of(fall_jump), fall_jump);
+  const EdgeMeasures rise_m = measures(rise_before, rise_after, rise,
+                                       jump_of(rise_jump, rise_crossed), rise_jump, rise_crossed);
+  const EdgeMeasures fall_m = measures(fall_before, fall_after, fall,
+                                       jump_of(fall_jump, fall_crossed), fall_jump, fall_crossed);
 
   // The joint least squares of (rise, fall, lag) with the lag's prior.
   cv::Matx33d normal = cv::Matx33d::zeros();

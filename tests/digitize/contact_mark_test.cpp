@@ -134,6 +134,64 @@ TEST_CASE("digitize: a ring drawn about a pulse's fall is not taken for the fall
   CheckWidthWithinAPixel(*fit, graticule, kRiseDiv, kFallDiv);
 }
 
+// A hair (or a drawn ring's arc) crossing both levels at a slant just before
+// the rise (randomised seeds 1034's run 0.405 and 4023's run 0.713): its
+// stroke between the levels is as bright as the trace, and the levels' rows
+// are crossed by it each at its own place, their difference antisymmetric
+// about the hair. The tracking followed it from the rest level up to the
+// pulse level, so that samples on it were taken for the pulse level's first.
+// The hair was taken for the rise, 7.1 % and 1.9 % of the width off at 88 and
+// 9.6 of their sigmas. A stroke leaning by tenths is no contact edge: the
+// rise is put between the last sample of the rest level and the first of the
+// pulse level where each runs level, with their spacing for its sigma.
+TEST_CASE("digitize: a hair crossing the levels at a slant before the rise is not the rise") {
+  cv::setNumThreads(1);
+  constexpr double kRiseDiv = 2.3, kFallDiv = 8.62;
+  constexpr double kPulseY = -2.675, kRestY = -3.875;
+  constexpr double kHairMidDiv = kRiseDiv - 0.3, kLean = 0.5;  // dx/dy
+  const double mid_y = 0.5 * (kPulseY + kRestY);
+  auto hair_x = [&](double y) { return kHairMidDiv + kLean * (y - mid_y); };
+  const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
+  // A beam as broad as on those photos (0.05 division), so that the hair,
+  // as broad, is taken for a stroke of it.
+  RenderOptions options = testing::CleanOptions(1600, 3);
+  options.beam_fwhm_div = 0.05;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  testing::Scratch(photo.image, photo, {hair_x(kRestY - 0.3), kRestY - 0.3},
+                   {hair_x(kPulseY + 0.3), kPulseY + 0.3}, 0.8, 8);
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "hair.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
+  REQUIRE(traces.size() == 3);
+  DigitizedTrace contact = traces[2];
+  REQUIRE(contact.settings.impact);
+  // The tracking as on seed 4023: the rest level up to the hair, the hair
+  // up to 0.25 division beyond the pulse level, then the pulse level from
+  // 0.05 division past the rise.
+  std::vector<cv::Point2d> samples;
+  const double leave_x = hair_x(kRestY);
+  for (const cv::Point2d& p : contact.screen_div) {
+    if (p.x > leave_x && p.x < kRiseDiv + 0.05) continue;
+    if (p.x >= kRiseDiv + 0.05 && samples.back().x <= leave_x) {
+      for (double y = kRestY; y < kPulseY + 0.25; y += 0.01) samples.push_back({hair_x(y), y});
+    }
+    samples.push_back(p);
+  }
+  contact.screen_div = samples;
+
+  const std::optional<ContactPulseFit> fit = MeasurePulse(prepared, graticule, contact);
+  REQUIRE(fit);
+  // Not the hair's stroke (0.35 division early) nor the levels' ends about
+  // it: put between the levels' samples.
+  CHECK_FALSE(fit->rise.from_image);
+  const double px_per_s = graticule.px_per_div / kContactTimePerDiv;
+  const double truth_s = (kFallDiv - kRiseDiv) * kContactTimePerDiv;
+  const Estimate& width = fit->pulse.width_s;
+  INFO("width " << width.value * 1e6 << " +- " << width.sigma * 1e6 << " us, truth "
+                << truth_s * 1e6 << " us: " << (width.value - truth_s) * px_per_s << " px off");
+  CHECK(std::abs(width.value - truth_s) < 3.0 * width.sigma);
+}
+
 // A label written across the rest level before the rise (randomised seed
 // 1022's run 0.405: "x0 = .405" along the rest level up to the rise) reads
 // as a short stretch at the pulse's level. The bars touch once in a sweep:
