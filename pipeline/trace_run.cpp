@@ -478,6 +478,7 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     if (histories.size() == 2) {
       disagreement = FirstDisagreement(*out.right, *out.left);
       if (!disagreement) disagreement = AverageSlip(*out.right, *out.left, from_average);
+      if (!disagreement) disagreement = OffTheClock(*out.right, *out.left, both.xmax.size());
     }
     return Stopped(result,
                    {{session.manifest, RunKey(run), std::nullopt},

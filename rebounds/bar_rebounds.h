@@ -94,6 +94,13 @@ std::optional<BarDisagreement> FirstDisagreement(const BarRebounds& right, const
 std::optional<BarDisagreement> AverageSlip(const BarRebounds& right, const BarRebounds& left,
                                            const BarRebounds& averaged);
 
+// Why the session's maxima stopped at rebound `rows` where one bar's trace
+// shows it and the other's does not: its peak is more than a tenth of a half
+// period from where the pendulum's clock (the peaks both bars show) puts it;
+// nullopt where that is not why.
+std::optional<BarDisagreement> OffTheClock(const BarRebounds& right, const BarRebounds& left,
+                                           std::size_t rows);
+
 // Which of the session's first `rows` rebounds one bar's trace does not
 // show (lost under a mark, in a gap or past its record's end), so that their
 // maxima rest on the other bar's, in words; nullopt when both show them all.
@@ -114,8 +121,11 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 //   length with alternating sign), its error added in quadrature; only where
 //   two or more of those agree on it, once the one furthest off (a bar
 //   misread there) is left out.
-// The sequence stops at the first rebound none of these gives, and at the
-// first the bars disagree about (past it neither can be trusted).
+// The sequence stops at the first rebound none of these gives, at the first
+// the bars disagree about (past it neither can be trusted), and at the first
+// taken from one history alone whose peak is more than a tenth of a half
+// period from where the pendulum's clock (the peaks both bars show, half a
+// period apart) puts it.
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged);
 

@@ -333,6 +333,44 @@ TEST_CASE("bar_rebounds: a rebound one bar does not show is the other's; its lat
   }
 }
 
+TEST_CASE("bar_rebounds: a rebound from one history alone must peak on the pendulum's clock") {
+  // Randomised seed 3033's run 0.405: the left bar's trace shows no rebound
+  // 0, and the right bar's rebound 0 was read at 0.92 s, 0.17 s after the
+  // rebound peaks (its maximum 26 % of X0 off, with a sigma of 2 %).
+  const std::vector<double> mean = {0.269, 0.179, 0.119, 0.079, 0.053};
+  constexpr double kCommon = 3e-4;
+  auto [right, left] = BarsMissing(mean, kCommon, {}, {0});
+  // On the clock (within a tenth of the 0.75 s half period): taken.
+  right.t_peak[0] += 0.06;
+  CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.size() == 5);
+  // Off it: the sequence ends before it, and the run has no rebound from 0.
+  right.t_peak[0] += 0.11;
+  right.xmax[0] = 0.372;
+  CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.empty());
+  const std::optional<BarDisagreement> why = OffTheClock(right, left, 0);
+  REQUIRE(why.has_value());
+  CHECK_THAT(why->why, Catch::Contains("right bar's rebound 0"));
+  CHECK_FALSE(OffTheClock(right, left, 1).has_value());
+  // The same for a later rebound one bar lost: the sequence ends there.
+  auto [right2, left2] = BarsMissing(mean, kCommon, {}, {3});
+  right2.t_peak[3] -= 0.2;
+  CHECK(MeanOfBars(right2, left2, BarRebounds{}).xmax.size() == 3);
+  // And for the averaged history's own rows past what both bars show.
+  auto [right3, left3] = BarsMissing(mean, kCommon, {3, 4}, {2, 3, 4});
+  BarRebounds averaged;
+  for (std::size_t n = 0; n < mean.size(); ++n) {
+    averaged.xmax.push_back(mean[n]);
+    averaged.xmax_sigma.push_back(3e-4);
+    averaged.t_peak.push_back(0.75 + 0.75 * static_cast<double>(n));
+    averaged.t_peak_sigma.push_back(2e-4);
+    averaged.duration.push_back(0.75);
+    averaged.duration_sigma.push_back(1e-3);
+  }
+  CHECK(MeanOfBars(right3, left3, averaged).xmax.size() == 5);
+  averaged.t_peak[3] += 0.1;
+  CHECK(MeanOfBars(right3, left3, averaged).xmax.size() == 3);
+}
+
 // The pulls (error over stated sigma) of the session's maxima over `runs`
 // runs of six rebounds, each bar read with independent Gaussian errors of
 // sigma `right_sigma` and `left_sigma` about the truth (the bars a common
