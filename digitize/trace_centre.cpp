@@ -768,17 +768,23 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
         (options.tell_bold_by_width && WiderThanGridLines(trace, graticule));
     const bool seen = !trace.trace.time_s.empty() && trace.coverage >= options.min_coverage;
     if (seen && !bright_enough) {
-      // Say what was seen: a line along the sweep, but no brighter than the grid.
+      // Say what was seen: a line along the sweep, but no brighter than the
+      // grid (nor wider, where the grid's line width is measured).
+      const std::string how_wide =
+          graticule.line_width_px > 0.0
+              ? fmt::format(" and {:.2f} times as wide", trace.width_px / graticule.line_width_px)
+              : std::string();
+      const std::string wide_needed = graticule.line_width_px > 0.0
+                                          ? fmt::format(" or {:.2f} as wide", kWiderThanGridLine)
+                                          : std::string();
       throw InputError(
           {photo.source, "traces." + request.name, std::nullopt},
           fmt::format("trace '{}' not found in its band {}: a line is seen along {:.0f} % of the "
-                      "sweep, but it stands only {:.2f} times as high as a grid line and {:.2f} "
-                      "times as wide, at least {:.2f} as high or {:.2f} as wide needed to tell it "
-                      "from one{}",
+                      "sweep, but it stands only {:.2f} times as high as a grid line{}, at least "
+                      "{:.2f} as high{} needed to tell it from one{}",
                       request.name, BandText(request.settings), 100.0 * trace.coverage,
-                      trace.height / graticule.line_contrast,
-                      trace.width_px / graticule.line_width_px, options.min_height_over_grid,
-                      kWiderThanGridLine, PointsAdvice(request)));
+                      trace.height / graticule.line_contrast, how_wide,
+                      options.min_height_over_grid, wide_needed, PointsAdvice(request)));
     }
     if (!seen) {
       throw InputError(
