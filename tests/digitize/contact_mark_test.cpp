@@ -40,6 +40,25 @@ void CheckWidthWithinAPixel(const ContactPulseFit& fit, const GraticuleFit& grat
   CHECK(std::abs(width.value - truth_s) < 3.0 * width.sigma);
 }
 
+// The photo prepared, its graticule and its contact trace as the tracking
+// read it (the scene's third trace), for a test to mark up and measure.
+struct ContactReading {
+  PreparedPhoto prepared;
+  GraticuleFit graticule;
+  DigitizedTrace contact;
+};
+
+ContactReading ReadContact(const cv::Mat& image, const char* name, const testing::RunScene& run) {
+  ContactReading out{PreparePhoto({image, name}, {}), {}, {}};
+  out.graticule = FindGraticule(out.prepared, {10, 8}, {});
+  const std::vector<DigitizedTrace> traces =
+      ExtractTraces(out.prepared, out.graticule, run.requests, {});
+  REQUIRE(traces.size() == 3);
+  out.contact = traces[2];
+  REQUIRE(out.contact.settings.impact);
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -57,12 +76,7 @@ TEST_CASE(
                    {kFallDiv + 0.32, kPulseY + 0.14}, 0.8, 8);
   testing::Scratch(photo.image, photo, {kFallDiv + 0.12, kPulseY + 0.12},
                    {kFallDiv + 0.16, kPulseY + 0.32}, 0.8, 8);
-  const PreparedPhoto prepared = PreparePhoto({photo.image, "marked.png"}, {});
-  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
-  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
-  REQUIRE(traces.size() == 3);
-  DigitizedTrace contact = traces[2];
-  REQUIRE(contact.settings.impact);
+  auto [prepared, graticule, contact] = ReadContact(photo.image, "marked.png", run);
   // The tracking as on seed 1002: the samples lost under the mark from 0.25
   // division before the fall to 0.2 division after it, and two samples on
   // the arrow 0.5 division above the pulse's level and 0.15 division beyond
@@ -109,12 +123,7 @@ TEST_CASE("digitize: a ring drawn about a pulse's fall is not taken for the fall
                    {kFallDiv - 0.32, kRestY + 0.3}, 0.8, 6);
   testing::Scratch(photo.image, photo, {kFallDiv - 0.32, kRestY + 0.3},
                    {kFallDiv - 0.1, kRestY + 0.2}, 0.8, 6);
-  const PreparedPhoto prepared = PreparePhoto({photo.image, "ringed.png"}, {});
-  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
-  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
-  REQUIRE(traces.size() == 3);
-  DigitizedTrace contact = traces[2];
-  REQUIRE(contact.settings.impact);
+  auto [prepared, graticule, contact] = ReadContact(photo.image, "ringed.png", run);
   // The tracking as on seed 2009: the pulse level's samples end at the
   // ring, then samples on its lower arc, then none up to just past the fall.
   std::vector<cv::Point2d> samples;
@@ -159,12 +168,7 @@ TEST_CASE("digitize: a hair crossing the levels at a slant before the rise is no
   RenderedPhoto photo = RenderOscillograph(run.scene, options);
   testing::Scratch(photo.image, photo, {hair_x(kRestY - 0.3), kRestY - 0.3},
                    {hair_x(kPulseY + 0.3), kPulseY + 0.3}, 0.8, 8);
-  const PreparedPhoto prepared = PreparePhoto({photo.image, "hair.png"}, {});
-  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
-  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
-  REQUIRE(traces.size() == 3);
-  DigitizedTrace contact = traces[2];
-  REQUIRE(contact.settings.impact);
+  auto [prepared, graticule, contact] = ReadContact(photo.image, "hair.png", run);
   // The tracking as on seed 4023: the rest level up to the hair, the hair
   // up to 0.25 division beyond the pulse level, then the pulse level from
   // 0.05 division past the rise.
@@ -204,12 +208,7 @@ TEST_CASE("digitize: a label's short stretch at the pulse level before the rise 
   constexpr double kPulseY = -2.675;
   const testing::RunScene run = testing::ContactPulseScene(kRiseDiv, kFallDiv);
   const RenderedPhoto photo = RenderOscillograph(run.scene, testing::CleanOptions(1600, 5));
-  const PreparedPhoto prepared = PreparePhoto({photo.image, "labelled.png"}, {});
-  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
-  const std::vector<DigitizedTrace> traces = ExtractTraces(prepared, graticule, run.requests, {});
-  REQUIRE(traces.size() == 3);
-  DigitizedTrace contact = traces[2];
-  REQUIRE(contact.settings.impact);
+  auto [prepared, graticule, contact] = ReadContact(photo.image, "labelled.png", run);
   // The tracking as on seed 1022: from 1.2 to 1.5 divisions the samples on
   // the label's strokes, at the pulse's level.
   for (cv::Point2d& p : contact.screen_div) {
