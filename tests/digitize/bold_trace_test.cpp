@@ -73,6 +73,18 @@ AgainstTruth ScoreAgainst(const std::vector<cv::Point2d>& centre_px, const Digit
   return score;
 }
 
+// A generated halftone calibration photo digitized with the default
+// options, its one trace read (the reason shown where it is not).
+DigitizeResult DigitizeHalftoneCalibration(const GeneratedCalibration& g) {
+  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
+  DigitizeResult result =
+      DigitizePhoto(g.photo, {10, 8}, TraceRequestsOf(g.calibration), DigitizeOptions{});
+  INFO(result.Failure());
+  REQUIRE(result.ok);
+  REQUIRE(result.traces.size() == 1);
+  return result;
+}
+
 }  // namespace
 
 // Randomised seed 1001 (the generator's handling on, as in bench_robustness),
@@ -168,13 +180,7 @@ TEST_CASE("digitize: a bold printed trace lying along a grid line is told from i
 TEST_CASE("digitize: a bold trace as dark as the grid and lying along its lines is told by width") {
   testing::TempDir dir;
   const GeneratedCalibration g = LoadGeneratedCalibration(dir, 2021, "L-0.713");
-  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
-  const DigitizeOptions options;
-  const DigitizeResult result =
-      DigitizePhoto(g.photo, {10, 8}, TraceRequestsOf(g.calibration), options);
-  INFO(result.Failure());
-  REQUIRE(result.ok);
-  REQUIRE(result.traces.size() == 1);
+  const DigitizeResult result = DigitizeHalftoneCalibration(g);
   const DigitizedTrace& trace = result.traces[0];
   const double far_px = 0.2 * trace.width_px;
   const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
@@ -186,7 +192,7 @@ TEST_CASE("digitize: a bold trace as dark as the grid and lying along its lines 
   // Measured: 722 samples over 71 % of the sweep, 76 more than a fifth of the
   // width (5.4 px) off, 2.8 px RMS (a tenth of the width), the trace 27 px
   // wide against the grid lines' 9.6 and 1.27 times as high.
-  CHECK(trace.height < options.traces.min_height_over_grid * result.graticule.line_contrast);
+  CHECK(trace.height < TraceOptions{}.min_height_over_grid * result.graticule.line_contrast);
   CHECK(trace.width_px > 2.0 * result.graticule.line_width_px);
   CHECK(trace.coverage > 0.5);
   CHECK(far <= trace.centre_px.size() / 8);
@@ -204,13 +210,7 @@ TEST_CASE("digitize: a bold trace as dark as the grid and lying along its lines 
 TEST_CASE("digitize: a bold trace is read where the thin reading followed a pen stroke beside it") {
   testing::TempDir dir;
   const GeneratedCalibration g = LoadGeneratedCalibration(dir, 1032, "R-0.713");
-  REQUIRE(g.truth["look"]["reproduction"] == "halftone");
-  const DigitizeOptions options;
-  const DigitizeResult result =
-      DigitizePhoto(g.photo, {10, 8}, TraceRequestsOf(g.calibration), options);
-  INFO(result.Failure());
-  REQUIRE(result.ok);
-  REQUIRE(result.traces.size() == 1);
+  const DigitizeResult result = DigitizeHalftoneCalibration(g);
   const DigitizedTrace& trace = result.traces[0];
   const double far_px = 0.2 * trace.width_px;
   const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
@@ -261,8 +261,7 @@ TEST_CASE("digitize: a weak thin reading asks for the bold one only where broad 
   // has lost a fifth of its height or more there.
   CHECK(digitize::AsksForBoldReading(SampledTrace(0.0, 10.0, 0.02, 0.45, 12.0), photo, sweep));
   // Seen along enough of the sweep, it does not ask, however broad.
-  CHECK_FALSE(
-      digitize::AsksForBoldReading(SampledTrace(0.0, 10.0, 0.02, 0.7, 12.0), photo, sweep));
+  CHECK_FALSE(digitize::AsksForBoldReading(SampledTrace(0.0, 10.0, 0.02, 0.7, 12.0), photo, sweep));
 
   // A thin line followed for 4 divisions, nothing after: 60 % of the sweep missed.
   const DigitizedTrace part = SampledTrace(0.0, 4.0, 0.01, 0.4, 6.0);
