@@ -123,6 +123,12 @@ class PeakShape {
   double half_, speed_;
 };
 
+// The longest lag, in samples, at which a peak fit's errors' autocovariance
+// is estimated (a quarter of the window where that is less): a digitized
+// trace's errors decorrelate within a few samples of blur, and every lag
+// more costs the estimate precision.
+constexpr int kPeakFitMaxLag = 20;
+
 struct PeakFit {
   Estimate xmax, t_peak;
   double amplitude = 0.0, offset = 0.0;  // X = offset + amplitude-shaped swing
@@ -184,12 +190,30 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
   // trace's blur and dashes, a scope's runs of equal codes): the fit holds
   // fewer independent readings than samples.
   const double inflation = CorrelationInflation({r.data(), static_cast<std::size_t>(n)});
-  const Eigen::Matrix3d cov = inflation * scatter * (jac.transpose() * jac).inverse();
+  const Eigen::Matrix3d normal_inverse = (jac.transpose() * jac).inverse();
+  const Eigen::Matrix3d cov = inflation * scatter * normal_inverse;
+  // But the fit follows part of the errors' slow wander, so its residuals'
+  // correlation falls off early and the inflation is short. The errors'
+  // autocovariance, with the fit's absorption undone, gives the maximum's
+  // and the peak time's variance through their weights on the samples; the
+  // larger of the two estimates is kept, since a short window tells a long
+  // correlation only in part.
+  const std::vector<double> autocovariance = FitErrorAutocovariance(
+      {r.data(), static_cast<std::size_t>(n)}, {jac.data(), static_cast<std::size_t>(jac.size())},
+      3, std::min(n / 4, kPeakFitMaxLag));
+  const auto variance_of = [&](const Eigen::Vector3d& gradient) {
+    const double linear = gradient.dot(cov * gradient);
+    if (autocovariance.empty()) return std::max(0.0, linear);
+    const Eigen::VectorXd weights = jac * (normal_inverse * gradient);
+    return std::max(
+        linear, CorrelatedVariance(autocovariance,
+                                   {weights.data(), static_cast<std::size_t>(weights.size())}));
+  };
 
   PeakFit fit;
   // X max = amplitude + offset.
-  fit.xmax = {q(0) + q(2), std::sqrt(std::max(0.0, cov(0, 0) + cov(2, 2) + 2.0 * cov(0, 2)))};
-  fit.t_peak = {h.time_s[top] + q(1), std::sqrt(std::max(0.0, cov(1, 1)))};
+  fit.xmax = {q(0) + q(2), std::sqrt(variance_of({1.0, 0.0, 1.0}))};
+  fit.t_peak = {h.time_s[top] + q(1), std::sqrt(variance_of({0.0, 1.0, 0.0}))};
   fit.amplitude = q(0);
   fit.offset = q(2);
   // The unweighted residuals, from the weighted ones at the solution.
