@@ -205,9 +205,9 @@ PeakFit FitPeak(const DisplacementHistory& h, const Pendulum& p, std::size_t lo,
     const double linear = gradient.dot(cov * gradient);
     if (autocovariance.empty()) return std::max(0.0, linear);
     const Eigen::VectorXd weights = jac * (normal_inverse * gradient);
-    return std::max(
-        linear, CorrelatedVariance(autocovariance,
-                                   {weights.data(), static_cast<std::size_t>(weights.size())}));
+    return std::max(linear,
+                    CorrelatedVariance(autocovariance,
+                                       {weights.data(), static_cast<std::size_t>(weights.size())}));
   };
 
   PeakFit fit;

@@ -111,10 +111,9 @@ TEST_CASE("estimate: a fit's errors' autocovariance is recovered from its residu
     double state = e(rng);
     for (int i = 0; i < n; ++i) errors(i) = state = 0.8 * state + 0.6 * e(rng);
     const Eigen::VectorXd r = hat_free * errors;
-    const std::vector<double> gamma =
-        FitErrorAutocovariance({r.data(), static_cast<std::size_t>(n)},
-                               {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())},
-                               3, n / 4);
+    const std::vector<double> gamma = FitErrorAutocovariance(
+        {r.data(), static_cast<std::size_t>(n)},
+        {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())}, 3, n / 4);
     REQUIRE(gamma.size() >= 2);
     gamma0 += gamma[0] / windows;
     gamma1 += gamma[1] / windows;
@@ -143,10 +142,9 @@ std::pair<double, double> MaximumPullRms(int n, int windows, Errors errors_of) {
     const double error = q(0) + q(2);
     const double linear = CorrelationInflation({r.data(), static_cast<std::size_t>(n)}) *
                           r.squaredNorm() / (n - 3) * w.maximum_weights.squaredNorm();
-    const std::vector<double> gamma =
-        FitErrorAutocovariance({r.data(), static_cast<std::size_t>(n)},
-                               {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())},
-                               3, std::min(n / 4, 20));
+    const std::vector<double> gamma = FitErrorAutocovariance(
+        {r.data(), static_cast<std::size_t>(n)},
+        {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())}, 3, std::min(n / 4, 20));
     const double corrected = std::max(
         linear, CorrelatedVariance(gamma, {w.maximum_weights.data(),
                                            static_cast<std::size_t>(w.maximum_weights.size())}));
@@ -156,7 +154,8 @@ std::pair<double, double> MaximumPullRms(int n, int windows, Errors errors_of) {
   return {std::sqrt(inflated_pull2), std::sqrt(corrected_pull2)};
 }
 
-TEST_CASE("estimate: a peak fit's sigma holds for blurred errors where the inflation alone is short") {
+TEST_CASE(
+    "estimate: a peak fit's sigma holds for blurred errors where the inflation alone is short") {
   // Errors blurred over 2 samples (a digitized trace's spot), 120-sample
   // windows: the residuals' inflation alone understates the maximum's error
   // (pull RMS ~1.35); the larger of it and the corrected autocovariance's
@@ -186,10 +185,9 @@ TEST_CASE("estimate: white errors' autocovariance is their variance, and their s
   const int windows = 300;
   for (int rep = 0; rep < windows; ++rep) {
     const Eigen::VectorXd r = hat_free * white();
-    const std::vector<double> gamma =
-        FitErrorAutocovariance({r.data(), static_cast<std::size_t>(n)},
-                               {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())},
-                               3, 20);
+    const std::vector<double> gamma = FitErrorAutocovariance(
+        {r.data(), static_cast<std::size_t>(n)},
+        {w.jacobian.data(), static_cast<std::size_t>(w.jacobian.size())}, 3, 20);
     REQUIRE(!gamma.empty());
     gamma0 += gamma[0] / windows;
   }
