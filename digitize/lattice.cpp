@@ -488,10 +488,13 @@ FamilyMatch Grow(const Candidates& candidates, int j, int k, int m, int n_lines,
   return result;
 }
 
-// Which candidate lines are the grid's, and their indices.
+// Which candidate lines are the grid's, and their indices. Runs are grown
+// from pairs of the 24 strongest candidates, and of those from `extra_anchors`
+// on (a comb's lines, appended after the peaks: faint, but in step).
 std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, double theta_rad,
                                        int n_lines, double min_spacing_px, double max_spacing_px,
-                                       std::optional<double> expected_c = std::nullopt) {
+                                       std::optional<double> expected_c = std::nullopt,
+                                       std::size_t extra_anchors = 0) {
   // Positions along the transversal through the centre, across the family.
   Candidates candidates;
   std::vector<double>& u = candidates.u;
@@ -506,9 +509,14 @@ std::optional<FamilyMatch> MatchFamily(const std::vector<HoughLine>& lines, doub
                    [&](int a, int b) { return u[a] < u[b]; });
   for (const int i : candidates.by_u) candidates.u_in_order.push_back(u[i]);
   std::optional<FamilyMatch> best;
-  const int anchors = std::min<int>(static_cast<int>(lines.size()), 24);
-  for (int j = 0; j < anchors; ++j) {
-    for (int k = 0; k < anchors; ++k) {
+  std::vector<int> anchors(std::min<std::size_t>(lines.size(), 24));
+  std::iota(anchors.begin(), anchors.end(), 0);
+  for (std::size_t i = std::max(extra_anchors, anchors.size());
+       extra_anchors > 0 && i < lines.size(); ++i) {
+    anchors.push_back(static_cast<int>(i));
+  }
+  for (const int j : anchors) {
+    for (const int k : anchors) {
       if (u[k] <= u[j]) continue;
       for (int m = 1; m <= 3; ++m) {
         const double spacing = (u[k] - u[j]) / m;
@@ -724,30 +732,40 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   std::optional<FamilyMatch> matches[2];
   Pencil pencils[2];
   const char* family_names[2] = {"vertical", "horizontal"};
+  // The grid spans at least a fifth of the photo and at most all of it.
+  auto min_spacing = [&](int f) { return 0.2 * size / divisions[f] * (f == 0 ? 1.0 : 0.75); };
+  auto max_spacing = [&](int f) { return 1.1 * size / divisions[f]; };
+  auto needed = [&](int f) { return std::max(3, (divisions[f] + 2) / 2); };
+  auto enough = [&](const std::optional<FamilyMatch>& match, int f) {
+    return match && static_cast<int>(match->lines.size()) >= needed(f);
+  };
+  // A grid too faint for its lines to be peaks one by one (the photo's
+  // brightest lines set the floor) is looked for as a whole: the comb of
+  // evenly spaced lines the family's direction holds most of, its lines
+  // added to the family's candidates from comb_from[f] on (once).
+  std::size_t comb_from[2] = {0, 0};
+  auto add_comb = [&](int f, double lo_spacing, double hi_spacing) {
+    if (comb_from[f] > 0) return;
+    comb_from[f] = lines[f].size();
+    const double theta = Accumulator::Theta(dominant[f]);
+    for (const CombLine& line : FindComb(accumulator.CountProfile(dominant[f]), divisions[f] + 1,
+                                         lo_spacing, hi_spacing)) {
+      lines[f].push_back(
+          {theta, line.rho - accumulator.rho_offset(), line.votes * accumulator.unit()});
+    }
+  };
   for (int f = 0; f < 2; ++f) {
     const int lo = std::max(0, dominant[f] - spread);
     const int hi = std::min(kThetaBins - 1, dominant[f] + spread);
     lines[f] = accumulator.Peaks(lo, hi, 0.15, 48);
     const int n_lines = divisions[f] + 1;
-    // The grid spans at least a fifth of the photo and at most all of it.
-    const double min_spacing = 0.2 * size / divisions[f] * (f == 0 ? 1.0 : 0.75);
-    const double max_spacing = 1.1 * size / divisions[f];
-    matches[f] =
-        MatchFamily(lines[f], Accumulator::Theta(dominant[f]), n_lines, min_spacing, max_spacing);
-    const int needed = std::max(3, (n_lines + 1) / 2);
-    // A grid too faint for its lines to be peaks one by one (the photo's
-    // brightest lines set the floor) is looked for as a whole: the comb of
-    // evenly spaced lines the family's direction holds most of.
-    if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed) {
-      const double theta = Accumulator::Theta(dominant[f]);
-      for (const CombLine& line :
-           FindComb(accumulator.CountProfile(dominant[f]), n_lines, min_spacing, max_spacing)) {
-        lines[f].push_back(
-            {theta, line.rho - accumulator.rho_offset(), line.votes * accumulator.unit()});
-      }
-      matches[f] = MatchFamily(lines[f], theta, n_lines, min_spacing, max_spacing);
+    const double theta = Accumulator::Theta(dominant[f]);
+    matches[f] = MatchFamily(lines[f], theta, n_lines, min_spacing(f), max_spacing(f));
+    if (!enough(matches[f], f)) {
+      add_comb(f, min_spacing(f), max_spacing(f));
+      matches[f] = MatchFamily(lines[f], theta, n_lines, min_spacing(f), max_spacing(f));
     }
-    if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed) {
+    if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed(f)) {
       *why = fmt::format("found {} of the {} {} grid lines in step",
                          matches[f] ? matches[f]->lines.size() : 0, n_lines, family_names[f]);
       return std::nullopt;
@@ -768,16 +786,49 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
     return std::abs(PerspectiveOf(lines[f], *matches[f], theta_of(f)).c - expected_c(f)) <=
            kPerspectiveTolerance;
   };
+  const std::optional<FamilyMatch> apart[2] = {matches[0], matches[1]};
+  const std::size_t apart_lines[2] = {lines[0].size(), lines[1].size()};
   for (int f = 0; f < 2; ++f) {
     if (agrees(f)) continue;
-    const int n_lines = divisions[f] + 1;
-    const double min_spacing = 0.2 * size / divisions[f] * (f == 0 ? 1.0 : 0.75);
-    const double max_spacing = 1.1 * size / divisions[f];
-    std::optional<FamilyMatch> again =
-        MatchFamily(lines[f], theta_of(f), n_lines, min_spacing, max_spacing, expected_c(f));
-    if (again && static_cast<int>(again->lines.size()) >= std::max(3, (n_lines + 1) / 2)) {
-      matches[f] = std::move(again);
+    std::optional<FamilyMatch> again = MatchFamily(lines[f], theta_of(f), divisions[f] + 1,
+                                                   min_spacing(f), max_spacing(f), expected_c(f));
+    if (enough(again, f)) matches[f] = std::move(again);
+  }
+  // Still two views: often one family is the grid's and the other's peaks
+  // hold too few of its faint lines, so that traces, a hair or a speck's
+  // fan of lines were matched in step instead. Each family in turn is
+  // matched again, the other's held, with its comb's lines as candidates
+  // and anchors and the perspective the held family gives; the lattice is
+  // taken when the two then agree (the one with more lines when both do).
+  if (!agrees(0) || !agrees(1)) {
+    std::optional<FamilyMatch> rescued[2];
+    for (int g = 0; g < 2; ++g) {
+      // The held family as matched apart: matched again above with the
+      // other's perspective, a right family is bent through junk.
+      matches[1 - g] = apart[1 - g];
+      // The comb is spaced as the held family, within the bounds a screen
+      // of square divisions seen tilted (up to 25 degrees) and in
+      // perspective allows: a comb at about half the grid's spacing (a
+      // trace's crests, a speck's fan of lines) stood in for the grid's.
+      const auto& held = matches[1 - g]->lines;
+      const double held_spacing = std::abs(lines[1 - g][held.back().second].rho_px -
+                                           lines[1 - g][held.front().second].rho_px) /
+                                  (held.back().first - held.front().first);
+      comb_from[g] = 0;
+      lines[g].resize(std::min(lines[g].size(), apart_lines[g]));
+      add_comb(g, std::max(min_spacing(g), 0.7 * held_spacing),
+               std::min(max_spacing(g), 1.45 * held_spacing));
+      std::optional<FamilyMatch> again =
+          MatchFamily(lines[g], theta_of(g), divisions[g] + 1, min_spacing(g), max_spacing(g),
+                      expected_c(g), comb_from[g]);
+      if (!enough(again, g)) continue;
+      std::swap(matches[g], again);
+      if (agrees(0) && agrees(1)) rescued[g] = matches[g];
+      std::swap(matches[g], again);
     }
+    auto total = [&](int g) { return rescued[g]->lines.size() + matches[1 - g]->lines.size(); };
+    const int g = !rescued[0] ? 1 : !rescued[1] ? 0 : total(1) > total(0) ? 1 : 0;
+    if (rescued[g]) matches[g] = std::move(rescued[g]), matches[1 - g] = apart[1 - g];
   }
   if (!agrees(0) || !agrees(1)) {
     *why = "the two families of lines found are not one perspective view of a grid";

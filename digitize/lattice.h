@@ -7,9 +7,12 @@
 // whose positions along a transversal follow a projective progression
 // u(n) = (a n + b) / (c n + 1) (a perspective view of equal spacing) and
 // whose directions turn smoothly with n; traces, scratches and the bezel's
-// edge fall out of step with it. Each family's lines are then fitted as a
-// pencil l(n) = A + n B (the image of the screen lines x = n under a
-// homography), and their crossings give the homography.
+// edge fall out of step with it. The two families must be one perspective
+// view; where they are not, each is matched again through its comb of
+// evenly spaced lines (grid_comb.h), held by the other as matched apart.
+// Each family's lines are then fitted as a pencil l(n) = A + n B (the image
+// of the screen lines x = n under a homography), and their crossings give
+// the homography.
 #pragma once
 
 #include <array>
