@@ -750,9 +750,16 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   CheckSweepsAgainstPendulum(session, pendulum, result);
   for (const RunResult& run : result.runs) {
     if (!run.ok || !run.measured.right || !run.measured.left) continue;
-    if (const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left)) {
+    const auto disagreement = FirstDisagreement(*run.measured.right, *run.measured.left);
+    if (disagreement && run.measured.xmax.size() <= disagreement->rebound) {
       result.warnings.push_back(fmt::format("run \"{}\": its maxima stop at rebound {}: {}", run.id,
                                             disagreement->rebound, disagreement->why));
+    } else if (disagreement) {
+      // The pendulum's clock told the misread bar (MeanOfBars).
+      result.warnings.push_back(fmt::format(
+          "run \"{}\": {}; that rebound is the other bar's, the one on the pendulum's clock, "
+          "less the bars' common swing",
+          run.id, disagreement->why));
     } else if (const auto lost = OneBarStretch(*run.measured.right, *run.measured.left,
                                                run.measured.xmax.size())) {
       result.warnings.push_back(fmt::format("run \"{}\": {}", run.id, *lost));

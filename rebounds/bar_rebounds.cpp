@@ -175,6 +175,18 @@ bool PeaksApart(const BarRebounds& a, std::size_t i, const BarRebounds& b, std::
   return std::abs(a.t_peak[i] - b.t_peak[j]) > kPeakShareOfDuration * duration;
 }
 
+// The rebounds both bars show whose peaks agree (not PeaksApart).
+std::vector<SharedRebound> Agreeing(const BarRebounds& right, const BarRebounds& left) {
+  std::vector<SharedRebound> out;
+  for (const SharedRebound& s : Shared(right, left)) {
+    if (!PeaksApart(right, s.right, left, s.left,
+                    0.5 * (right.duration[s.right] + left.duration[s.left]))) {
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
 // Appends row `i` of `bar` to `session`, its maximum moved by `shift`
 // (sigma `shift_sigma` added in quadrature).
 void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift_sigma,
@@ -396,9 +408,10 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged) {
   BarRebounds out;
   const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
-  const int stop =
-      disagreement ? static_cast<int>(disagreement->rebound) : std::numeric_limits<int>::max();
-  const std::vector<SharedRebound> shared = Shared(right, left, stop);
+  // The rebounds whose peaks the bars agree on set the pendulum's clock and
+  // the common swing; one they disagree on is one bar's misread, and which
+  // one the clock tells (below).
+  const std::vector<SharedRebound> shared = Agreeing(right, left);
   // Each bar's own release; the averaged history's where a bar's is not
   // known.
   out.release = right.release.sigma > 0.0 && left.release.sigma > 0.0
@@ -408,8 +421,17 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
   // The average's rows hold as far as its numbering does.
   const int average_end = disagreement ? 0 : AnchoredRows(right, left, averaged);
   const Estimate common = CommonSwingForOneBar(right, left, shared);
-  for (int n = 0; n < stop; ++n) {
-    const std::optional<std::size_t> r = right.RowOf(n), l = left.RowOf(n);
+  for (int n = 0;; ++n) {
+    std::optional<std::size_t> r = right.RowOf(n), l = left.RowOf(n);
+    if (r && l && PeaksApart(right, *r, left, *l, 0.5 * (right.duration[*r] + left.duration[*l]))) {
+      // The bar whose peak the clock of the agreeing rebounds puts here is
+      // the one read right; where both or neither are (or no clock runs),
+      // nothing tells them apart and the sequence ends.
+      const bool right_on = OnTheClock(right, left, shared, n, right, *r);
+      const bool left_on = OnTheClock(right, left, shared, n, left, *l);
+      if (shared.empty() || right_on == left_on) break;
+      (right_on ? l : r).reset();
+    }
     if (r && l) {
       const SharedRebound s{n, *r, *l};
       const Estimate maximum = MaximumOfPair(right, left, s, CommonSwing(right, left, shared, n));

@@ -109,7 +109,7 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 
 // The session's maxima from both bars (session numbering, gap-free), each
 // rebound from the best the bars give:
-// - both bars show it: the mean of the bars' own (the thesis's average of
+// - both bars show it and their peaks agree: the mean of the bars' own (the thesis's average of
 //   the two displacements at its peak, without reading one bar at the
 //   other's sample times), each bar weighted by its sigma through the bars'
 //   common swing (a bar read badly at a rebound gives way to the other), the
@@ -121,11 +121,16 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 //   length with alternating sign), its error added in quadrature; only where
 //   two or more of those agree on it, once the one furthest off (a bar
 //   misread there) is left out.
+// A rebound whose peaks the bars disagree about (FirstDisagreement) is the
+// one bar's whose peak lies on the pendulum's clock (the peaks both bars
+// agree on, half a period apart), the other's reading left out; the clock
+// and the common swing come from the rebounds the bars agree on.
 // The sequence stops at the first rebound none of these gives, at the first
-// the bars disagree about (past it neither can be trusted), and at the first
-// taken from one history alone whose peak is more than a tenth of a half
-// period from where the pendulum's clock (the peaks both bars show, half a
-// period apart) puts it.
+// the bars disagree about where the clock does not tell one bar (both or
+// neither on it, or no clock), and at the first taken from one history alone
+// whose peak is more than a tenth of a half period from where the clock puts
+// it. The averaged history gives no row where the bars disagree anywhere
+// (it mixes the misread bar's trace).
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged);
 

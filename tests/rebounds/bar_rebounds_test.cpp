@@ -76,7 +76,8 @@ TEST_CASE("bar_rebounds: the session's maxima are the bars' mean, then the avera
   CHECK(both.xmax_sigma[2] == Approx(2e-4));
 }
 
-TEST_CASE("bar_rebounds: the maxima stop where one bar's rebounds slipped against the other's") {
+TEST_CASE(
+    "bar_rebounds: where one bar's rebounds slipped against the other's, the clock tells which") {
   // The right bar misread its rebound 2 (a scratch near the peak) and from
   // there on numbers each rebound one early: its rebound 2 peaks 0.29 s after
   // the left bar's, its rebound 3 is the left bar's 4. Averaged by number,
@@ -102,9 +103,23 @@ TEST_CASE("bar_rebounds: the maxima stop where one bar's rebounds slipped agains
   REQUIRE(disagreement.has_value());
   CHECK(disagreement->rebound == 2);
   CHECK_THAT(disagreement->why, Catch::Contains("slipped"));
-  const BarRebounds both = MeanOfBars(right, left, left);
-  REQUIRE(both.xmax.size() == 2);  // the averaged history's own are not appended either
+  // The pendulum's clock (rebounds 0 and 1, 0.75 s apart) puts rebound 2 at
+  // 2.25 s: the left bar's, read right. From there on the left bar alone
+  // gives the rebounds, less the bars' common swing (none here).
+  BarRebounds both = MeanOfBars(right, left, left);
+  REQUIRE(both.xmax.size() == 5);
   CHECK(both.xmax[1] == Approx(0.46));
+  CHECK(both.xmax[2] == Approx(0.37));
+  CHECK(both.xmax[4] == Approx(0.24));
+  CHECK(both.t_peak[3] == Approx(3.00));
+  CHECK(both.xmax_sigma[2] > 1e-3);  // the bar's own and the common swing's
+
+  // Neither bar's rebound 2 on the clock: nothing tells which was read
+  // right, and the maxima stop there (the averaged history's own are not
+  // appended either).
+  left.t_peak[2] = 2.10;
+  both = MeanOfBars(right, left, left);
+  REQUIRE(both.xmax.size() == 2);
 
   // Peaks 0.2 ms apart, maxima 6 % apart (the bars' exchange of momentum
   // leaves them a constant length apart): they agree.

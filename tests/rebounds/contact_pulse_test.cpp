@@ -66,5 +66,32 @@ TEST_CASE("contact_pulse: a ramp the samples follow keeps the slope's sigma") {
   CHECK(m.pulse.width_s.value == Approx(width).margin(0.05e-6));
 }
 
+TEST_CASE("contact_pulse: two samples on an edge across a gap in the trace state the gap") {
+  // A trace read in 1 us samples, lost for 50 us about the fall (the beam
+  // lost to the tracking): two samples half way down the step, on a trace
+  // misread 4 us before the true fall, cross half the step there.
+  const double rise = 100e-6, width = 353e-6, fall = rise + width;
+  Trace trace;
+  for (double t = 0.0; t < 1e-3; t += 1e-6) {
+    if (t > fall - 50e-6 && t < fall + 2e-6) continue;  // the gap
+    trace.time_s.push_back(t);
+    trace.volts.push_back(t >= rise && t < fall ? 2.5 : 0.1);
+  }
+  // The two samples on the misread edge, within the gap.
+  const auto at =
+      std::lower_bound(trace.time_s.begin(), trace.time_s.end(), fall) - trace.time_s.begin();
+  trace.time_s.insert(trace.time_s.begin() + at, {fall - 5.5e-6, fall - 5.2e-6});
+  trace.volts.insert(trace.volts.begin() + at, {1.7, 0.8});
+  const ContactPulseMeasurement m = MeasureContactPulse(trace);
+  REQUIRE(m.ok);
+  // Some 5 us short (the rise is timed to its 1 us interval): the sigma
+  // spans the gap either side of the two samples.
+  CHECK(m.pulse.width_s.value == Approx(width - 5.4e-6).margin(1e-6));
+  CHECK(m.pulse.fall_s.sigma > 40e-6 / std::sqrt(12.0));
+  CHECK(std::abs(m.pulse.width_s.value - width) < m.pulse.width_s.sigma);
+  // The rise, where the trace is followed, keeps its interval's sigma.
+  CHECK(m.pulse.rise_s.sigma < 1e-6);
+}
+
 }  // namespace
 }  // namespace impactlab
