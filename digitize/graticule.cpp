@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -56,6 +57,21 @@ constexpr int kMinShrinkToLookCloser = 3;
 // On a halftone print the residual a share of a division allows is held
 // below this share of the screen's period (GraticuleOptions::max_residual_div).
 constexpr double kMaxResidualScreenPeriods = 0.2;
+
+// On a halftone print whose grid lines stand out of the screen
+// (LinesAboveScreen), the residual allowed, as a share of the screen's
+// period: a line drawn in dots a period apart is placed by them to within
+// half a period (period / sqrt(12) RMS for a thin line), ink spread and
+// compression moving its dots further; what its dots place it to is all
+// the print says of it.
+constexpr double kMaxResidualDotPeriods = 0.6;
+// ... and how far its lines must stand out: the ink across them, on the
+// line, at least this many times what it is a period to either side.
+// Along a lattice on the screen's rows of dots it is as high there
+// (randomised seed 2002's run 0.405, a lattice off the grid's lines at
+// 1.2-1.4; the grid's own lattices of 1015's run 0.713 and 3015's, 3025's
+// calibrations at 2.0-2.6).
+constexpr double kMinLinesAboveScreen = 1.75;
 
 // The length of grid line each measurement averages (divisions) when the
 // lines measured over options.line_average_div miss the lattice fitted to
@@ -613,6 +629,52 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
   return std::nullopt;
 }
 
+// How far the lattice's lines stand out of a print's screen, the least of
+// its two families: the ink across the family's lines, at each offset the
+// median over every place they are measured at (traces and gaps left out),
+// on the line over what it is a period to either side. A lattice on the
+// screen's rows of dots has as high a row a period either side; the grid's
+// own lines stand out of their neighbourhood.
+double LinesAboveScreen(const InkSampler& ink, const GraticuleFit& fit, int samples_per_div,
+                        double period_px) {
+  constexpr double kStepPx = 0.5;
+  const int steps = static_cast<int>(std::ceil(1.25 * period_px / kStepPx));
+  double least = std::numeric_limits<double>::infinity();
+  for (int family = 0; family < 2; ++family) {
+    const cv::Point2d across = family == 0 ? cv::Point2d(1.0, 0.0) : cv::Point2d(0.0, 1.0);
+    std::vector<std::vector<float>> at(2 * steps + 1);
+    for (int index = 0; index <= fit.divisions[family]; ++index) {
+      const double line_div = family == 0 ? index : index - 0.5 * fit.divisions[1];
+      const bool centre_axis = 2 * index == fit.divisions[family];
+      for (const double along :
+           SamplePositions(fit.divisions[1 - family], samples_per_div, centre_axis)) {
+        const cv::Point2d on = family == 0 ? cv::Point2d(line_div, along - 0.5 * fit.divisions[1])
+                                           : cv::Point2d(along, line_div);
+        const double px_per_div = cv::norm(ImageFromScreen(fit.mapping, on + across * 0.01) -
+                                           ImageFromScreen(fit.mapping, on - across * 0.01)) /
+                                  0.02;
+        for (int k = -steps; k <= steps; ++k) {
+          const cv::Point2d p =
+              ImageFromScreen(fit.mapping, on + across * (k * kStepPx / px_per_div));
+          at[k + steps].push_back(ink(p.x, p.y));
+        }
+      }
+    }
+    std::vector<double> profile;
+    for (std::vector<float>& values : at) profile.push_back(digitize::MedianOf(values));
+    const double floor = *std::min_element(profile.begin(), profile.end());
+    double on_line = 0.0, aside = 0.0;
+    for (int k = -steps; k <= steps; ++k) {
+      const double offset_px = std::abs(k * kStepPx);
+      const double v = profile[k + steps] - floor;
+      if (offset_px <= 0.25 * period_px) on_line = std::max(on_line, v);
+      if (offset_px >= 0.75 * period_px) aside = std::max(aside, v);
+    }
+    least = std::min(least, aside > 0.0 ? on_line / aside : (on_line > 0.0 ? 1e9 : 0.0));
+  }
+  return least;
+}
+
 // The lattice from `homography` (photo pixels from screen divisions) fitted
 // to the lines measured, and what its lines say against it. Throws
 // InputError when the lines cannot be measured or fitted.
@@ -957,6 +1019,17 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
       longer.line_average_div = kFaintLineAverageDiv;
       return Refine(photo, divisions, longer, homography, hinted, start);
     }
+    // A coarse print: its lines, drawn in its dots, are placed no closer
+    // than the dots are to them, and its lattice is judged by how its lines
+    // stand out of the screen's rows instead (randomised seeds 1015's run
+    // 0.713, a 7.8 px screen, and 3015's, 3025's calibrations: their lattices
+    // within 1.8 px of the true ones at corners, missing their lines by 0.3
+    // to 0.46 of a period RMS).
+    const double period_px = photo.halftone_period_px;
+    const bool print_lines_stand_out =
+        period_px > 0.0 && result.residual_px <= kMaxResidualDotPeriods * period_px &&
+        LinesAboveScreen(ink, result, options.samples_per_div, period_px) >= kMinLinesAboveScreen;
+    if (print_lines_stand_out) return {std::move(result), std::move(problem)};
     NotFound(photo, divisions,
              fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px: "
                          "{:.2f} px, {:.2f} of the lines' {:.2f} px width or {:.2f} px of a "
