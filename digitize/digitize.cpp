@@ -207,8 +207,9 @@ std::vector<DigitizedTrace> ReadThinOrBold(const PreparedPhoto& prepared,
 // reading reads is read so: every reading of a photo read before stands (a
 // width test in every reading let a reading with hand marks taken out,
 // which saw the trace along 16 % of the sweep, replace a reading along 46 %
-// of it: randomised seed 1021's calibration ). When it fails too, the
-// first failure stands.
+// of it: randomised seed 1021's calibration ). When it fails too, it
+// is read once more seeking a trace refused as a grid line off the grid's
+// rows; when that fails too, the first failure stands.
 std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepared,
                                                     const GraticuleFit& graticule,
                                                     const std::vector<TraceRequest>& requests,
@@ -222,6 +223,17 @@ std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepare
     by_width.tell_bold_by_width = true;
     try {
       return ReadThinOrBold(prepared, graticule, requests, by_width, result);
+    } catch (const InputError&) {
+      // Read again below off the grid's rows.
+    }
+    // A trace refused as a grid line is then sought again with the grid's
+    // rows withheld (docs/digitizing.md, "A trace in the grid's ink"): a
+    // trace printed in the grid's ink, its course drawn onto a row that pays
+    // as well as it does.
+    TraceOptions off_rows = by_width;
+    off_rows.off_grid_rows = true;
+    try {
+      return ReadThinOrBold(prepared, graticule, requests, off_rows, result);
     } catch (const InputError&) {
       throw failure;
     }

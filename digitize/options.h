@@ -165,6 +165,11 @@ struct TraceOptions {
   // like them). The digitizer turns it on only to read again a photo whose
   // every reading failed (docs/digitizing.md).
   bool tell_bold_by_width = false;
+  // Not a setting: a trace refused as a grid line followed by mistake is
+  // tracked again with the horizontal grid lines' rows withheld. The
+  // digitizer turns it on only to read again a photo whose every reading
+  // failed (docs/digitizing.md).
+  bool off_grid_rows = false;
 
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {

@@ -669,6 +669,47 @@ double ShareOnGridLines(const DigitizedTrace& trace, const GraticuleFit& graticu
 // a bold trace measures twice to three times their width.
 constexpr double kWiderThanGridLine = 1.75;
 
+// A trace followed off the grid's rows is judged as any reading is, and more
+// strictly: it must lie off the grid's lines in more than half its samples
+// (below kOffRowsMaxOnLines), be seen off them along options' min_coverage of
+// the sweep, and stand at least kOffRowsMinHeight as high as a grid line.
+// Printed in the grid's ink, it stands as high as the lines; a hair or a
+// scratch a course takes beside a faint trace stands far lower (randomised
+// seed 1014's run 0.713: 0.43, a fifth of its samples half a division off).
+// A reading whose samples still lie mostly on the lines was drawn back onto
+// them, or onto strokes beside them: randomised seed 2022's calibration
+// L-0.405, 78 % on the lines, its last samples on a pen stroke 0.7 division
+// off the trace, misread its run's largest rebound by 28 % of X0.
+constexpr double kOffRowsMinHeight = 0.8, kOffRowsMaxOnLines = 0.5;
+
+struct OffRowsReading {
+  CoarsePath path;
+  DigitizedTrace trace;
+};
+
+// A trace whose course followed the grid's lines (refused: it lies on them
+// and stands no higher) may be beside them: a trace printed in the grid's
+// own ink, as dark as its lines and no narrower at the working scale, which
+// the course leaves for a row that pays as well and runs straight. Once the
+// lattice is known, its rows are known: the course is sought again with no
+// candidate on a horizontal line's row, and it then takes the trace, bridging
+// its crossings of the rows. Empty where the reading is not taken.
+std::optional<OffRowsReading> ReadOffGridRows(
+    const PreparedPhoto& photo, const GraticuleFit& graticule, const TraceRequest& request,
+    const TraceOptions& options, const digitize::TrackGrid& grid, const digitize::Claims& claims) {
+  CoarsePath path = digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
+                                         /*off_grid_rows=*/true);
+  if (path.seen_columns == 0) return std::nullopt;
+  DigitizedTrace trace = MeasureTrace(photo, graticule, request, path, options);
+  const double on_lines = ShareOnGridLines(trace, graticule);
+  if (trace.trace.time_s.empty() || on_lines >= kOffRowsMaxOnLines ||
+      trace.coverage * (1.0 - on_lines) < options.min_coverage ||
+      trace.height < kOffRowsMinHeight * graticule.line_contrast) {
+    return std::nullopt;
+  }
+  return OffRowsReading{std::move(path), std::move(trace)};
+}
+
 bool WiderThanGridLines(const DigitizedTrace& trace, const GraticuleFit& graticule) {
   return graticule.line_width_px > 0.0 &&
          trace.width_px >= kWiderThanGridLine * graticule.line_width_px;
@@ -754,7 +795,7 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
   for (const std::size_t i : order) {
     const TraceRequest& request = requests[i];
     CheckPoints(photo, graticule, request);
-    const CoarsePath path =
+    CoarsePath path =
         digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims);
     DigitizedTrace trace;
     if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
@@ -762,10 +803,23 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
     // is a grid line, unless it is far wider than they are (WiderThanGridLines,
     // on a last reading). Off them no line of the graticule can pass for a trace, however faint
     // the trace (a print's bright graticule, a fast beam).
-    const bool bright_enough =
-        trace.height >= options.min_height_over_grid * graticule.line_contrast ||
-        ShareOnGridLines(trace, graticule) < 0.5 ||
-        (options.tell_bold_by_width && WiderThanGridLines(trace, graticule));
+    const auto bright_enough_of = [&](const DigitizedTrace& t) {
+      return t.height >= options.min_height_over_grid * graticule.line_contrast ||
+             ShareOnGridLines(t, graticule) < 0.5 ||
+             (options.tell_bold_by_width && WiderThanGridLines(t, graticule));
+    };
+    bool bright_enough = bright_enough_of(trace);
+    // Refused as a grid line, a continuous trace is sought again off the
+    // grid's rows (ReadOffGridRows); a contact trace's levels lie on them by
+    // design, and are never sought so.
+    if (options.off_grid_rows && !bright_enough && !request.settings.impact) {
+      if (std::optional<OffRowsReading> again =
+              ReadOffGridRows(photo, graticule, request, options, grid, claims)) {
+        trace = std::move(again->trace);
+        path = std::move(again->path);
+        bright_enough = true;
+      }
+    }
     const bool seen = !trace.trace.time_s.empty() && trace.coverage >= options.min_coverage;
     if (seen && !bright_enough) {
       // Say what was seen: a line along the sweep, but no brighter than the

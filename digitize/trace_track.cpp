@@ -769,7 +769,7 @@ bool Claims::Taken(int column, double y_div) const {
 
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
-                      const TrackGrid& grid, const Claims& claims) {
+                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows) {
   Strip strip = CutStrip(photo, graticule.mapping, graticule.divisions, settings, grid);
   const double line_height = SuppressGrid(strip, graticule.divisions);
   const cv::Mat1f& image = strip.image;
@@ -795,6 +795,14 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   // Beside a point the user gave, any peak is a candidate: the user has seen
   // the trace there, however faint, or wherever a grid line runs.
   const HintedPoints hints(settings, graticule.mapping, strip, grid);
+  // A horizontal grid line's row: within a line's width of it (at least a
+  // strip pixel and a half), where a grid line's own peaks lie.
+  const double row_reach_div =
+      std::max(1.5 / grid.px_per_div, graticule.line_width_px / graticule.px_per_div);
+  const auto on_grid_row = [&](double y_div) {
+    const double from_line = y_div + 0.5 * graticule.divisions[1];
+    return std::abs(from_line - std::round(from_line)) <= row_reach_div;
+  };
 
   // Each column's peaks, read down the columns laid out as rows.
   const cv::Mat1f across = image.t();
@@ -816,6 +824,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
         if (v <= grid_floor && near_grid(grid.XOf(c), strip.YOf(row))) continue;
       }
       if (claims.Taken(c, strip.YOf(row))) continue;
+      if (off_grid_rows && hint_reward == 0.0 && on_grid_row(strip.YOf(row))) continue;
       nodes.push_back({c, row, v, hint_reward});
     }
     // The brightest few, and every hinted one.

@@ -52,9 +52,12 @@ struct CoarsePath {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 };
 
+// With `off_grid_rows`, no candidate is taken on a horizontal grid line's
+// row (within a line's width of it): the course is sought again so where its
+// first one followed a grid line.
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
-                      const TrackGrid& grid, const Claims& claims);
+                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows = false);
 
 // Adds the path's course (and its bridged gaps) to `claims`.
 void Claim(const CoarsePath& path, double half_width_div, Claims& claims);
