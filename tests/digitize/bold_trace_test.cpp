@@ -14,6 +14,7 @@
 #include "digitize/digitize.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -30,11 +31,7 @@ struct GeneratedCalibration {
 
 GeneratedCalibration LoadGeneratedCalibration(const testing::TempDir& dir, unsigned seed,
                                               const std::string& id) {
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = seed;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(seed));
   GeneratedCalibration g;
   bool found = false;
   for (const Calibration& c : summary.manifest.calibrations) {
@@ -294,11 +291,7 @@ TEST_CASE("digitize: a weak thin reading asks for the bold one only where broad 
 // its samples lie on the generator's centre line.
 TEST_CASE("digitize: a trace in the grid's ink is sought again off the grid's rows") {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = 4022;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(4022));
   const Run* run = nullptr;
   for (const Run& r : summary.manifest.runs) {
     if (r.id == "0.713") run = &r;

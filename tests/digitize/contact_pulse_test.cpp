@@ -18,6 +18,7 @@
 #include "render/oscillograph.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -109,11 +110,7 @@ TEST_CASE("digitize: a printed pulse's stroke on a line is not averaged with its
   cv::setNumThreads(1);
   for (const std::uint64_t seed : {1023u}) {
     testing::TempDir dir;
-    SynthOptions synth;
-    synth.preset = "quick";
-    synth.style = PhotoStyle::kRandomised;
-    synth.seed = seed;
-    const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+    const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(seed));
     INFO("seed " << seed);
     const Run* run = nullptr;
     for (const Run& r : summary.manifest.runs) {

@@ -17,22 +17,11 @@
 #include "digitize/lattice.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
-namespace {
-
-GraticuleMapping MappingFromTruth(const nlohmann::json& mapping) {
-  GraticuleMapping result;
-  for (int i = 0; i < 9; ++i) result.homography.val[i] = mapping["homography"][i].get<double>();
-  result.radial_k1 = mapping["radial_k1"].get<double>();
-  result.distortion_centre_px = {mapping["distortion_centre_px"][0].get<double>(),
-                                 mapping["distortion_centre_px"][1].get<double>()};
-  result.distortion_radius_px = mapping["distortion_radius_px"].get<double>();
-  return result;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 // Seed 3 of the quick preset, run 0.713 (a person reads every grid line of
 // both photos). Its contact pulse is long: the trace's upper level is a
@@ -59,7 +48,7 @@ TEST_CASE("graticule: a long bright contact level and faint far grid lines do no
       if (run["id"] == "0.713") photo_truth = &run["photo"];
     }
     REQUIRE(photo_truth != nullptr);
-    const GraticuleMapping truth = MappingFromTruth((*photo_truth)["mapping"]);
+    const GraticuleMapping truth = testing::MappingFromTruth((*photo_truth)["mapping"]);
 
     const Photo photo = LoadPhoto(dir.path() / "s" / (*photo_truth)["file"].get<std::string>());
     const GraticuleOptions options;
@@ -116,10 +105,7 @@ struct RandomisedPhoto {
 // photo's own drawn size; `handling`: with marks, tape and prints).
 std::vector<std::pair<std::string, RandomisedPhoto>> LoadRandomisedSession(
     const testing::TempDir& dir, unsigned seed, int width_px = 0, bool handling = false) {
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = seed;
+  SynthOptions synth = testing::RandomisedSynth(seed);
   synth.width_px = width_px;
   // Most cases were found without the handling (marks about the traces,
   // tape, prints), which draws from a stream of its own.
@@ -130,11 +116,11 @@ std::vector<std::pair<std::string, RandomisedPhoto>> LoadRandomisedSession(
     for (const auto& item : summary.truth[kind]) {
       const auto& photo = item["photo"];
       if (photo.is_null()) continue;
-      photos.push_back(
-          {item["id"].get<std::string>(),
-           {LoadPhoto(dir.path() / "s" / photo["file"].get<std::string>()),
-            MappingFromTruth(photo["mapping"]), photo["look"].value("halftone_period_px", 0.0),
-            photo["look"].value("polarity", "") == "negative"}});
+      photos.push_back({item["id"].get<std::string>(),
+                        {LoadPhoto(dir.path() / "s" / photo["file"].get<std::string>()),
+                         testing::MappingFromTruth(photo["mapping"]),
+                         photo["look"].value("halftone_period_px", 0.0),
+                         photo["look"].value("polarity", "") == "negative"}});
     }
   }
   return photos;

@@ -8,31 +8,18 @@
 #include "digitize/digitize.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
 namespace {
-
-GraticuleMapping MappingFromTruth(const nlohmann::json& mapping) {
-  GraticuleMapping result;
-  for (int i = 0; i < 9; ++i) result.homography.val[i] = mapping["homography"][i].get<double>();
-  result.radial_k1 = mapping["radial_k1"].get<double>();
-  result.distortion_centre_px = {mapping["distortion_centre_px"][0].get<double>(),
-                                 mapping["distortion_centre_px"][1].get<double>()};
-  result.distortion_radius_px = mapping["distortion_radius_px"].get<double>();
-  return result;
-}
 
 // The graticule found on calibration `id` of randomised seed `seed` (as the
 // robustness benchmark generates it), and its worst error against the
 // truth, px.
 double WorstErrorOnRandomised(unsigned seed, const std::string& id, GraticuleFit* fit) {
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = seed;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+  const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(seed));
   for (const auto& item : summary.truth["calibrations"]) {
     if (item["id"].get<std::string>() != id || item["photo"].is_null()) continue;
     const nlohmann::json& photo = item["photo"];
@@ -40,7 +27,7 @@ double WorstErrorOnRandomised(unsigned seed, const std::string& id, GraticuleFit
     *fit = FindGraticule(
         PreparePhoto(LoadPhoto(dir.path() / "s" / photo["file"].get<std::string>()), options),
         {10, 8}, options);
-    return testing::WorstMappingError(*fit, MappingFromTruth(photo["mapping"]));
+    return testing::WorstMappingError(*fit, testing::MappingFromTruth(photo["mapping"]));
   }
   FAIL("no calibration " << id << " in seed " << seed);
   return 0.0;

@@ -11,6 +11,7 @@
 #include "io/errors.h"
 #include "synth/session_generator.h"
 #include "tests/digitize/photo_scenes.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -24,10 +25,7 @@ struct PrintPhoto {
 
 // Photo `id` of randomised quick session `seed`, and its true mapping.
 PrintPhoto LoadPrint(const testing::TempDir& dir, unsigned seed, const std::string& id) {
-  SynthOptions synth;
-  synth.preset = "quick";
-  synth.style = PhotoStyle::kRandomised;
-  synth.seed = seed;
+  SynthOptions synth = testing::RandomisedSynth(seed);
   synth.photo_handling = true;
   const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
   for (const char* kind : {"runs", "calibrations"}) {
