@@ -37,7 +37,20 @@ std::vector<double> FitErrorAutocovariance(std::span<const double> residual,
   const Eigen::Map<const Eigen::MatrixXd> j(jacobian.data(), n, p);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(j);
   const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
-  const auto hat = [&](Eigen::Index a, Eigen::Index b) { return q.row(a).dot(q.row(b)); };
+  // The hat matrix H = Q Q^T enters through sums along its diagonals:
+  // along[d][m] = sum over b < m of H(b + d, b), for offsets d up to twice
+  // the longest lag.
+  const Eigen::Index offsets = std::min<Eigen::Index>(2 * lags, n - 1);
+  std::vector<std::vector<double>> along(static_cast<std::size_t>(offsets + 1));
+  for (Eigen::Index d = 0; d <= offsets; ++d) {
+    std::vector<double>& sums = along[d];
+    sums.assign(static_cast<std::size_t>(n - d + 1), 0.0);
+    for (Eigen::Index b = 0; b < n - d; ++b) sums[b + 1] = sums[b] + q.row(b + d).dot(q.row(b));
+  }
+  // Sum of H(b + d, b) over b < m (0 where the diagonal lies outside).
+  const auto diagonal = [&](Eigen::Index d, Eigen::Index m) {
+    return d <= offsets && m > 0 ? along[d][std::min(m, n - d)] : 0.0;
+  };
   // L_j = sum_a Q_a Q_(a+j)^T, so that Q^T T_k Q = L_k + L_k^T (k > 0; L_0 at 0).
   std::vector<Eigen::MatrixXd> shifted(static_cast<std::size_t>(lags + 1));
   for (Eigen::Index lag = 0; lag <= lags; ++lag) {
@@ -52,22 +65,20 @@ std::vector<double> FitErrorAutocovariance(std::span<const double> residual,
     for (Eigen::Index k = 0; k <= lags; ++k) {
       // tr(S_j T_k): the products at lag j the pattern T_k holds.
       double trace = lag == k ? static_cast<double>(n - lag) : 0.0;
-      // tr(S_j H T_k) + tr(S_j T_k H), from the hat matrix's entries.
-      for (Eigen::Index a = 0; a + lag < n; ++a) {
-        const Eigen::Index row = a + lag;
-        if (k == 0) {
-          trace -= 2.0 * hat(row, a);
-          continue;
-        }
-        if (a + k < n) trace -= hat(row, a + k);
-        if (a - k >= 0) trace -= hat(row, a - k);
-        if (row + k < n) trace -= hat(row + k, a);
-        if (row - k >= 0) trace -= hat(row - k, a);
+      // tr(S_j H T_k) + tr(S_j T_k H): H(a+j, a+k) and H(a+j-k, a) run
+      // along diagonal |j - k|, H(a+j, a-k) and H(a+j+k, a) along j + k.
+      if (k == 0) {
+        trace -= 2.0 * diagonal(lag, n - lag);
+      } else {
+        const Eigen::Index apart = std::abs(lag - k), together = lag + k;
+        trace -= diagonal(apart, n - apart) - diagonal(apart, std::min(lag, k));
+        trace -= diagonal(apart, n - std::max(lag, k));
+        trace -= 2.0 * diagonal(together, n - together);
       }
       // tr(S_j H T_k H) = tr(Q^T T_k Q L_j).
-      const Eigen::MatrixXd pattern =
-          k == 0 ? shifted[0] : Eigen::MatrixXd(shifted[k] + shifted[k].transpose());
-      trace += (pattern * shifted[lag]).trace();
+      const Eigen::MatrixXd& own = shifted[k];
+      trace += k == 0 ? (own.array() * shifted[lag].transpose().array()).sum()
+                      : ((own + own.transpose()).array() * shifted[lag].transpose().array()).sum();
       system(lag, k) = trace;
     }
   }
