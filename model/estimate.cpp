@@ -52,9 +52,11 @@ std::vector<double> FitErrorAutocovariance(std::span<const double> residual,
     return d <= offsets && m > 0 ? along[d][std::min(m, n - d)] : 0.0;
   };
   // L_j = sum_a Q_a Q_(a+j)^T, so that Q^T T_k Q = L_k + L_k^T (k > 0; L_0 at 0).
-  std::vector<Eigen::MatrixXd> shifted(static_cast<std::size_t>(lags + 1));
+  std::vector<Eigen::MatrixXd> shifted(static_cast<std::size_t>(lags + 1)),
+      pattern(static_cast<std::size_t>(lags + 1));
   for (Eigen::Index lag = 0; lag <= lags; ++lag) {
     shifted[lag] = q.topRows(n - lag).transpose() * q.bottomRows(n - lag);
+    pattern[lag] = lag == 0 ? shifted[0] : Eigen::MatrixXd(shifted[lag] + shifted[lag].transpose());
   }
   // E[r^T S_j r] = tr(S_j M T_k M) gamma_k summed over k, with S_j picking
   // lag j's products and T_k the symmetric lag-k pattern; M = I - Q Q^T.
@@ -76,9 +78,7 @@ std::vector<double> FitErrorAutocovariance(std::span<const double> residual,
         trace -= 2.0 * diagonal(together, n - together);
       }
       // tr(S_j H T_k H) = tr(Q^T T_k Q L_j).
-      const Eigen::MatrixXd& own = shifted[k];
-      trace += k == 0 ? (own.array() * shifted[lag].transpose().array()).sum()
-                      : ((own + own.transpose()).array() * shifted[lag].transpose().array()).sum();
+      trace += (pattern[k].array() * shifted[lag].transpose().array()).sum();
       system(lag, k) = trace;
     }
   }

@@ -32,7 +32,8 @@ double CorrelationInflation(std::span<const double> residual);
 // own is not. A fit absorbs the part of the errors its model can follow, so
 // over a window a few correlation lengths long the residuals' correlation
 // falls off early and CorrelationInflation understates it (a peak fit over
-// 60 samples of errors blurred over 2 samples: by 1.45 in sigma). With the
+// 60-120 samples of errors blurred over 2 samples: by 1.35-1.6 in sigma,
+// in simulation). With the
 // residuals r = M e (M = I - J (J^T J)^-1 J^T, J the fit's n x p Jacobian,
 // column-major, weighted as fitted) and stationary errors of autocovariance
 // gamma_k, E[sum_i r_i r_(i+j)] is linear in gamma: that system, solved for

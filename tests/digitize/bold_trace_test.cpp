@@ -3,6 +3,7 @@
 // kept only its two edges, and the trace was "seen along 26 % of the sweep"
 // but no higher than a grid line.
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,27 @@ AgainstTruth ScoreAgainst(const std::vector<cv::Point2d>& centre_px, const Digit
   }
   score.rms_px = std::sqrt(sum_sq / trace.centre_px.size());
   return score;
+}
+
+// A bold trace's samples against the generator's centre line: those more
+// than a fifth of the trace's width off (3 px of a 16 px trace), their RMS,
+// and a line saying so against the grid's lines.
+struct BoldScore {
+  std::size_t far = 0;
+  double rms_px = 0.0;
+  std::string summary;
+};
+
+BoldScore ScoreBold(const GeneratedCalibration& g, const DigitizedTrace& trace,
+                    const GraticuleFit& graticule) {
+  const double far_px = 0.2 * trace.width_px;
+  const AgainstTruth score = ScoreAgainst(g.centre_px, trace, far_px);
+  std::ostringstream summary;
+  summary << trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, "
+          << score.far << " more than " << far_px << " px off the truth, RMS " << score.rms_px
+          << " px, width " << trace.width_px << " px against the grid's " << graticule.line_width_px
+          << ", height " << trace.height << " against the grid's " << graticule.line_contrast;
+  return {score.far, score.rms_px, summary.str()};
 }
 
 // A generated halftone calibration photo digitized with the default
@@ -148,14 +170,8 @@ TEST_CASE("digitize: a bold printed trace lying along a grid line is told from i
   REQUIRE(result.ok);
   REQUIRE(result.traces.size() == 1);
   const DigitizedTrace& trace = result.traces[0];
-  // Off the truth by more than a fifth of the trace's width, as in the test
-  // above (3 px of a 16 px trace).
-  const double far_px = 0.2 * trace.width_px;
-  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
-  INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
-                              << " more than " << far_px << " px off the truth, RMS " << rms
-                              << " px, width " << trace.width_px << " px against the grid's "
-                              << graticule.line_width_px);
+  const auto [far, rms, summary] = ScoreBold(g, trace, graticule);
+  INFO(summary);
   // Measured: 431 samples over 46 % of the sweep, 12 more than a fifth of the
   // width (5.1 px) off, 2.7 px RMS (a tenth of the width), the trace 25.7 px
   // wide against the grid lines' 5.9, at 93 px per division.
@@ -179,13 +195,8 @@ TEST_CASE("digitize: a bold trace as dark as the grid and lying along its lines 
   const GeneratedCalibration g = LoadGeneratedCalibration(dir, 2021, "L-0.713");
   const DigitizeResult result = DigitizeHalftoneCalibration(g);
   const DigitizedTrace& trace = result.traces[0];
-  const double far_px = 0.2 * trace.width_px;
-  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
-  INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
-                              << " more than " << far_px << " px off the truth, RMS " << rms
-                              << " px, width " << trace.width_px << " px against the grid's "
-                              << result.graticule.line_width_px << ", height " << trace.height
-                              << " against the grid's " << result.graticule.line_contrast);
+  const auto [far, rms, summary] = ScoreBold(g, trace, result.graticule);
+  INFO(summary);
   // Measured: 722 samples over 71 % of the sweep, 76 more than a fifth of the
   // width (5.4 px) off, 2.8 px RMS (a tenth of the width), the trace 27 px
   // wide against the grid lines' 9.6 and 1.27 times as high.
@@ -209,12 +220,8 @@ TEST_CASE("digitize: a bold trace is read where the thin reading followed a pen 
   const GeneratedCalibration g = LoadGeneratedCalibration(dir, 1032, "R-0.713");
   const DigitizeResult result = DigitizeHalftoneCalibration(g);
   const DigitizedTrace& trace = result.traces[0];
-  const double far_px = 0.2 * trace.width_px;
-  const auto [far, rms] = ScoreAgainst(g.centre_px, trace, far_px);
-  INFO(trace.centre_px.size() << " samples over " << trace.coverage << " of the sweep, " << far
-                              << " more than " << far_px << " px off the truth, RMS " << rms
-                              << " px, width " << trace.width_px << " px against the grid's "
-                              << result.graticule.line_width_px);
+  const auto [far, rms, summary] = ScoreBold(g, trace, result.graticule);
+  INFO(summary);
   // Measured: 336 samples over 67 % of the sweep, none more than 0.08
   // division off the true centre line; the trace 18 px wide against the grid
   // lines' 7, at 50 px per division.
