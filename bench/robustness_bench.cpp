@@ -12,6 +12,9 @@
 // photos each). A calibration photo that fails is charged to itself, and its
 // run's photo counts as not reached; a run that fails otherwise is charged to
 // its run photo. Accuracy (Xmax, contact time, pulls) belongs to run photos.
+// A run photo that reduced without its contact time (its contact trace not
+// read: the run's maxima stand, a warning says why) counts as reduced, its
+// contact time as lost: counted and grouped by the warning's reason.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -61,6 +64,9 @@ struct PhotoRecord {
   std::vector<double> xmax_error_pct, xmax_pull;
   int rebounds_missed = 0;
   std::optional<double> contact_error_pct, contact_pull;
+  // A run that reduced without the contact time its truth has: why (the
+XX
+  std::optional<std::string> contact_lost;
 };
 
 // Percentile, but "no data" where there is none (bench_support's says 0).
@@ -134,6 +140,14 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
         photo.contact_error_pct = 100.0 * std::abs(error) / tau;
         if (run->measured.contact_time_sigma > 0.0)
           photo.contact_pull = error / run->measured.contact_time_sigma;
+      } else if (t.contains("contact")) {
+        // Lost: never scored as ok silently. The warning names the run's
+        // contact trace (pipeline/trace_run.h).
+        const std::string key = fmt::format("run \"{}\".traces.contact", id);
+        photo.contact_lost = "no warning says why";
+        for (const std::string& w : result.warnings) {
+          if (w.find(key) != std::string::npos) photo.contact_lost = w;
+        }
       }
     }
     records.push_back(std::move(photo));
@@ -143,7 +157,7 @@ std::vector<PhotoRecord> Score(std::uint64_t seed, const json& truth, const Sess
 
 // What a group of photos achieved.
 struct Figures {
-  int ok = 0, failed = 0, not_reached = 0, missed = 0;
+  int ok = 0, failed = 0, not_reached = 0, missed = 0, contact_lost = 0;
   std::vector<double> xmax_error, xmax_pull, contact_error, contact_pull;
 
   void Add(const PhotoRecord& r) {
@@ -151,6 +165,7 @@ struct Figures {
     if (r.outcome == Outcome::kFailed) ++failed;
     if (r.outcome == Outcome::kNotReached) ++not_reached;
     missed += r.rebounds_missed;
+    if (r.contact_lost) ++contact_lost;
     xmax_error.insert(xmax_error.end(), r.xmax_error_pct.begin(), r.xmax_error_pct.end());
     xmax_pull.insert(xmax_pull.end(), r.xmax_pull.begin(), r.xmax_pull.end());
     if (r.contact_error_pct) contact_error.push_back(*r.contact_error_pct);
@@ -265,12 +280,12 @@ void PrintOverall(const std::vector<PhotoRecord>& records, double seconds) {
   fmt::print(
       "| photos | run photos reduced | calibration photos read | success rate | "
       "rebounds missed | Xmax err % X0 median / p95 / max | Xmax pull RMS (n; within "
-      "1σ, 2σ) | contact err % median / worst | contact pull RMS (n; within 1σ, 2σ) | s "
-      "per photo |\n");
-  fmt::print("|---|---|---|---|---|---|---|---|---|---|\n");
+      "1σ, 2σ) | contact err % median / worst | contact pull RMS (n; within 1σ, 2σ) | "
+      "contact times lost | s per photo |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|\n");
   fmt::print(
       "| {} | {}/{} ({} not reached) | {}/{} | {:.1f} % | {} | {} / {} / {} | {} ({}; {:.0f} %, "
-      "{:.0f} %) | {} / {} | {} ({}; {:.0f} %, {:.0f} %) | {:.2f} |\n\n",
+      "{:.0f} %) | {} / {} | {} ({}; {:.0f} %, {:.0f} %) | {} | {:.2f} |\n\n",
       records.size(), runs.ok, runs.ok + runs.failed + runs.not_reached, runs.not_reached,
       calibrations.ok, calibrations.ok + calibrations.failed, all.SuccessPct(), all.missed,
       Format(Quantile(all.xmax_error, 0.5)), Format(Quantile(all.xmax_error, 0.95)),
@@ -279,7 +294,7 @@ void PrintOverall(const std::vector<PhotoRecord>& records, double seconds) {
       Format(Quantile(all.contact_error, 0.5)), Format(Quantile(all.contact_error, 1.0)),
       Format(Rms(all.contact_pull)), all.contact_pull.size(),
       100 * ShareWithin(all.contact_pull, 1), 100 * ShareWithin(all.contact_pull, 2),
-      seconds / std::max<std::size_t>(1, records.size()));
+      runs.contact_lost, seconds / std::max<std::size_t>(1, records.size()));
 }
 
 void PrintFactors(const std::vector<PhotoRecord>& records) {
@@ -313,17 +328,21 @@ void PrintFactors(const std::vector<PhotoRecord>& records) {
   fmt::print("\n");
 }
 
-void PrintFailures(const std::vector<PhotoRecord>& records) {
+// The failures (or, `contact_lost`, the contact times lost by runs that
+// reduced), grouped by message.
+void PrintFailures(const std::vector<PhotoRecord>& records, bool contact_lost) {
   std::map<std::string, std::pair<int, std::string>> kinds;  // kind -> count, an example photo
   for (const PhotoRecord& r : records) {
-    if (r.outcome != Outcome::kFailed) continue;
-    auto& [count, example] = kinds[FailureKind(r.failure)];
+    if (contact_lost ? !r.contact_lost : r.outcome != Outcome::kFailed) continue;
+    auto& [count, example] = kinds[FailureKind(contact_lost ? *r.contact_lost : r.failure)];
     if (count++ == 0) example = fmt::format("seed {} {}", r.seed, r.id);
   }
   std::vector<std::pair<int, std::string>> sorted;
   for (const auto& [kind, entry] : kinds) sorted.push_back({entry.first, kind});
   std::sort(sorted.rbegin(), sorted.rend());
-  fmt::print("## Failures, grouped (numbers as #)\n\n| photos | failure | e.g. |\n|---|---|---|\n");
+  fmt::print("## {}, grouped (numbers as #)\n\n| photos | {} | e.g. |\n|---|---|---|\n",
+             contact_lost ? "Contact times lost (the runs reduced)" : "Failures",
+             contact_lost ? "why" : "failure");
   for (const auto& [count, kind] : sorted) {
     std::string cell = kind;
     std::replace(cell.begin(), cell.end(), '|', '/');
@@ -416,7 +435,8 @@ int main(int argc, char** argv) {
                                                          Format(*r.contact_error_pct),
                                                          r.contact_pull ? Format(*r.contact_pull)
                                                                         : std::string("—"))
-                                           : std::string())
+                                       : r.contact_lost ? ", contact time LOST: " + *r.contact_lost
+                                                        : std::string())
                          : r.failure);
         }
         records.push_back(std::move(r));
@@ -433,6 +453,7 @@ int main(int argc, char** argv) {
              sessions, seeds.front(), seeds.back(), records.size(), seconds, jobs);
   PrintOverall(records, seconds * jobs);
   PrintFactors(records);
-  PrintFailures(records);
+  PrintFailures(records, false);
+  PrintFailures(records, true);
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -66,6 +67,19 @@ std::optional<GraticuleCorners> CornersHintOf(const std::filesystem::path& path,
   return std::nullopt;
 }
 
+// The contact (step) trace a photo's refusal names, when it names one: the
+// refusal's key is the trace's ("traces.contact") or one within it (its
+// points hint's).
+std::optional<std::string> RefusedContactTrace(const InputLocation& failed_at,
+                                               const std::vector<TraceRequest>& requests) {
+  for (const TraceRequest& request : requests) {
+    if (!request.settings.impact) continue;
+    const std::string key = "traces." + request.name;
+    if (failed_at.key == key || failed_at.key.starts_with(key + ".")) return request.name;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Session& session,
@@ -76,9 +90,20 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   std::vector<TraceRequest> requests;
   for (const auto& [name, settings] : traces) requests.push_back({name, settings});
   options.graticule.corners_px = CornersHintOf(path, session);
-  const DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
-
+  DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
+  // A contact trace not found fails alone: only the contact time needs it,
+  // so the photo is read again without it and the bars' traces are kept
+  // (reading the contact first, the digitizer stops at it before it reads
+  // them). The second reading costs the photo's time again, on such photos
+  // alone.
   DigitizedPhoto out;
+  while (!result.ok && requests.size() > 1) {
+    const std::optional<std::string> contact = RefusedContactTrace(result.failed_at, requests);
+    if (!contact) break;
+    out.lost[*contact] = {result.failed_at, result.reason};
+    std::erase_if(requests, [&](const TraceRequest& r) { return r.name == *contact; });
+    result = DigitizePhoto(photo, session.divisions, requests, options);
+  }
   out.ok = result.ok;
   out.failed_at = result.failed_at;
   out.reason = result.reason;

@@ -18,6 +18,13 @@
 
 namespace impactlab {
 
+// A trace the photo's reading could not find, and was read without: where
+// (the photo, and the trace's key on it, "traces.contact") and why.
+struct LostTrace {
+  InputLocation at;
+  std::string reason;
+};
+
 struct DigitizedPhoto {
   // false: the photo was not read to the end (DigitizeResult): no traces,
   // the overlay shows what was found and why not.
@@ -25,8 +32,11 @@ struct DigitizedPhoto {
   InputLocation failed_at;
   std::string reason;
   std::map<std::string, Trace> traces;  // by trace name ("right", "left", "contact", ...)
-  std::optional<ContactPulse> pulse;    // the contact trace's edges, measured on the image
-  PhotoOverlay overlay;                 // what was found, drawn on the photo
+  // Contact (step) traces not found: each fails alone, the photo read again
+  // without it, so that the bars' traces are kept. By trace name.
+  std::map<std::string, LostTrace> lost;
+  std::optional<ContactPulse> pulse;  // the contact trace's edges, measured on the image
+  PhotoOverlay overlay;               // what was found, drawn on the photo
   // Per trace, the error in volts its samples share through the photo's
   // mapping: a quarter of the graticule's residual. The residual holds the
   // lines' own measurement scatter, which the mapping's fit averages over
@@ -39,7 +49,9 @@ struct DigitizedPhoto {
 
 // A photo not read to the end (no graticule, a trace missing from its band)
 // is a result with !ok naming the photo and what was not found, its overlay
-// drawn; throws InputError for a file that cannot be read or decoded.
+// drawn; a contact trace missing from its band is `lost` instead, when the
+// photo reads without it. Throws InputError for a file that cannot be read
+// or decoded.
 // `options`: the photo's entry's; the manifest's corners hint, when it gives one, is added.
 // `thumbnail`: make the overlay's quarter-width pixels too (products.thumbnails).
 DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& photo, const Session& session,

@@ -173,11 +173,14 @@ const RunResult* Reusable(const ReduceOptions& options, const Run& run,
   return ReuseProblem(old->measured).empty() ? old : nullptr;
 }
 
-// `fingerprint`: the run's, when already worked out.
+// `fingerprint`: the run's, when already worked out. What its measurement
+// could not measure while the run stands (a contact trace that cannot be
+// read) is added to `warnings`.
 RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                     Separation separation, CalibrationCache& calibrations,
                     const ReduceOptions& options, const StageOptions& session_options,
-                    const std::optional<std::string>& fingerprint) {
+                    const std::optional<std::string>& fingerprint,
+                    std::vector<std::string>& warnings) {
   const StageOptions run_options =
       EntryStageOptions(session_options, run.settings, options.overrides);
   RunResult out;
@@ -201,6 +204,12 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
     MeasuredTraceRun measured = MeasureTraceRun(run, session, pendulum, run_options, calibrations);
     out.measured = std::move(measured.measured);
     out.seconds = measured.seconds;
+    if (!measured.warnings.empty()) {
+      // Measured in part (no contact time): measured again by a later
+      // reduce, which says why again, rather than reused.
+      warnings = std::move(measured.warnings);
+      out.fingerprint.clear();
+    }
     if (!measured.ok) {
       // What was measured before the failure (the photo's overlay, the
       // calibrations) stays, for the report; without a fingerprint, so that
@@ -243,10 +252,11 @@ RunResult ReduceRun(const Run& run, const Session& session, const Pendulum& pend
 RunResult ReduceRunOrFail(const Run& run, const Session& session, const Pendulum& pendulum,
                           Separation separation, CalibrationCache& calibrations,
                           const ReduceOptions& options, const StageOptions& session_options,
-                          const std::optional<std::string>& fingerprint) {
+                          const std::optional<std::string>& fingerprint,
+                          std::vector<std::string>& warnings) {
   try {
     return ReduceRun(run, session, pendulum, separation, calibrations, options, session_options,
-                     fingerprint);
+                     fingerprint, warnings);
   } catch (const std::exception&) {
     RunResult failed;
     failed.id = run.id;
@@ -727,6 +737,7 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
   // with its two calibrations is three photos.) Their errors reach the runs.
   const MeasurementPlan plan = PlanMeasurement(session, options);
   std::vector<RunResult> runs(session.runs.size());
+  std::vector<std::vector<std::string>> run_warnings(session.runs.size());
   const std::size_t ahead = plan.calibrations.size();
   progress.Expect(ahead + runs.size());
   ForEachInParallel(ahead + runs.size(), options.jobs, [&](std::size_t task) {
@@ -738,10 +749,13 @@ SessionResult ReduceReadableEntries(const Session& session, const ReduceOptions&
     }
     const std::size_t i = task - ahead;
     runs[i] = ReduceRunOrFail(session.runs[i], session, pendulum, result.separation, calibrations,
-                              options, session_options, plan.fingerprints[i]);
+                              options, session_options, plan.fingerprints[i], run_warnings[i]);
     progress.Done("run " + runs[i].id, runs[i].ok, runs[i].reused);
   });
   result.runs = std::move(runs);
+  for (std::vector<std::string>& said : run_warnings) {
+    result.warnings.insert(result.warnings.end(), said.begin(), said.end());
+  }
   WarnOfUnreachedFailures(plan, calibrations, result);
   WarnOfLeftOutStretches(result);
   WarnOfMisreadRunStretches(result);

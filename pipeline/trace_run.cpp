@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -293,6 +294,55 @@ std::shared_ptr<const CalibratedCell> CalibrationCache::Compute(const std::strin
 
 namespace {
 
+// The run's contact time from its contact trace (`settings`), into `out`;
+// the failure when the trace cannot be read: not found on the photo, a CSV
+// that cannot be read or whose span does not fit (`span_failure`), or no
+// pulse on it. `trace_of` reads a trace, as MeasureInto does.
+template <typename TraceOf, typename SpanFailure>
+std::optional<StepFailure> MeasureContactTime(const Run& run, const Session& session,
+                                              const TraceSettings& settings,
+                                              const std::optional<DigitizedPhoto>& photo,
+                                              const TraceOf& trace_of,
+                                              const SpanFailure& span_failure,
+                                              RunMeasurement& out) {
+  const std::string key = RunKey(run) + ".traces.contact";
+  // On a photo the edges are measured on the image itself; a CSV step by
+  // its samples.
+  ContactPulseMeasurement pulse;
+  if (!settings.csv && photo) {
+    if (const auto lost = photo->lost.find("contact"); lost != photo->lost.end()) {
+      // The photo's key for the trace, said as the run's.
+      const InputLocation& at = lost->second.at;
+      return StepFailure{{at.file, RunKey(run) + "." + at.key, at.line}, lost->second.reason};
+    }
+  }
+  if (!settings.csv && photo && photo->pulse) {
+    pulse = {true, "", *photo->pulse};
+  } else {
+    Trace trace;
+    try {
+      trace = trace_of("contact", settings);
+    } catch (const InputError& error) {
+      InputLocation at = error.where();
+      if (at.key.empty()) at.key = key;
+      return StepFailure{std::move(at), error.problem()};
+    }
+    if (std::optional<StepFailure> failure = span_failure("contact", settings, trace)) {
+      return failure;
+    }
+    pulse = MeasureContactPulse(trace);
+  }
+  if (!pulse.ok) {
+    return StepFailure{
+        {settings.csv.value_or(run.photo.value_or(session.manifest)), key, std::nullopt},
+        pulse.reason};
+  }
+  out.contact_time = pulse.pulse.width_s.value;
+  out.contact_time_sigma = pulse.pulse.width_s.sigma;
+  out.contact_time_source = "contact trace";
+  return std::nullopt;
+}
+
 // Measures the run into `result` step by step, so that what was measured
 // before a failure (the photo's overlay, the calibrations) stays there.
 // Returns false at the first step that stops it, `result` saying where and
@@ -333,19 +383,32 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
     out.overlays.push_back(photo->overlay);
     if (!photo->ok) return Stopped(result, {photo->failed_at, photo->reason});
   }
+  // A trace as read: its CSV, or its samples from the photo (throws
+  // InputError for a CSV that cannot be read).
+  const auto trace_of = [&](const std::string& name, const TraceSettings& settings) {
+    return settings.csv
+               ? Timed(seconds.load, [&] { return ReadSessionTraceCsv(session, *settings.csv); })
+               : photo->traces.at(name);
+  };
   // Every trace checked as read: its span against the pendulum's swings, and
-  // (right, left) that it resolves them. False when the check stops the run.
+  // (right, left) that it resolves them. The failure when the check refuses it.
+  const auto span_failure = [&](const std::string& name, const TraceSettings& settings,
+                                const Trace& trace) -> std::optional<StepFailure> {
+    std::string problem = TraceSpanProblemOf(trace, pendulum, name != "contact", limits);
+    if (problem.empty()) return std::nullopt;
+    const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
+    return StepFailure{{settings.csv.value_or(run.photo.value_or(session.manifest)),
+                        settings.csv ? key : key + ".time_per_div", std::nullopt},
+                       std::move(problem)};
+  };
+  // A bar's trace read and checked; false when the check stops the run.
   const auto read_trace = [&](const std::string& name, const TraceSettings& settings,
                               Trace& trace) {
-    trace = settings.csv
-                ? Timed(seconds.load, [&] { return ReadSessionTraceCsv(session, *settings.csv); })
-                : photo->traces.at(name);
-    std::string problem = TraceSpanProblemOf(trace, pendulum, name != "contact", limits);
-    if (problem.empty()) return true;
-    const std::string key = fmt::format("{}.traces.{}", RunKey(run), name);
-    return Stopped(result, {{settings.csv.value_or(run.photo.value_or(session.manifest)),
-                             settings.csv ? key : key + ".time_per_div", std::nullopt},
-                            std::move(problem)});
+    trace = trace_of(name, settings);
+    if (std::optional<StepFailure> failure = span_failure(name, settings, trace)) {
+      return Stopped(result, std::move(*failure));
+    }
+    return true;
   };
   std::map<std::string, DisplacementHistory> histories;
   std::map<std::string, const PhotocellCurve*> curves;
@@ -501,24 +564,16 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   out.release = both.release;
 
   if (const auto contact = run.traces.find("contact"); contact != run.traces.end()) {
-    // On a photo the edges are measured on the image itself; a CSV step by
-    // its samples.
-    ContactPulseMeasurement pulse;
-    if (!contact->second.csv && photo && photo->pulse) {
-      pulse = {true, "", *photo->pulse};
-    } else {
-      Trace trace;
-      if (!read_trace("contact", contact->second, trace)) return false;
-      pulse = MeasureContactPulse(trace);
+    // Only the contact time needs the contact trace: one that cannot be read
+    // fails alone, the maxima standing without a contact time (the results
+    // then hold none, as for a run without a contact trace), and a warning
+    // names its file, key and why.
+    if (std::optional<StepFailure> lost =
+            MeasureContactTime(run, session, contact->second, photo, trace_of, span_failure, out)) {
+      result.warnings.push_back(
+          fmt::format("{}: {}; the run's maxima are kept without its contact time",
+                      FormatLocation(lost->at), lost->reason));
     }
-    if (!pulse.ok) {
-      return Stopped(result, {{contact->second.csv.value_or(run.photo.value_or(session.manifest)),
-                               RunKey(run) + ".traces.contact", std::nullopt},
-                              pulse.reason});
-    }
-    out.contact_time = pulse.pulse.width_s.value;
-    out.contact_time_sigma = pulse.pulse.width_s.sigma;
-    out.contact_time_source = "contact trace";
   }
   result.ok = true;
   return true;

@@ -13,6 +13,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "calibration/photocell_calibration.h"
 #include "io/errors.h"
@@ -77,13 +78,18 @@ CellCalibration SummariseCalibration(const std::string& id, const std::string& c
 // manifest key a user can fix) and `reason` say why, as DigitizeResult does,
 // and `measured` keeps what was measured before (the digitized photo's
 // overlay, the calibrations), which the results file and the report show
-// beside the reason.
+// beside the reason. A contact trace that cannot be read (not found on the
+// photo, a CSV that cannot be read, no pulse on it) fails alone: the run is
+// measured without a contact time, and `warnings` says why.
 struct MeasuredTraceRun {
   bool ok = false;
   InputLocation failed_at;
   std::string reason;
   RunMeasurement measured;
   StageSeconds seconds;
+  // What was not measured and why, "FILE: KEY: reason" each (a contact
+  // trace that cannot be read); the rest of the run stands.
+  std::vector<std::string> warnings;
 
   // "FILE: KEY: reason", as an InputError names it; empty when ok.
   std::string Failure() const;
@@ -98,7 +104,9 @@ std::string RunFailureReason(const std::exception_ptr& error, const Session& ses
 // The run's calibrations, rebounds and contact pulse, measured with the
 // run's `options`. A run that cannot be measured (a bad manifest entry, a
 // file that cannot be read, a photo not read, traces without enough
-// rebounds) is a result with `ok` false; only a programming error is thrown.
+// rebounds) is a result with `ok` false; one whose contact trace alone
+// cannot be read is measured without a contact time, with a warning; only a
+// programming error is thrown.
 MeasuredTraceRun MeasureTraceRun(const Run& run, const Session& session, const Pendulum& pendulum,
                                  const StageOptions& options, CalibrationCache& calibrations);
 
