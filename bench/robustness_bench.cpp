@@ -65,7 +65,7 @@ struct PhotoRecord {
   int rebounds_missed = 0;
   std::optional<double> contact_error_pct, contact_pull;
   // A run that reduced without the contact time its truth has: why (the
-XX
+  // run's warning naming its contact trace, or that none does).
   std::optional<std::string> contact_lost;
 };
 
