@@ -129,7 +129,7 @@ bool ReachesRelease(const Trace& trace, const PhotocellCurve& curve,
 
 DisplacementConversion DisplacementFromVolts(const Trace& trace,
                                              const CalibrationResult& calibration,
-                                             const MisreadLimits& limits) {
+                                             const MisreadLimits& limits, double run_release_x) {
   DisplacementConversion out;
   if (trace.volts.empty()) {
     out.reason = "the trace has no samples";
@@ -145,6 +145,22 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
     out.left_out_s.emplace_back(trace.time_s[first], trace.time_s[last]);
     misread_s += trace.time_s[last] - trace.time_s[first];
   }
+  // A run released within its calibration's swing: the samples that begin
+  // its trace beyond the release's end of the calibrated volts are its hold
+  // at X0, read a little off where they lie near the bound (a bold trace's
+  // edge, a grid line or a mark beside it; randomised seeds 3002's and
+  // 2029's runs 0.405). No rebound is read there: they are left out
+  // uncounted, and a stretch far beyond that begins the trace is left out as
+  // any other line followed.
+  const bool released_within =
+      run_release_x > 0.0 && run_release_x <= (1.0 + limits.release_within) * curve.x_max();
+  std::size_t hold = 0;
+  if (released_within) {
+    while (hold < trace.volts.size() && !curve.Covers(trace.volts[hold]) &&
+           BeyondRelease(trace, curve, {hold, hold})) {
+      ++hold;
+    }
+  }
   DisplacementHistory& h = out.history;
   double v_lo = trace.volts.front(), v_hi = trace.volts.front();
   std::size_t outside = 0;
@@ -154,6 +170,10 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
     v_hi = std::max(v_hi, v);
     if (!curve.Covers(v)) ++outside;
     if (misread[i]) continue;
+    if (i < hold) {
+      ++out.hold_beyond;
+      continue;
+    }
     if (!curve.Covers(v)) {
       ++out.dropped;
       continue;
@@ -179,7 +199,7 @@ DisplacementConversion DisplacementFromVolts(const Trace& trace,
   // then cannot be told from that, and none is left out.
   const double calibrated_v = curve.volts_max() - curve.volts_min();
   const bool shifted_whole = v_hi - v_lo <= (1.0 + limits.shift_fits_span) * calibrated_v;
-  const bool from_start = !stretches.empty() && stretches.front().first == 0 &&
+  const bool from_start = !released_within && !stretches.empty() && stretches.front().first == 0 &&
                           BeyondRelease(trace, curve, stretches.front()) &&
                           ReachesRelease(trace, curve, stretches.front());
   if (!stretches.empty() &&

@@ -36,6 +36,13 @@ struct MisreadLimits {
   // stretches far outside are not left out, 1. A line followed off the trace
   // adds its own reach to the trace's span.
   double shift_fits_span = 0.02;
+  // A run whose typed X0 exceeds its calibration's by no more than this
+  // fraction of it is released within the calibrated swing: what its trace
+  // shows beyond the release's end of the calibrated volts before it first
+  // comes within them is the hold at X0 read a little off (a bold trace's
+  // edge, a grid line or a mark beside it), not a swing the calibration
+  // misses, 1. Beyond it, the calibration truly may not reach.
+  double release_within = 0.01;
 };
 
 // A trace converted, or why the calibration cannot convert it.
@@ -56,6 +63,11 @@ struct DisplacementConversion {
   // times, s; `left_out` samples in all (not counted in `dropped`).
   std::vector<std::pair<double, double>> left_out_s;
   std::size_t left_out = 0;
+  // Samples from the trace's start just beyond the release's end of the
+  // calibrated volts, of a run released within its calibration's swing
+  // (MisreadLimits::release_within): the hold at X0, left out and not
+  // counted in `dropped` (no rebound is read there).
+  std::size_t hold_beyond = 0;
 };
 
 // Each sample's displacement, with its sigma from the curve's own error and
@@ -63,10 +75,14 @@ struct DisplacementConversion {
 // through the curve's slope. Samples outside the calibrated voltages are
 // dropped, never extrapolated: more than one in fifty just outside is a
 // result with `ok` false, the calibration not covering the run; stretches far
-// outside are left out as misread (MisreadLimits). Nothing is thrown for a
-// trace the calibration cannot read.
+// outside are left out as misread (MisreadLimits). `run_release_x`: the run's
+// typed X0, 0 where not known; a run released within its calibration's swing
+// has what its trace's start shows beyond the release's end of the
+// calibrated volts left out, near or far, instead of refused. Nothing is
+// thrown for a trace the calibration cannot read.
 DisplacementConversion DisplacementFromVolts(const Trace& trace,
                                              const CalibrationResult& calibration,
-                                             const MisreadLimits& limits = {});
+                                             const MisreadLimits& limits = {},
+                                             double run_release_x = 0.0);
 
 }  // namespace impactlab

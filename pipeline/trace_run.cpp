@@ -437,8 +437,9 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
         SummariseCalibration(cal_it->second, cell, cal->initial_displacement, calibrated));
     Trace trace;
     if (!read_trace(cell, trace_it->second, trace)) return false;
-    DisplacementConversion converted =
-        Timed(seconds.extract, [&] { return DisplacementFromVolts(trace, calibration); });
+    DisplacementConversion converted = Timed(seconds.extract, [&] {
+      return DisplacementFromVolts(trace, calibration, {}, run.initial_displacement);
+    });
     const std::string hint =
         converted.ok && converted.left_out == 0
             ? std::string()
@@ -534,8 +535,10 @@ bool MeasureInto(const Run& run, const Session& session, const Pendulum& pendulu
   } else {
     AddCurveSigma(from_average, curve_sigma(histories.begin()->first.c_str()));
   }
-  const BarRebounds both = histories.size() == 2 ? MeanOfBars(*out.right, *out.left, from_average)
-                                                 : GapFree(std::move(from_average));
+  const BarRebounds both = histories.size() == 2
+                               ? MeanOfBars(*out.right, *out.left, from_average,
+                                            {run.initial_displacement, run.first_rebound})
+                               : GapFree(std::move(from_average));
   if (both.xmax.size() < 2) {
     std::optional<BarDisagreement> disagreement;
     if (histories.size() == 2) {

@@ -420,8 +420,21 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
       fmt::join(lost, "; "));
 }
 
+// How far one bar's release may lie from the run's typed X0, as a share of
+// it, for the two to give the common swing: the bars of the external
+// sessions are let go within 1.3 % of X0 (docs/reduction.md, "Each bar's
+// voltage scale against the other's").
+constexpr double kReleaseOffX0 = 0.03;
+
+Estimate CommonSwingFromRelease(const BarRebounds& bar, bool right_bar, const TypedRelease& typed) {
+  if (!(bar.release.sigma > 0.0) || !(typed.x0 > 0.0)) return {};
+  const double offset = right_bar ? bar.release.value - typed.x0 : typed.x0 - bar.release.value;
+  if (std::abs(offset) > kReleaseOffX0 * typed.x0) return {};
+  return {Alternating(typed.first_rebound) * offset, bar.release.sigma};
+}
+
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
-                       const BarRebounds& averaged) {
+                       const BarRebounds& averaged, const TypedRelease& typed) {
   BarRebounds out;
   const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
   // The rebounds whose peaks the bars agree on set the pendulum's clock and
@@ -438,6 +451,14 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
   const int average_end = disagreement ? 0 : AnchoredRows(right, left, averaged);
   const Estimate common = CommonSwingForOneBar(right, left, shared);
   const bool swing_follows = shared.size() < 2 || common.sigma > 0.0;
+  // Where the bars do not measure it and one bar's trace is lost, the
+  // other's common swing from its own release.
+  const auto lost = [](const BarRebounds& bar) { return bar.xmax.size() <= 1; };
+  const auto common_for = [&](bool right_bar) {
+    if (shared.size() >= 2) return common;
+    if (!lost(right_bar ? left : right)) return Estimate{};
+    return CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
+  };
   for (int n = 0;; ++n) {
     std::optional<std::size_t> r = right.RowOf(n), l = left.RowOf(n);
     if (r && l && PeaksApart(right, *r, left, *l, 0.5 * (right.duration[*r] + left.duration[*l]))) {
@@ -465,12 +486,12 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
       const auto i = static_cast<std::size_t>(n);
       if (!OnTheClock(right, left, shared, n, averaged, i)) break;
       AppendRow(averaged, i, 0.0, 0.0, out);
-    } else if ((r || l) && common.sigma > 0.0) {
+    } else if ((r || l) && common_for(r.has_value()).sigma > 0.0) {
       if (!OnTheClock(right, left, shared, n, r ? right : left, r ? *r : *l)) break;
       // right_n = mean_n + (-1)^n c; left_n = mean_n - (-1)^n c.
+      const Estimate c = common_for(r.has_value());
       const double side = r ? 1.0 : -1.0;
-      AppendRow(r ? right : left, r ? *r : *l, -side * Alternating(n) * common.value, common.sigma,
-                out);
+      AppendRow(r ? right : left, r ? *r : *l, -side * Alternating(n) * c.value, c.sigma, out);
     } else {
       break;  // nothing gives this rebound: the sequence stays gap-free
     }

@@ -131,7 +131,29 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 // whose peak is more than a tenth of a half period from where the clock puts
 // it. The averaged history gives no row where the bars disagree anywhere
 // (it mixes the misread bar's trace).
+// The run's typed X0 (half the gap between the bars at release) and its
+// first_rebound, for CommonSwingFromRelease; x0 0: not given.
+struct TypedRelease {
+  double x0 = 0.0;
+  int first_rebound = 1;
+};
+// `typed`: where the bars share fewer than two rebounds, so that they do not
+// measure their common swing, and one bar's trace shows at most one rebound
+// (lost under marks, in a halftone's tone, off its band), the other bar's
+// maxima give the pair's through the common swing from its own release
+// (CommonSwingFromRelease), its error added in quadrature.
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
-                       const BarRebounds& averaged);
+                       const BarRebounds& averaged, const TypedRelease& typed = {});
+
+// The bars' common swing at session rebound 0 from where one bar was let go:
+// the pair's centre of mass starts (X0_right - X0_left) / 2 = X0_right - X0
+// = X0 - X0_left from the impact point, X0 the typed half gap between the
+// bars, and swings on through every impact, so at session rebound 0,
+// `first_rebound` half periods later, it is (-1)^first_rebound times that.
+// Its sigma is the bar's release's (the typed X0 taken as exact). Unknown
+// (sigma 0) where the bar's trace does not show its release, or shows it
+// more than kReleaseOffX0 of X0 from the typed X0 (a slip in either: the
+// typed X0's own check names it).
+Estimate CommonSwingFromRelease(const BarRebounds& bar, bool right_bar, const TypedRelease& typed);
 
 }  // namespace impactlab

@@ -217,5 +217,61 @@ TEST_CASE("displacement: a trace shifted whole (a zero mistyped) is refused, not
              Catch::Contains("far outside") && Catch::Contains("a zero_div mistyped?"));
 }
 
+// The sweep from 0.1 s before the release: the bar held at X0, then its fall
+// to X = 0 a quarter period later, the hold read `hold_offset_volts` off
+// (a bold trace's edge, a grid line beside it) up to 0.02 s after the
+// release, where the reading comes back to the trace.
+Trace ReleaseReadOff(double x0, double hold_offset_volts) {
+  Trace run;
+  const double quarter = 0.25 * 2.0 * HalfPeriod(kPendulum, x0);
+  for (int i = -40; i <= 400; ++i) {
+    const double t = 0.0025 * i;
+    const double x = t < 0.0 ? x0 : ReleaseSwingDisplacement(kPendulum, x0, std::min(t, quarter));
+    run.time_s.push_back(t);
+    run.volts.push_back(LinearCell(x, x0) + (t <= 0.02 + 1e-12 ? hold_offset_volts : 0.0));
+    run.sigma_volts.push_back(5e-4);
+  }
+  return run;
+}
+
+TEST_CASE(
+    "displacement: a run released within its calibration's swing has its hold read beyond X0's "
+    "volts left out, not refused; released beyond it, refused") {
+  const double x0 = 0.3;
+  const CalibrationResult calibration = LinearCalibration(x0);  // 0.3 .. 2.0 V
+  // 49 samples (11 % of the trace) 0.03 V beyond X0's volts (1.8 % of the
+  // span, past the 1 % margin): too many to drop, near enough to be the
+  // hold read off (randomised seed 3002's run 0.405).
+  const Trace near = ReleaseReadOff(x0, 0.03);
+  CHECK_FALSE(DisplacementFromVolts(near, calibration).ok);  // X0 not known
+  const DisplacementConversion within = DisplacementFromVolts(near, calibration, {}, x0);
+  REQUIRE(within.ok);
+  CHECK(within.hold_beyond == 49);
+  CHECK(within.dropped == 0);
+  CHECK(within.left_out == 0);
+  CHECK(within.history.time_s.front() == Approx(0.0225));
+  for (std::size_t i = 0; i < within.history.time_s.size(); ++i) {
+    CHECK(within.history.displacement[i] ==
+          Approx(std::min(x0, ReleaseSwingDisplacement(kPendulum, x0,
+                                                       std::min(within.history.time_s[i],
+                                                                0.5 * HalfPeriod(kPendulum, x0)))))
+              .margin(1e-9));
+  }
+  // 0.2 V beyond (12 % of the span): far, a line followed from the trace's
+  // start (randomised seed 4028's run 0.405, an arrow drawn at the trace's
+  // start): left out as misread.
+  const DisplacementConversion far =
+      DisplacementFromVolts(ReleaseReadOff(x0, 0.2), calibration, {}, x0);
+  REQUIRE(far.ok);
+  REQUIRE(far.left_out_s.size() == 1);
+  CHECK(far.left_out_s[0].first == Approx(-0.1));
+  // A run let go 3 % further out than its calibration's swing: the
+  // calibration truly may not reach its release, and says so.
+  const DisplacementConversion beyond =
+      DisplacementFromVolts(ReleaseReadOff(x0, 0.2), calibration, {}, 1.03 * x0);
+  CHECK_FALSE(beyond.ok);
+  CHECK_THAT(beyond.reason, Catch::Contains("from its start"));
+}
+
 }  // namespace
 }  // namespace impactlab

@@ -206,6 +206,61 @@ TEST_CASE("bar_rebounds: rebounds one bar lost are the other's less the bars' co
   CHECK_FALSE(OneBarStretch(right, right, 5).has_value());
 }
 
+TEST_CASE(
+    "bar_rebounds: a bar whose trace is lost leaves the other's maxima less the common swing "
+    "from its release") {
+  // Bars let go at X0 +- d about the typed X0 (half the gap between them):
+  // the centre of mass starts d from the impact point and swings on, so at
+  // session rebound n (PENDUL n + first_rebound, that many half periods on)
+  // right_n = mean_n + (-1)^(n + first_rebound) d. The left bar's trace is
+  // lost but for one stray rebound: the bars share none, and only the right
+  // bar's release measures d (randomised seeds 2011's, 3008's, 3017's runs
+  // 0.405).
+  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kX0 = 0.405, kD = 8e-4;
+  BarRebounds right, left;
+  for (int n = 0; n < 5; ++n) {
+    right.xmax.push_back(mean[n] + (n % 2 == 0 ? -kD : kD));  // first_rebound 1
+    right.xmax_sigma.push_back(3e-4);
+    right.t_peak.push_back(0.75 + 0.75 * n);
+    right.t_peak_sigma.push_back(2e-4);
+    right.duration.push_back(0.75);
+    right.duration_sigma.push_back(1e-3);
+  }
+  right.release = {kX0 + kD, 4e-4};
+  left.rebound = {4};
+  left.xmax = {0.2};  // read off the trace: far from the pair's 0.100 +- d
+  left.xmax_sigma = {3e-4};
+  left.t_peak = {1.6};  // and off the pendulum's clock
+  left.t_peak_sigma = {2e-4};
+  left.duration = {0.75};
+  left.duration_sigma = {1e-3};
+  const BarRebounds averaged;
+  // Without the typed X0 nothing gives the common swing: refused as before.
+  CHECK(MeanOfBars(right, left, averaged).xmax.empty());
+  const BarRebounds both = MeanOfBars(right, left, averaged, {kX0, 1});
+  REQUIRE(both.xmax.size() == 4);  // rebound 4's peaks disagree, no clock tells which
+  for (std::size_t n = 0; n < 4; ++n) {
+    CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+    CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, 4e-4)));
+  }
+  // A release further from the typed X0 than 3 % of it is a slip in one of
+  // them, which gives no common swing.
+  right.release = {1.04 * kX0, 4e-4};
+  CHECK(MeanOfBars(right, left, averaged, {kX0, 1}).xmax.empty());
+  // Where the other bar shows two or more rebounds, it is not lost: bars
+  // that share too few rebounds then are refused, not one taken alone.
+  right.release = {kX0 + kD, 4e-4};
+  left.rebound = {3, 4};
+  left.xmax = {0.3, 0.2};
+  left.xmax_sigma = {3e-4, 3e-4};
+  left.t_peak = {1.0, 1.6};
+  left.t_peak_sigma = {2e-4, 2e-4};
+  left.duration = {0.75, 0.75};
+  left.duration_sigma = {1e-3, 1e-3};
+  CHECK(MeanOfBars(right, left, averaged, {kX0, 1}).xmax.empty());
+}
+
 TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other") {
   // Randomised seed 1028's run 0.405: the left bar's rebound 3 crest was
   // misread (0.0416 +- 0.0095 where the truth is 0.0790), the right bar's
