@@ -24,7 +24,7 @@ constexpr double kRewardOffset = 0.1;  // a peak must be a tenth of the level to
 // programming: per column one candidate or none, rewarded for its peak and
 // charged for leaving the course, steepness, gaps and restarts.
 std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, const TrackGrid& grid,
-                               double level, bool step_trace, int max_gap) {
+                               double level, bool step_trace, int max_gap, OneWay one_way) {
   std::vector<Node> nodes;
   std::vector<int> first_of(grid.columns + 1, 0);
   for (int c = 0; c < grid.columns; ++c) {
@@ -39,11 +39,42 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
   // columns that cannot beat the best link so far are passed over.
   std::vector<double> column_best(grid.columns, -std::numeric_limits<double>::infinity());
   const double dx_unit = 1.0 / grid.px_per_div;
+  // A one-way course restarts from the best node it can reach, not the best
+  // of all: per whole row of `furthest` (from the least), the best node of
+  // the columns passed; those up to a row beyond the reach are taken too.
+  double least = 0.0;
+  std::vector<int> restart_from;
+  if (one_way.direction != 0 && !nodes.empty()) {
+    double most = -std::numeric_limits<double>::infinity();
+    least = std::numeric_limits<double>::infinity();
+    for (const Node& n : nodes) {
+      least = std::min(least, one_way.direction * n.row);
+      most = std::max(most, one_way.direction * n.row);
+    }
+    least = std::floor(least);
+    restart_from.assign(static_cast<std::size_t>(most - least) + 2, -1);
+  }
+  const auto row_bucket = [&](double furthest) {
+    return std::clamp(static_cast<int>(std::floor(furthest - least)), 0,
+                      static_cast<int>(restart_from.size()) - 1);
+  };
   for (int c = 0; c < grid.columns; ++c) {
+    if (!restart_from.empty() && c - 2 >= 0) {
+      for (int k = first_of[c - 2]; k < first_of[c - 1]; ++k) {
+        int& b = restart_from[static_cast<std::size_t>(row_bucket(nodes[k].furthest))];
+        if (b < 0 || nodes[k].score > nodes[b].score) b = k;
+      }
+    }
     for (int k = first_of[c]; k < first_of[c + 1]; ++k) {
       Node& node = nodes[k];
       const double reward = std::min(node.value / level, 1.5) - kRewardOffset + node.hint_reward;
-      double best = 0.0, best_slope = 0.0, best_trust = 0.0;
+      // How far this node lies in a one-way course's direction; a course
+      // that has gone further than `back_rows` beyond it cannot reach it.
+      const double ahead = one_way.direction * node.row;
+      const auto reachable = [&](const Node& from) {
+        return one_way.direction == 0 || ahead >= from.furthest - one_way.back_rows;
+      };
+      double best = 0.0, best_slope = 0.0, best_trust = 0.0, best_furthest = ahead;
       int previous = -1;
       unsigned char link = CoarsePath::kOnCourse;
       for (int d = 1; d <= max_gap && c - d >= 0; ++d) {
@@ -52,6 +83,7 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
         if (!(column_best[c - d] - gap > best)) continue;
         for (int j = first_of[c - d]; j < first_of[c - d + 1]; ++j) {
           const Node& from = nodes[j];
+          if (!reachable(from)) continue;
           // Rows grow downwards; slopes here are in rows' direction, div/div.
           const double dy = (node.row - from.row) * dx_unit;
           const double off_course = dy - from.slope * dx;
@@ -62,6 +94,7 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
           const double score = from.score - bend - gap;
           if (score > best) {
             best = score, previous = j, link = kind;
+            best_furthest = std::max(ahead, from.furthest);
             if (step_trace) {
               best_slope = 0.0, best_trust = 1.0;  // a contact trace's levels are flat
             } else {
@@ -77,14 +110,24 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
       }
       // After a gap the trace may reappear anywhere, at a price.
       if (c - 2 >= 0) {
-        const int j = best_up_to[c - 2];
+        int j = best_up_to[c - 2];
+        if (!restart_from.empty()) {
+          j = -1;
+          const int reach = row_bucket(ahead + one_way.back_rows);
+          for (int b = 0; b <= reach; ++b) {
+            const int i = restart_from[static_cast<std::size_t>(b)];
+            if (i >= 0 && (j < 0 || nodes[i].score > nodes[j].score)) j = i;
+          }
+        }
         if (j >= 0 && nodes[j].score - kRestartCost > best) {
           best = nodes[j].score - kRestartCost, previous = j, link = CoarsePath::kRestart;
+          best_furthest = std::max(ahead, nodes[j].furthest);
           best_slope = 0.0, best_trust = step_trace ? 1.0 : 0.0;
         }
       }
       node.slope = best_slope;
       node.trust = step_trace ? 1.0 : best_trust;
+      node.furthest = previous >= 0 ? best_furthest : ahead;
       node.score = reward + best;
       node.previous = previous;
       node.link = link;

@@ -20,6 +20,9 @@ struct Node {
   unsigned char link = CoarsePath::kOnCourse;
   double slope = 0.0;  // the course's slope arriving here, rows' direction, div/div
   double trust = 0.0;  // 0..1: how far that slope is to be believed
+  // A one-way course (OneWay): the furthest it has gone in its direction
+  // arriving here, rows times the direction.
+  double furthest = 0.0;
 };
 
 // A course's chosen candidates, in column order.
@@ -33,8 +36,18 @@ struct Chosen {
 // candidate or none, rewarded for its peak (relative to `level`) and charged
 // for leaving the course, steepness, gaps (bridged up to `max_gap` columns)
 // and restarts; a step trace's levels are flat and its edges jump.
+//
+// A one-way course (a calibration's trace: the bar swings one way from its
+// release across the sweep, and the cell's output is monotone in its
+// displacement) never turns back in height by more than `back_rows` from the
+// furthest it has gone in `direction` (+1: rows growing, down the screen;
+// -1: up it), across gaps and restarts too.
+struct OneWay {
+  int direction = 0;  // 0: any course
+  double back_rows = 0.0;
+};
 std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, const TrackGrid& grid,
-                               double level, bool step_trace, int max_gap);
+                               double level, bool step_trace, int max_gap, OneWay one_way = {});
 
 // The candidates of runs of neighbouring columns that look foreign to a
 // chopped trace's course: a continuous line (scratch, hair) it took. Empty

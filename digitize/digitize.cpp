@@ -240,6 +240,109 @@ std::vector<DigitizedTrace> ExtractTracesThinOrBold(const PreparedPhoto& prepare
   }
 }
 
+// A calibration's trace runs one way (TraceRequest::one_way_until_s): the bar swings
+// from its release across the sweep and the cell's output is monotone in its
+// displacement, so the trace's height never turns back (on the generator's
+// truth by at most 0.06 division, the beam's own wobble). A reading that
+// turns back by more than kTurnsBackDiv took something else for a stretch
+// (a pen ring's arc, an arrow, a stroke across the trace, a grid line): the
+// photo is read again with the course sought one way
+// (TraceOptions::one_way_courses), and that reading is taken only where it
+// does run one way, to within kRunsOneWayDiv (the course's own tolerance
+// and the centre's noise). Heights are taken as the median of
+// kTurnMedianSamples about each sample: a lone sample off is no turn.
+constexpr double kTurnsBackDiv = 0.5, kRunsOneWayDiv = 0.25;
+constexpr std::size_t kTurnMedianSamples = 5;
+
+// How far a trace's reading up to `until_s` turns back in height (divisions), the least of
+// the two ways it may be taken to run: the most its height falls back from
+// the furthest it had gone, down the screen or up it.
+double TurnBackDiv(const DigitizedTrace& trace, double until_s) {
+  std::vector<double> y;
+  for (std::size_t i = 0; i < trace.screen_div.size() && i < trace.trace.time_s.size(); ++i) {
+    if (trace.trace.time_s[i] <= until_s) y.push_back(trace.screen_div[i].y);
+  }
+  if (y.size() < kTurnMedianSamples) return 0.0;
+  std::vector<double> height;
+  std::array<double, kTurnMedianSamples> window{};
+  for (std::size_t i = 0; i + kTurnMedianSamples <= y.size(); ++i) {
+    for (std::size_t k = 0; k < kTurnMedianSamples; ++k) window[k] = y[i + k];
+    std::nth_element(window.begin(), window.begin() + kTurnMedianSamples / 2, window.end());
+    height.push_back(window[kTurnMedianSamples / 2]);
+  }
+  double least = std::numeric_limits<double>::infinity();
+  for (const double way : {1.0, -1.0}) {
+    double furthest = -std::numeric_limits<double>::infinity(), back = 0.0;
+    for (const double h : height) {
+      furthest = std::max(furthest, way * h);
+      back = std::max(back, furthest - way * h);
+    }
+    least = std::min(least, back);
+  }
+  return least;
+}
+
+// The share of `again`'s samples that `first` has not at the same place
+// along the sweep (none within kSameColumnDiv), or has on another line
+// (more than kOtherLineDiv away).
+double ShareReadAnew(const DigitizedTrace& again, const DigitizedTrace& first) {
+  const std::vector<cv::Point2d>& b = first.screen_div;
+  std::size_t anew = 0;
+  for (const cv::Point2d& p : again.screen_div) {
+    // The first reading's sample nearest along the sweep (both run in x order).
+    const auto next = std::lower_bound(b.begin(), b.end(), p.x,
+                                       [](const cv::Point2d& q, double x) { return q.x < x; });
+    const cv::Point2d* nearest = nullptr;
+    if (next != b.end()) nearest = &*next;
+    if (next != b.begin() && (nearest == nullptr || p.x - std::prev(next)->x < nearest->x - p.x)) {
+      nearest = &*std::prev(next);
+    }
+    if (nearest == nullptr || std::abs(nearest->x - p.x) > kSameColumnDiv ||
+        std::abs(nearest->y - p.y) > kOtherLineDiv) {
+      ++anew;
+    }
+  }
+  return again.screen_div.empty()
+             ? 0.0
+             : static_cast<double>(anew) / static_cast<double>(again.screen_div.size());
+}
+
+// Whether the one-way reading `again` of the traces read first as `first`
+// reads something the first did not where it turned back: a one-way trace
+// that the first reading turned back on is read anew along at least
+// kReadAnewShare of its samples. A one-way reading that only leaves out
+// part of the first (the stretch it turned back on, or the trace beyond a
+// hair the course then keeps to) is no better evidence than the first: the
+// calibration's fit judges a stretch off its curve with the whole reading
+// before it (randomised seed 4008's calibration, whose course kept
+// to a hair along the trace read one way, and 3027's, a straight
+// stroke across a bold trace taken for a hand mark: either reading one way
+// was a part of the first, the one calibrated and the other refused before).
+constexpr double kReadAnewShare = 0.05;
+
+bool ReadsAnew(const std::vector<DigitizedTrace>& again, const std::vector<DigitizedTrace>& first,
+               const std::vector<TraceRequest>& requests) {
+  for (std::size_t i = 0; i < again.size() && i < first.size() && i < requests.size(); ++i) {
+    const double until = requests[i].one_way_until_s;
+    if (until > 0.0 && TurnBackDiv(first[i], until) > kTurnsBackDiv &&
+        ShareReadAnew(again[i], first[i]) < kReadAnewShare) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether a one-way trace's reading among `traces` (one per request, in
+// order) turns back by more than `limit_div`.
+bool OneWayTraceTurnsBack(const std::vector<DigitizedTrace>& traces,
+                          const std::vector<TraceRequest>& requests, double limit_div) {
+  for (std::size_t i = 0; i < traces.size() && i < requests.size(); ++i) {
+    const double until = requests[i].one_way_until_s;
+    if (until > 0.0 && TurnBackDiv(traces[i], until) > limit_div) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
@@ -277,6 +380,23 @@ DigitizeResult DigitizePhoto(const Photo& photo, std::array<int, 2> divisions,
   try {
     result.traces =
         ExtractTracesThinOrBold(*prepared, result.graticule, requests, options.traces, result);
+    if (!options.traces.one_way_courses &&
+        OneWayTraceTurnsBack(result.traces, requests, kTurnsBackDiv)) {
+      TraceOptions one_way = options.traces;
+      one_way.one_way_courses = true;
+      DigitizeResult again;
+      try {
+        std::vector<DigitizedTrace> traces =
+            ExtractTracesThinOrBold(*prepared, result.graticule, requests, one_way, again);
+        if (!OneWayTraceTurnsBack(traces, requests, kRunsOneWayDiv) &&
+            ReadsAnew(traces, result.traces, requests)) {
+          result.traces = std::move(traces);
+          result.mark_outlines_px = std::move(again.mark_outlines_px);
+        }
+      } catch (const InputError&) {
+        // Read one way the trace is lost: the first reading stands.
+      }
+    }
   } catch (const InputError& e) {
     result.traces_ms = MillisecondsSince(start);
     return refused(e);
@@ -314,7 +434,10 @@ std::vector<TraceRequest> TraceRequestsOf(const Run& run) {
 
 std::vector<TraceRequest> TraceRequestsOf(const Calibration& calibration) {
   if (calibration.trace.csv) return {};
-  return {{calibration.cell, calibration.trace}};
+  // Without the pendulum the swing's quarter period is unknown: the whole
+  // sweep is taken to run one way (the cell is monotone on the far side of
+  // equilibrium too).
+  return {{calibration.cell, calibration.trace, std::numeric_limits<double>::infinity()}};
 }
 
 }  // namespace impactlab

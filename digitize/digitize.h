@@ -150,6 +150,14 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
 struct TraceRequest {
   std::string name;        // e.g. "right", "left", "contact"
   TraceSettings settings;  // band_div, time base, volts/div; `impact` marks a contact step
+  // A calibration's trace runs one way from its release (t = 0) until the
+  // bar passes equilibrium, a quarter period later: the cell's output is
+  // monotone in the displacement, so the trace's height never turns back
+  // there. A reading that turns back by more than half a division before
+  // this time (s) is read again with its course sought one way
+  // (docs/digitizing.md, "A calibration's trace runs one way"). 0: not a
+  // one-way trace.
+  double one_way_until_s = 0.0;
 };
 
 struct DigitizedTrace {

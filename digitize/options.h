@@ -170,6 +170,11 @@ struct TraceOptions {
   // digitizer turns it on only to read again a photo whose every reading
   // failed (docs/digitizing.md).
   bool off_grid_rows = false;
+  // Not a setting: a one-way trace's course (TraceRequest::one_way_until_s, a
+  // calibration's) is sought never turning back in height. The digitizer
+  // turns it on only to read again a calibration whose reading turns back
+  // (docs/digitizing.md, "A calibration's trace runs one way").
+  bool one_way_courses = false;
 
   template <typename Self, typename Visit>
   static void VisitSettings(Self& self, Visit&& visit) {

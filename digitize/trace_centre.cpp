@@ -698,7 +698,7 @@ std::optional<OffRowsReading> ReadOffGridRows(
     const PreparedPhoto& photo, const GraticuleFit& graticule, const TraceRequest& request,
     const TraceOptions& options, const digitize::TrackGrid& grid, const digitize::Claims& claims) {
   CoarsePath path = digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
-                                         /*off_grid_rows=*/true);
+                                         /*off_grid_rows=*/true, request.one_way_until_s > 0.0);
   if (path.seen_columns == 0) return std::nullopt;
   DigitizedTrace trace = MeasureTrace(photo, graticule, request, path, options);
   const double on_lines = ShareOnGridLines(trace, graticule);
@@ -796,7 +796,8 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
     const TraceRequest& request = requests[i];
     CheckPoints(photo, graticule, request);
     CoarsePath path =
-        digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims);
+        digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
+                             /*off_grid_rows=*/false, request.one_way_until_s > 0.0);
     DigitizedTrace trace;
     if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
     // What lies on the grid's lines and stands out only as much as they do

@@ -63,6 +63,12 @@ constexpr double kGapNearDiv = 0.5;
 // Only the candidates within kGapClearDiv of an excursion are withdrawn:
 // the trace may run a few tenths of a division beside what was taken.
 constexpr double kGapClearDiv = 0.1;
+// A one-way trace (a calibration's: TraceRequest::one_way_until_s) turns back by no
+// more than this, divisions (at least kOneWayBackMinRows strip rows): the
+// reading's noise and a trace's wobble where it crosses a grid line, a few
+// hundredths of a division. A pen ring's arc, an arrow or a stroke the
+// course might follow instead turns back by tenths of a division or more.
+constexpr double kOneWayBackDiv = 0.15, kOneWayBackMinRows = 1.5;
 // A course is sought again at most this many times without what one check
 // (lines beyond the face, strays) found on it: the course sought anew may
 // take another such line or stray (a second scratch, a ring's other arc).
@@ -748,6 +754,24 @@ bool SameAwayFrom(const std::vector<Chosen>& a, const std::vector<std::vector<No
   return away(a, a_nodes) == away(b, b_nodes);
 }
 
+// How many columns courses `a` (on the candidates `a_nodes`) and `b` (on
+// `b_nodes`) take at rows within `near_rows` of each other.
+std::size_t SharedColumns(const std::vector<Chosen>& a,
+                          const std::vector<std::vector<Node>>& a_nodes,
+                          const std::vector<Chosen>& b,
+                          const std::vector<std::vector<Node>>& b_nodes, double near_rows) {
+  std::size_t shared = 0, j = 0;
+  for (const Chosen& c : a) {
+    while (j < b.size() && b[j].column < c.column) ++j;
+    if (j < b.size() && b[j].column == c.column &&
+        std::abs(a_nodes[c.column][c.index].row - b_nodes[b[j].column][b[j].index].row) <=
+            near_rows) {
+      ++shared;
+    }
+  }
+  return shared;
+}
+
 }  // namespace
 
 TrackGrid MakeTrackGrid(const PreparedPhoto& photo, const GraticuleFit& graticule,
@@ -769,7 +793,8 @@ bool Claims::Taken(int column, double y_div) const {
 
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
-                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows) {
+                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows,
+                      bool one_way) {
   Strip strip = CutStrip(photo, graticule.mapping, graticule.divisions, settings, grid);
   const double line_height = SuppressGrid(strip, graticule.divisions);
   const cv::Mat1f& image = strip.image;
@@ -860,75 +885,113 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
   const bool step_trace = settings.impact.has_value();
   const int max_gap =
       std::max(1, static_cast<int>(std::lround(options.max_gap_div * grid.px_per_div)));
-  std::vector<Chosen> chosen = BestCourse(columns, grid, level, step_trace, max_gap);
-  // The candidates the course was last sought on, when not all of them.
-  std::vector<std::vector<Node>> kept;
-  if (!step_trace) {
-    // Without the lines it took that run on beyond the face; again while the
-    // course sought anew takes another.
-    const ThroughLines through(photo, graticule, strip, grid, noise_floor);
-    for (int round = 0; round < kRounds; ++round) {
-      std::vector<std::vector<Node>> cleared = kept.empty() ? columns : kept;
-      const int found = through.Withdraw(chosen, cleared);
-      if (found == 0) break;
-      chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
-      kept = std::move(cleared);
-    }
-  }
-  if (!step_trace) {
-    const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
-    const std::vector<Chosen> suspect = ForeignRuns(chosen);
-    if (!suspect.empty()) {
-      std::vector<std::vector<Node>> without_runs = before;
-      // One candidate per column at most: erasing it leaves the others valid.
-      for (const Chosen& f : suspect) {
-        without_runs[f.column].erase(without_runs[f.column].begin() + f.index);
-      }
-      std::vector<Chosen> without = BestCourse(without_runs, grid, level, step_trace, max_gap);
-      // Foreign only if the course found without the run runs elsewhere
-      // there: where it passes the same way, the run was the trace's own.
-      if (RunsElsewhere(without, without_runs, suspect, before, kAwayDiv * grid.px_per_div)) {
-        chosen = std::move(without);
-        kept = std::move(without_runs);
+  // The course, and the candidates it was last sought on when not all of
+  // them, sought one way (OneWay) or any way.
+  struct Search {
+    std::vector<Chosen> chosen;
+    std::vector<std::vector<Node>> kept;
+  };
+  const auto search = [&](const OneWay& way) {
+    const auto best_course = [&](const std::vector<std::vector<Node>>& nodes) {
+      return BestCourse(nodes, grid, level, step_trace, max_gap, way);
+    };
+    std::vector<Chosen> chosen = best_course(columns);
+    // The candidates the course was last sought on, when not all of them.
+    std::vector<std::vector<Node>> kept;
+    if (!step_trace) {
+      // Without the lines it took that run on beyond the face; again while the
+      // course sought anew takes another.
+      const ThroughLines through(photo, graticule, strip, grid, noise_floor);
+      for (int round = 0; round < kRounds; ++round) {
+        std::vector<std::vector<Node>> cleared = kept.empty() ? columns : kept;
+        const int found = through.Withdraw(chosen, cleared);
+        if (found == 0) break;
+        chosen = best_course(cleared);
+        kept = std::move(cleared);
       }
     }
-  }
-  if (!step_trace) {
-    // Once more without an excursion onto something beside the trace; and
-    // again while the course sought anew takes another (a ring's other arc,
-    // a second label), a few times at most.
-    for (int round = 0; round < kRounds; ++round) {
+    if (!step_trace) {
       const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
-      const std::vector<Chosen> stray =
-          StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
-      if (stray.empty()) break;
-      std::vector<std::vector<Node>> cleared =
-          WithoutCandidatesNear(before, stray, kStrayClearDiv * grid.px_per_div);
-      chosen = BestCourse(cleared, grid, level, step_trace, max_gap);
-      kept = std::move(cleared);
-    }
-    // Then the excursions reached or left by jumps across gaps the course
-    // bridged on course.
-    for (int round = 0; round < kRounds; ++round) {
-      const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
-      const std::vector<Chosen> stray =
-          GapExcursions(chosen, before, grid.px_per_div, kGapJumpDiv * grid.px_per_div);
-      if (stray.empty()) break;
-      std::vector<std::vector<Node>> cleared =
-          WithoutCandidatesNear(before, stray, std::max(1.5, kGapClearDiv * grid.px_per_div));
-      std::vector<Chosen> again = BestCourse(cleared, grid, level, step_trace, max_gap);
-      // The course sought again is taken only where it changed about the
-      // excursions: a jump judged on a trace's own faint, broken stretch
-      // can send the whole course elsewhere, and the course it had there
-      // was its best.
-      if (!SameAwayFrom(chosen, before, again, cleared, stray,
-                        static_cast<int>(std::lround(kGapNearDiv * grid.px_per_div)))) {
-        break;
+      const std::vector<Chosen> suspect = ForeignRuns(chosen);
+      if (!suspect.empty()) {
+        std::vector<std::vector<Node>> without_runs = before;
+        // One candidate per column at most: erasing it leaves the others valid.
+        for (const Chosen& f : suspect) {
+          without_runs[f.column].erase(without_runs[f.column].begin() + f.index);
+        }
+        std::vector<Chosen> without = best_course(without_runs);
+        // Foreign only if the course found without the run runs elsewhere
+        // there: where it passes the same way, the run was the trace's own.
+        if (RunsElsewhere(without, without_runs, suspect, before, kAwayDiv * grid.px_per_div)) {
+          chosen = std::move(without);
+          kept = std::move(without_runs);
+        }
       }
-      chosen = std::move(again);
-      kept = std::move(cleared);
     }
+    if (!step_trace) {
+      // Once more without an excursion onto something beside the trace; and
+      // again while the course sought anew takes another (a ring's other arc,
+      // a second label), a few times at most.
+      for (int round = 0; round < kRounds; ++round) {
+        const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
+        const std::vector<Chosen> stray =
+            StrayExcursions(chosen, before, kStrayJumpDiv * grid.px_per_div);
+        if (stray.empty()) break;
+        std::vector<std::vector<Node>> cleared =
+            WithoutCandidatesNear(before, stray, kStrayClearDiv * grid.px_per_div);
+        chosen = best_course(cleared);
+        kept = std::move(cleared);
+      }
+      // Then the excursions reached or left by jumps across gaps the course
+      // bridged on course.
+      for (int round = 0; round < kRounds; ++round) {
+        const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
+        const std::vector<Chosen> stray =
+            GapExcursions(chosen, before, grid.px_per_div, kGapJumpDiv * grid.px_per_div);
+        if (stray.empty()) break;
+        std::vector<std::vector<Node>> cleared =
+            WithoutCandidatesNear(before, stray, std::max(1.5, kGapClearDiv * grid.px_per_div));
+        std::vector<Chosen> again = best_course(cleared);
+        // The course sought again is taken only where it changed about the
+        // excursions: a jump judged on a trace's own faint, broken stretch
+        // can send the whole course elsewhere, and the course it had there
+        // was its best.
+        if (!SameAwayFrom(chosen, before, again, cleared, stray,
+                          static_cast<int>(std::lround(kGapNearDiv * grid.px_per_div)))) {
+          break;
+        }
+        chosen = std::move(again);
+        kept = std::move(cleared);
+      }
+    }
+    return Search{std::move(chosen), std::move(kept)};
+  };
+  Search found = search(OneWay{});
+  // A one-way trace's course (a calibration's), where the digitizer asks for
+  // one (TraceOptions::one_way_courses: its reading turned back), is sought
+  // never turning back by more than a reading's noise, up the screen or
+  // down it: the way that keeps more of the course sought any way (the way
+  // that merely pays better may be a bright scratch's across a faint
+  // trace).
+  if (one_way && options.one_way_courses && !step_trace) {
+    const auto nodes_of = [&](const Search& s) -> const std::vector<std::vector<Node>>& {
+      return s.kept.empty() ? columns : s.kept;
+    };
+    OneWay way;
+    way.back_rows = std::max(kOneWayBackMinRows, kOneWayBackDiv * grid.px_per_div);
+    std::optional<Search> best_way;
+    std::size_t most_kept = 0;
+    for (const int d : {1, -1}) {
+      way.direction = d;
+      Search course = search(way);
+      const std::size_t shared = SharedColumns(found.chosen, nodes_of(found), course.chosen,
+                                               nodes_of(course), kOneWayBackMinRows);
+      if (!best_way || shared > most_kept) most_kept = shared, best_way = std::move(course);
+    }
+    found = std::move(*best_way);
   }
+  const std::vector<Chosen>& chosen = found.chosen;
+  const std::vector<std::vector<Node>>& kept = found.kept;
   const std::vector<std::vector<Node>>& used = kept.empty() ? columns : kept;
   for (const Chosen& c : chosen) {
     const Node& node = used[c.column][c.index];

@@ -54,10 +54,14 @@ struct CoarsePath {
 
 // With `off_grid_rows`, no candidate is taken on a horizontal grid line's
 // row (within a line's width of it): the course is sought again so where its
-// first one followed a grid line.
+// first one followed a grid line. With `one_way` (a calibration's trace,
+// TraceRequest::one_way_until_s) and TraceOptions::one_way_courses the
+// course is sought never turning back by more than a reading's noise, the
+// way, up or down, that keeps more of the course sought any way.
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
-                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows = false);
+                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows = false,
+                      bool one_way = false);
 
 // Adds the path's course (and its bridged gaps) to `claims`.
 void Claim(const CoarsePath& path, double half_width_div, Claims& claims);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,23 @@ std::optional<GraticuleCorners> CornersHintOf(const std::filesystem::path& path,
   return std::nullopt;
 }
 
+// How long the trace on the photo at `path` runs one way
+// (TraceRequest::one_way_until_s): on a calibration's photo (and no run's),
+// a free swing's from the release to equilibrium, a quarter of the
+// small-angle period (every convention's swing lasts at least that long);
+// 0 elsewhere, or where the apparatus is not given.
+double OneWayUntil(const std::filesystem::path& path, const Session& session) {
+  const auto is_path = [&](const auto& entry) { return entry.photo == path; };
+  if (!session.apparatus || !(session.apparatus->pendulum_length > 0.0) ||
+      !(session.apparatus->gravity > 0.0) ||
+      std::none_of(session.calibrations.begin(), session.calibrations.end(), is_path) ||
+      std::any_of(session.runs.begin(), session.runs.end(), is_path)) {
+    return 0.0;
+  }
+  return 0.5 * std::numbers::pi *
+         std::sqrt(session.apparatus->pendulum_length / session.apparatus->gravity);
+}
+
 // The contact (step) trace a photo's refusal names, when it names one: the
 // refusal's key is the trace's ("traces.contact") or one within it (its
 // points hint's).
@@ -88,7 +106,8 @@ DigitizedPhoto DigitizeSessionPhoto(const std::filesystem::path& path, const Ses
   // Read from inside the session folder only, and only a regular file.
   const Photo photo = DecodePhoto(ReadSessionFile(session.folder, path), path);
   std::vector<TraceRequest> requests;
-  for (const auto& [name, settings] : traces) requests.push_back({name, settings});
+  const double one_way_until_s = OneWayUntil(path, session);
+  for (const auto& [name, settings] : traces) requests.push_back({name, settings, one_way_until_s});
   options.graticule.corners_px = CornersHintOf(path, session);
   DigitizeResult result = DigitizePhoto(photo, session.divisions, requests, options);
   // A contact trace not found fails alone: only the contact time needs it,
