@@ -440,20 +440,27 @@ struct DivisionProblem {
   std::string what;
   cv::Point2d shift_div;
 };
+// A problem refuses the lattice; a doubt only says that the lattice a
+// division over may be the grid's, to be taken when it passes every check
+// and its lines doubt nothing back (SearchAndRefine).
+struct DivisionCheck {
+  std::optional<DivisionProblem> problem;
+  std::optional<DivisionProblem> doubt;
+};
 
 // A lattice of the wrong size fits too: the lines it has beyond the screen's
 // are simply not measured, and one too small takes a part of the screen.
 // So every line of the lattice must be seen along much of its length, and
 // no line may be seen a division beyond the outermost ones. Returns the
-// first thing the lines say against the lattice, nullopt when nothing.
+// first thing the lines say against the lattice, nullopt when nothing, and
+// what they only doubt.
 // `samples` were measured over `measured_half_length_px` either side of
 // where the fit puts their lines; the lines beyond are measured over
 // `half_length_px`.
-std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
-                                              const std::vector<LineSample>& samples,
-                                              const GraticuleOptions& options,
-                                              double measured_half_length_px, double half_length_px,
-                                              double search_px) {
+DivisionCheck CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
+                             const std::vector<LineSample>& samples,
+                             const GraticuleOptions& options, double measured_half_length_px,
+                             double half_length_px, double search_px) {
   const std::array<int, 2> divisions = fit.divisions;
   const char* axis[2] = {"x", "y"};
   // A measurement sees its line when it found a line where the fit puts it
@@ -580,12 +587,13 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
       const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
       // An outermost line unseen: the grid may lie a division further in.
       const int toward = inner ? 0 : (index == 0 ? 1 : -1);
-      return DivisionProblem{
-          fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} places): "
-                      "does the screen have {} x {} divisions?",
-                      axis[family], line_div, counts[family][index].first,
-                      counts[family][index].second, divisions[0], divisions[1]),
-          family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward)};
+      return {DivisionProblem{
+                  fmt::format("its line {} = {:g} div is not in the photo (seen at {} of {} "
+                              "places): does the screen have {} x {} divisions?",
+                              axis[family], line_div, counts[family][index].first,
+                              counts[family][index].second, divisions[0], divisions[1]),
+                  family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward)},
+              std::nullopt};
     }
   }
   const std::vector<std::pair<int, int>> beyond = {
@@ -593,15 +601,21 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
   std::vector<LineSample> outside =
       MeasureGridLines(ink, fit.mapping, divisions, beyond, options.samples_per_div, half_length_px,
                        search_px, options.line_average_div);
+  // A line, not an edge: a bezel's lip or a print's border a division
+  // beyond the grid steps from one level to another across it.
+  auto line_like = [&](const LineSample& s) {
+    return sees(s) && s.height > 0.5 * fit.line_contrast && s.height < 2.0 * fit.line_contrast &&
+           s.fwhm_px < 1.5 * fit.line_width_px && std::abs(s.side_step) < 0.5 * s.height;
+  };
+  auto line_like_places = [&](const std::vector<LineSample>& measured, int family, int index) {
+    return static_cast<int>(
+        std::count_if(measured.begin(), measured.end(), [&](const LineSample& s) {
+          return s.family == family && s.index == index && line_like(s);
+        }));
+  };
+  std::optional<DivisionProblem> doubt;
   for (const auto& [family, index] : beyond) {
-    int seen = 0;
-    for (const LineSample& s : outside) {
-      if (s.family != family || s.index != index) continue;
-      // A line, not an edge: a bezel's lip or a print's border a division
-      // beyond the grid steps from one level to another across it.
-      seen += sees(s) && s.height > 0.5 * fit.line_contrast && s.height < 2.0 * fit.line_contrast &&
-              s.fwhm_px < 1.5 * fit.line_width_px && std::abs(s.side_step) < 0.5 * s.height;
-    }
+    const int seen = line_like_places(outside, family, index);
     // Judged, like the grid's own lines, where the places are clear: a trace
     // running along the line beyond (the lowest trace on the bottom line of
     // a grid a division lower) hides it there. Seen at half of them is
@@ -613,20 +627,38 @@ std::optional<DivisionProblem> CheckDivisions(const InkSampler& ink, const Grati
     // The line beyond one end seen more than the outermost line at the
     // other: the lattice has taken an edge (the screen meeting the bezel)
     // or a hidden stretch for that line, and lies a division off.
-    const int opposite = counts[family][index < 0 ? divisions[family] : 0].first;
+    const int opposite_index = index < 0 ? divisions[family] : 0;
+    const int opposite = counts[family][opposite_index].first;
     const bool better_than_opposite = seen >= 3 && seen > 2 * opposite;
+    const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
+    // A line beyond one end: the grid may lie a division further that way.
+    const int toward = index < 0 ? -1 : 1;
+    const cv::Point2d shift = family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward);
     if ((clear >= 3 && seen > 0.5 * clear) || better_than_opposite) {
-      const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
-      // A line beyond one end: the grid may lie a division further that way.
-      const int toward = index < 0 ? -1 : 1;
-      return DivisionProblem{
-          fmt::format("the photo shows a grid line at {} = {:g} div too: the screen has more "
-                      "divisions",
-                      axis[family], line_div),
-          family == 0 ? cv::Point2d(toward, 0.0) : cv::Point2d(0.0, toward)};
+      return {DivisionProblem{fmt::format("the photo shows a grid line at {} = {:g} div too: the "
+                                          "screen has more divisions",
+                                          axis[family], line_div),
+                              shift},
+              std::nullopt};
+    }
+    // The outermost line at the other end may be an edge that every place
+    // of it is hidden by (a print's border, the bezel's lip: far brighter
+    // than a line), counted seen where a line's centre was found on it.
+    // Seen as a line, not an edge, it is seen less than this line beyond:
+    // the lattice a division this way may be the grid's (randomised seed
+    // 8's calibration L-0.713, its line x = 10 on the print's border, the
+    // grid's line x = 0 a division left of the lattice's, seen as a line
+    // at 16 of 24 places but hidden by the bezel's shade at all).
+    const int opposite_as_line = line_like_places(samples, family, opposite_index);
+    if (!doubt && 3 * seen >= static_cast<int>(along.size()) && seen > 2 * opposite_as_line) {
+      doubt = DivisionProblem{
+          fmt::format("the grid line at {} = {:g} div is seen as a line at {} places, the "
+                      "lattice's line at the other end at {}",
+                      axis[family], line_div, seen, opposite_as_line),
+          shift};
     }
   }
-  return std::nullopt;
+  return {std::nullopt, std::move(doubt)};
 }
 
 // How far the lattice's lines stand out of a print's screen, the least of
@@ -681,6 +713,7 @@ double LinesAboveScreen(const InkSampler& ink, const GraticuleFit& fit, int samp
 struct Refined {
   GraticuleFit fit;
   std::optional<DivisionProblem> problem;
+  std::optional<DivisionProblem> doubt;  // DivisionCheck
 };
 Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                const GraticuleOptions& options, const cv::Matx33d& homography, bool hinted,
@@ -789,6 +822,20 @@ GraticuleFit SearchAndRefine(const PreparedPhoto& photo, const PreparedPhoto& wo
     }
   }
   if (refined.problem) NotFound(photo, divisions, refined.problem->what, false);
+  if (refined.doubt) {
+    // An outermost line that only an edge stands for, and a line beyond the
+    // other end: the lattice a division that way is taken when every check
+    // passes it and its own lines doubt nothing (they would doubt back were
+    // the first the grid's: its outermost line a line, the edge beyond).
+    const cv::Point2d shift = refined.doubt->shift_div;
+    const cv::Matx33d moved(1.0, 0.0, shift.x, 0.0, 1.0, shift.y, 0.0, 0.0, 1.0);
+    try {
+      Refined other =
+          Refine(photo, divisions, options, refined.fit.mapping.homography * moved, false, start);
+      if (!other.problem && !other.doubt) return other.fit;
+    } catch (const InputError&) {
+    }
+  }
   return refined.fit;
 }
 
@@ -989,8 +1036,8 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                          result.samples_used, expected),
              hinted);
   }
-  std::optional<DivisionProblem> problem = CheckDivisions(
-      ink, result, samples, options, measured_half_length_px, half_length_px, search_px);
+  auto [problem, doubt] = CheckDivisions(ink, result, samples, options, measured_half_length_px,
+                                         half_length_px, search_px);
   // On a print the screen's rows, within half a period of any line, give a
   // lattice anywhere along them a period / sqrt(12) RMS: the share of a
   // division allowed stays well under it (options.h).
@@ -1029,7 +1076,7 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
     const bool print_lines_stand_out =
         period_px > 0.0 && result.residual_px <= kMaxResidualDotPeriods * period_px &&
         LinesAboveScreen(ink, result, options.samples_per_div, period_px) >= kMinLinesAboveScreen;
-    if (print_lines_stand_out) return {std::move(result), std::move(problem)};
+    if (print_lines_stand_out) return {std::move(result), std::move(problem), std::move(doubt)};
     NotFound(photo, divisions,
              fmt::format("the best lattice misses its lines by {:.2f} px RMS (limit {:.2f} px: "
                          "{:.2f} px, {:.2f} of the lines' {:.2f} px width or {:.2f} px of a "
@@ -1039,7 +1086,7 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                          result.px_per_div),
              hinted);
   }
-  return {std::move(result), std::move(problem)};
+  return {std::move(result), std::move(problem), std::move(doubt)};
 }
 
 }  // namespace
