@@ -106,18 +106,24 @@ bool SomeTraceWeak(const std::vector<DigitizedTrace>& traces, const PreparedPhot
 // kOtherLineShare of its samples that the bold reading also has do so.
 constexpr double kSameColumnDiv = 0.05, kOtherLineDiv = 0.25, kOtherLineShare = 0.1;
 
+// The sample of `samples` (in x order, as a reading runs along the sweep)
+// nearest to `x` along the sweep; null when there is none.
+const cv::Point2d* NearestAlongSweep(const std::vector<cv::Point2d>& samples, double x) {
+  const auto next = std::lower_bound(samples.begin(), samples.end(), x,
+                                     [](const cv::Point2d& q, double at) { return q.x < at; });
+  const cv::Point2d* nearest = nullptr;
+  if (next != samples.end()) nearest = &*next;
+  if (next != samples.begin() && (nearest == nullptr || x - std::prev(next)->x < nearest->x - x)) {
+    nearest = &*std::prev(next);
+  }
+  return nearest;
+}
+
 bool FollowsAnotherLine(const DigitizedTrace& thin, const DigitizedTrace& bold) {
   const std::vector<cv::Point2d>& b = bold.screen_div;
   std::size_t compared = 0, apart = 0;
   for (const cv::Point2d& p : thin.screen_div) {
-    // The bold sample nearest along the sweep (both run in x order).
-    const auto next = std::lower_bound(b.begin(), b.end(), p.x,
-                                       [](const cv::Point2d& q, double x) { return q.x < x; });
-    const cv::Point2d* nearest = nullptr;
-    if (next != b.end()) nearest = &*next;
-    if (next != b.begin() && (nearest == nullptr || p.x - std::prev(next)->x < nearest->x - p.x)) {
-      nearest = &*std::prev(next);
-    }
+    const cv::Point2d* nearest = NearestAlongSweep(b, p.x);
     if (nearest == nullptr || std::abs(nearest->x - p.x) > kSameColumnDiv) continue;
     ++compared;
     if (std::abs(nearest->y - p.y) > kOtherLineDiv) ++apart;
@@ -289,14 +295,7 @@ double ShareReadAnew(const DigitizedTrace& again, const DigitizedTrace& first) {
   const std::vector<cv::Point2d>& b = first.screen_div;
   std::size_t anew = 0;
   for (const cv::Point2d& p : again.screen_div) {
-    // The first reading's sample nearest along the sweep (both run in x order).
-    const auto next = std::lower_bound(b.begin(), b.end(), p.x,
-                                       [](const cv::Point2d& q, double x) { return q.x < x; });
-    const cv::Point2d* nearest = nullptr;
-    if (next != b.end()) nearest = &*next;
-    if (next != b.begin() && (nearest == nullptr || p.x - std::prev(next)->x < nearest->x - p.x)) {
-      nearest = &*std::prev(next);
-    }
+    const cv::Point2d* nearest = NearestAlongSweep(b, p.x);
     if (nearest == nullptr || std::abs(nearest->x - p.x) > kSameColumnDiv ||
         std::abs(nearest->y - p.y) > kOtherLineDiv) {
       ++anew;

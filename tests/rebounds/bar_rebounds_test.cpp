@@ -13,6 +13,18 @@
 namespace impactlab {
 namespace {
 
+// Appends a rebound row built by hand: its maximum and standard error and
+// its peak time, a half period of 0.75 s its duration, the clock's errors
+// those of a well-read trace.
+void AppendRow(BarRebounds& bar, double xmax, double xmax_sigma, double t_peak) {
+  bar.xmax.push_back(xmax);
+  bar.xmax_sigma.push_back(xmax_sigma);
+  bar.t_peak.push_back(t_peak);
+  bar.t_peak_sigma.push_back(2e-4);
+  bar.duration.push_back(0.75);
+  bar.duration_sigma.push_back(1e-3);
+}
+
 TEST_CASE("bar_rebounds: session numbering starts at first_rebound and keeps rows past a gap") {
   ReboundExtraction e;
   for (int number : {1, 2, 3, 5, 6}) {
@@ -178,17 +190,8 @@ TEST_CASE("bar_rebounds: rebounds one bar lost are the other's less the bars' co
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
     const double sign = n % 2 == 0 ? 1.0 : -1.0;
-    right.xmax.push_back(mean[n] + sign * kCommon);
-    if (n < 2) left.xmax.push_back(mean[n] - sign * kCommon);
-  }
-  for (BarRebounds* b : {&right, &left}) {
-    for (std::size_t n = 0; n < b->xmax.size(); ++n) {
-      b->xmax_sigma.push_back(3e-4);
-      b->t_peak.push_back(0.75 + 0.75 * n);
-      b->t_peak_sigma.push_back(2e-4);
-      b->duration.push_back(0.75);
-      b->duration_sigma.push_back(1e-3);
-    }
+    AppendRow(right, mean[n] + sign * kCommon, 3e-4, 0.75 + 0.75 * n);
+    if (n < 2) AppendRow(left, mean[n] - sign * kCommon, 3e-4, 0.75 + 0.75 * n);
   }
   const BarRebounds averaged;  // the average has nothing past what both have
   const BarRebounds both = MeanOfBars(right, left, averaged);
@@ -220,12 +223,7 @@ TEST_CASE(
   constexpr double kX0 = 0.405, kD = 8e-4;
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
-    right.xmax.push_back(mean[n] + (n % 2 == 0 ? -kD : kD));  // first_rebound 1
-    right.xmax_sigma.push_back(3e-4);
-    right.t_peak.push_back(0.75 + 0.75 * n);
-    right.t_peak_sigma.push_back(2e-4);
-    right.duration.push_back(0.75);
-    right.duration_sigma.push_back(1e-3);
+    AppendRow(right, mean[n] + (n % 2 == 0 ? -kD : kD), 3e-4, 0.75 + 0.75 * n);  // first_rebound 1
   }
   right.release = {kX0 + kD, 4e-4};
   left.rebound = {4};
@@ -270,15 +268,8 @@ TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other"
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
     const double sign = n % 2 == 0 ? 1.0 : -1.0;
-    right.xmax.push_back(mean[n] + sign * kCommon);
-    left.xmax.push_back(mean[n] - sign * kCommon);
-    for (BarRebounds* b : {&right, &left}) {
-      b->xmax_sigma.push_back(3e-4);
-      b->t_peak.push_back(0.75 + 0.75 * n);
-      b->t_peak_sigma.push_back(2e-4);
-      b->duration.push_back(0.75);
-      b->duration_sigma.push_back(1e-3);
-    }
+    AppendRow(right, mean[n] + sign * kCommon, 3e-4, 0.75 + 0.75 * n);
+    AppendRow(left, mean[n] - sign * kCommon, 3e-4, 0.75 + 0.75 * n);
   }
   // Clean, the bars agree: the plain mean, the sigmas combined.
   const BarRebounds clean = MeanOfBars(right, left, BarRebounds{});
@@ -327,12 +318,8 @@ std::pair<BarRebounds, BarRebounds> BarsMissing(const std::vector<double>& mean,
          {std::tuple{&right, 1.0, &right_missing}, std::tuple{&left, -1.0, &left_missing}}) {
       if (std::find(missing->begin(), missing->end(), n) != missing->end()) continue;
       bar->rebound.push_back(n);
-      bar->xmax.push_back(mean[static_cast<std::size_t>(n)] + side * sign * common);
-      bar->xmax_sigma.push_back(3e-4);
-      bar->t_peak.push_back(0.75 + 0.75 * n);
-      bar->t_peak_sigma.push_back(2e-4);
-      bar->duration.push_back(0.75);
-      bar->duration_sigma.push_back(1e-3);
+      AppendRow(*bar, mean[static_cast<std::size_t>(n)] + side * sign * common, 3e-4,
+                0.75 + 0.75 * n);
     }
   }
   return {right, left};
@@ -429,12 +416,7 @@ TEST_CASE("bar_rebounds: a rebound from one history alone must peak on the pendu
   auto [right3, left3] = BarsMissing(mean, kCommon, {3, 4}, {2, 3, 4});
   BarRebounds averaged;
   for (std::size_t n = 0; n < mean.size(); ++n) {
-    averaged.xmax.push_back(mean[n]);
-    averaged.xmax_sigma.push_back(3e-4);
-    averaged.t_peak.push_back(0.75 + 0.75 * static_cast<double>(n));
-    averaged.t_peak_sigma.push_back(2e-4);
-    averaged.duration.push_back(0.75);
-    averaged.duration_sigma.push_back(1e-3);
+    AppendRow(averaged, mean[n], 3e-4, 0.75 + 0.75 * static_cast<double>(n));
   }
   CHECK(MeanOfBars(right3, left3, averaged).xmax.size() == 5);
   averaged.t_peak[3] += 0.1;
@@ -499,15 +481,8 @@ TEST_CASE("bar_rebounds: a bar read wrong throughout states the bars' distance")
   const double low[] = {0.28, 0.19, 0.11, 0.06, 0.03};  // the left bar's shortfall, of X
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
-    right.xmax.push_back(mean[n]);
-    left.xmax.push_back(mean[n] * (1.0 - low[n]));
-    for (BarRebounds* b : {&right, &left}) {
-      b->xmax_sigma.push_back(5e-4);
-      b->t_peak.push_back(0.75 + 0.75 * n);
-      b->t_peak_sigma.push_back(2e-4);
-      b->duration.push_back(0.75);
-      b->duration_sigma.push_back(1e-3);
-    }
+    AppendRow(right, mean[n], 5e-4, 0.75 + 0.75 * n);
+    AppendRow(left, mean[n] * (1.0 - low[n]), 5e-4, 0.75 + 0.75 * n);
   }
   const BarRebounds both = MeanOfBars(right, left, BarRebounds{});
   REQUIRE(both.xmax.size() == 5);
