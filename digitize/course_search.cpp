@@ -146,21 +146,14 @@ std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, co
   return chosen;
 }
 
-// A chopped trace is drawn in only part of each chopper slot, so its course
-// holds candidates in runs of neighbouring columns no longer than a dash,
-// all alike, over about the chopper's duty of its columns. A run spanning
-// several of the chopper's periods, on a course that is otherwise under
-// kChoppedShare occupied, is something else the course took: a scratch or a hair crossing
-// the band, whose continuous line out-earns sparse dashes column by column
-// (and may even continue the trace's course where it crosses it). Returns
-// those runs' candidates.
-std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
-  constexpr double kChoppedShare = 0.6;  // of the rest of the course's columns
-  constexpr int kMinColumns = 8;
-  constexpr double kPeriods = 3.0;  // a foreign run spans more of the chopper's periods
-  struct Run {
-    std::size_t first = 0, end = 0;  // into `chosen`
-  };
+namespace {
+
+// Runs of neighbouring columns on a course, unbroken by restarts.
+struct Run {
+  std::size_t first = 0, end = 0;  // into `chosen`
+};
+
+std::vector<Run> RunsOf(const std::vector<Chosen>& chosen) {
   std::vector<Run> runs;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const bool joined = i > 0 && chosen[i].column == chosen[i - 1].column + 1 &&
@@ -168,17 +161,24 @@ std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
     if (!joined) runs.push_back({i, i});
     runs.back().end = i + 1;
   }
+  return runs;
+}
+
+}  // namespace
+
+std::optional<Chopper> ChopperOf(const std::vector<Chosen>& chosen) {
+  const std::vector<Run> runs = RunsOf(chosen);
   // Chopped: many runs, nearly all of a dash's length (a continuous trace
   // seen in pieces has few, of every length).
   constexpr std::size_t kMinRuns = 10;
   constexpr double kRegularShare = 0.8;
-  if (runs.size() < kMinRuns) return {};
+  if (runs.size() < kMinRuns) return std::nullopt;
   std::vector<float> lengths;
   for (const Run& r : runs) lengths.push_back(static_cast<float>(r.end - r.first));
   const double usual = MedianOf(lengths);
   const auto regular =
       std::count_if(lengths.begin(), lengths.end(), [&](float l) { return l <= 2.0 * usual; });
-  if (regular < kRegularShare * static_cast<double>(runs.size())) return {};
+  if (regular < kRegularShare * static_cast<double>(runs.size())) return std::nullopt;
   // The chopper's period on the course: a dash and the gap after it.
   std::vector<float> gaps;
   for (std::size_t k = 1; k < runs.size(); ++k) {
@@ -189,7 +189,31 @@ std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
   // chopping (dense dot chains) leaves runs that grid lines and their
   // ticks cut, not the chopper, and says nothing of a foreign line.
   const double usual_gap = MedianOf(gaps);
-  if (usual_gap < 2.0) return {};
+  if (usual_gap < 2.0) return std::nullopt;
+  return Chopper{usual, usual_gap};
+}
+
+// A chopped trace is drawn in only part of each chopper slot, so its course
+// holds candidates in runs of neighbouring columns no longer than a dash,
+// all alike, over about the chopper's duty of its columns. A run spanning
+// several of the chopper's periods, on a course that is otherwise under
+// kChoppedShare occupied, is something else the course took: a scratch or a hair crossing
+// the band, whose continuous line out-earns sparse dashes column by column
+// (and may even continue the trace's course where it crosses it). Returns
+// those runs' candidates. With the beam's chopper known from another trace,
+// a course that took a continuous line for all its length (a hair along the
+// band outshining the dashes) shows no chopper of its own, and its runs are
+// judged against the beam's.
+std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen, std::optional<Chopper> beam) {
+  constexpr double kChoppedShare = 0.6;  // of the rest of the course's columns
+  constexpr int kMinColumns = 8;
+  constexpr double kPeriods = 3.0;  // a foreign run spans more of the chopper's periods
+  if (chosen.empty()) return {};
+  const std::vector<Run> runs = RunsOf(chosen);
+  std::optional<Chopper> own = ChopperOf(chosen);
+  if (!own && !beam) return {};
+  const Chopper chopper = own ? *own : *beam;
+  const double usual = chopper.dash_columns, usual_gap = chopper.gap_columns;
   const double period = usual + usual_gap;
   // A chopper's blanking is in time, and the sweep draws time along the
   // columns: its gaps span the same columns however steep the trace. Where
@@ -229,7 +253,7 @@ std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen) {
     if (length < std::max<double>(kMinColumns, foreign_length)) continue;
     if (static_cast<double>(r.end - r.first) < kSeenShare * length) continue;
     const double rest_seen = static_cast<double>(chosen.size() - (r.end - r.first));
-    if (!(rest_seen < kChoppedShare * (span - length))) continue;
+    if (own && !(rest_seen < kChoppedShare * (span - length))) continue;
     foreign.insert(foreign.end(), chosen.begin() + r.first, chosen.begin() + r.end);
   }
   return foreign;

@@ -3,6 +3,7 @@
 // that takes a continuous line crossing a chopped trace out of its course.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "digitize/trace_track.h"
@@ -49,10 +50,20 @@ struct OneWay {
 std::vector<Chosen> BestCourse(const std::vector<std::vector<Node>>& columns, const TrackGrid& grid,
                                double level, bool step_trace, int max_gap, OneWay one_way = {});
 
+// The chopper a course shows, when it shows one the columns resolve: many
+// runs of neighbouring columns, nearly all of a dash's length, with gaps of
+// two columns or more between them.
+std::optional<Chopper> ChopperOf(const std::vector<Chosen>& chosen);
+
 // The candidates of runs of neighbouring columns that look foreign to a
 // chopped trace's course: a continuous line (scratch, hair) it took. Empty
-// when the course does not show a chopper the columns resolve.
-std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen);
+// when the course does not show a chopper the columns resolve, unless
+// `beam` is the chopper another trace on the photo shows (the displacement
+// traces share a chopped beam): then a line the course took unbroken over
+// several of its periods is foreign wherever it lies, and however much of
+// the course it makes.
+std::vector<Chosen> ForeignRuns(const std::vector<Chosen>& chosen,
+                                std::optional<Chopper> beam = std::nullopt);
 
 // The candidates of excursions a continuous trace's course made where it
 // lost the trace: stretches reached and left by restarts whose jumps the

@@ -14,6 +14,7 @@
 #include "digitize/beam_spread.h"
 #include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
+#include "digitize/hand_marks.h"
 #include "digitize/ink_sampler.h"
 #include "digitize/line_profile.h"
 #include "digitize/screen_geometry.h"
@@ -696,9 +697,11 @@ struct OffRowsReading {
 // its crossings of the rows. Empty where the reading is not taken.
 std::optional<OffRowsReading> ReadOffGridRows(
     const PreparedPhoto& photo, const GraticuleFit& graticule, const TraceRequest& request,
-    const TraceOptions& options, const digitize::TrackGrid& grid, const digitize::Claims& claims) {
-  CoarsePath path = digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
-                                         /*off_grid_rows=*/true, request.one_way_until_s > 0.0);
+    const TraceOptions& options, const digitize::TrackGrid& grid, const digitize::Claims& claims,
+    std::optional<digitize::Chopper> beam_chopper) {
+  CoarsePath path =
+      digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
+                           /*off_grid_rows=*/true, request.one_way_until_s > 0.0, beam_chopper);
   if (path.seen_columns == 0) return std::nullopt;
   DigitizedTrace trace = MeasureTrace(photo, graticule, request, path, options);
   const double on_lines = ShareOnGridLines(trace, graticule);
@@ -763,41 +766,37 @@ void CheckPoints(const PreparedPhoto& photo, const GraticuleFit& graticule,
   }
 }
 
-}  // namespace
+// The traces read in turn, and their courses.
+struct Reading {
+  std::vector<DigitizedTrace> traces;
+  std::vector<CoarsePath> paths;
+};
 
-std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const GraticuleFit& graticule,
-                                          const std::vector<TraceRequest>& requests,
-                                          const TraceOptions& options) {
-  if (std::string error; !options.Check(&error)) {
-    throw std::invalid_argument("trace options: " + error);
-  }
-  for (const TraceRequest& request : requests) {
-    const TraceSettings& s = request.settings;
-    if (!(s.time_per_div > 0.0) || s.volts_per_div == 0.0 || !std::isfinite(s.volts_per_div) ||
-        !std::isfinite(s.zero_div) || !std::isfinite(s.t0_div) || !std::isfinite(s.band_div[0]) ||
-        !std::isfinite(s.band_div[1]) || s.band_div[0] == s.band_div[1]) {
-      throw std::invalid_argument(fmt::format(
-          "trace '{}': time_per_div must be positive, volts_per_div non-zero, the band not empty "
-          "and all settings finite",
-          request.name));
-    }
-  }
+// Every trace of `requests` read in turn, each displacement trace's course
+// sought with `beam_chopper` (their shared chopper, when known).
+Reading ReadEachTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                      const std::vector<TraceRequest>& requests, const TraceOptions& options,
+                      const digitize::TrackGrid& grid,
+                      std::optional<digitize::Chopper> beam_chopper) {
   // Contact (step) traces first: their levels and edges are unmistakable,
   // and what they take is not offered to the traces whose bands they share.
   std::vector<std::size_t> order(requests.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_partition(order.begin(), order.end(),
                         [&](std::size_t i) { return requests[i].settings.impact.has_value(); });
-
-  const TrackGrid grid = digitize::MakeTrackGrid(photo, graticule, options);
   Claims claims(grid.columns);
-  std::vector<DigitizedTrace> results(requests.size());
+  Reading reading{std::vector<DigitizedTrace>(requests.size()),
+                  std::vector<CoarsePath>(requests.size())};
+  std::vector<DigitizedTrace>& results = reading.traces;
   for (const std::size_t i : order) {
     const TraceRequest& request = requests[i];
     CheckPoints(photo, graticule, request);
+    // A contact trace is drawn by a beam of its own, unchopped.
+    const std::optional<digitize::Chopper> chopper =
+        request.settings.impact ? std::nullopt : beam_chopper;
     CoarsePath path =
         digitize::TrackTrace(photo, graticule, request.settings, options, grid, claims,
-                             /*off_grid_rows=*/false, request.one_way_until_s > 0.0);
+                             /*off_grid_rows=*/false, request.one_way_until_s > 0.0, chopper);
     DigitizedTrace trace;
     if (path.seen_columns > 0) trace = MeasureTrace(photo, graticule, request, path, options);
     // What lies on the grid's lines and stands out only as much as they do
@@ -815,7 +814,7 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
     // design, and are never sought so.
     if (options.off_grid_rows && !bright_enough && !request.settings.impact) {
       if (std::optional<OffRowsReading> again =
-              ReadOffGridRows(photo, graticule, request, options, grid, claims)) {
+              ReadOffGridRows(photo, graticule, request, options, grid, claims, chopper)) {
         trace = std::move(again->trace);
         path = std::move(again->path);
         bright_enough = true;
@@ -854,8 +853,57 @@ std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const Grat
                     claims);
     trace.from_points_hint = !request.settings.points_px.empty();
     results[i] = std::move(trace);
+    reading.paths[i] = std::move(path);
   }
-  return results;
+  return reading;
+}
+
+}  // namespace
+
+std::vector<DigitizedTrace> ExtractTraces(const PreparedPhoto& photo, const GraticuleFit& graticule,
+                                          const std::vector<TraceRequest>& requests,
+                                          const TraceOptions& options) {
+  if (std::string error; !options.Check(&error)) {
+    throw std::invalid_argument("trace options: " + error);
+  }
+  for (const TraceRequest& request : requests) {
+    const TraceSettings& s = request.settings;
+    if (!(s.time_per_div > 0.0) || s.volts_per_div == 0.0 || !std::isfinite(s.volts_per_div) ||
+        !std::isfinite(s.zero_div) || !std::isfinite(s.t0_div) || !std::isfinite(s.band_div[0]) ||
+        !std::isfinite(s.band_div[1]) || s.band_div[0] == s.band_div[1]) {
+      throw std::invalid_argument(fmt::format(
+          "trace '{}': time_per_div must be positive, volts_per_div non-zero, the band not empty "
+          "and all settings finite",
+          request.name));
+    }
+  }
+  const TrackGrid grid = digitize::MakeTrackGrid(photo, graticule, options);
+  Reading first = ReadEachTrace(photo, graticule, requests, options, grid, std::nullopt);
+  // The displacement traces of a photo are one beam's signals, chopped or
+  // alternated (a dual-trace scope's modes): chopped, every one of them is
+  // drawn in dashes. Where one reads in dashes and another does not, the
+  // other's course may have taken a continuous line (a hair, a stroke along
+  // the band) that outshone its dashes all along, and shows no chopper of
+  // its own to judge it by: the traces are read again with the chopper the
+  // dashed one shows. The second reading stands unless it loses a trace.
+  std::optional<digitize::Chopper> beam_chopper;
+  bool unbroken = false;
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    if (requests[i].settings.impact) continue;
+    if (!digitize::ReadInDashes(first.traces[i])) {
+      unbroken = true;
+    } else if (!beam_chopper) {
+      beam_chopper = digitize::ChopperOf(first.paths[i]);
+    }
+  }
+  if (beam_chopper && unbroken) {
+    try {
+      return ReadEachTrace(photo, graticule, requests, options, grid, beam_chopper).traces;
+    } catch (const InputError&) {
+      // Read so, a trace is lost: the first reading stands.
+    }
+  }
+  return std::move(first.traces);
 }
 
 }  // namespace impactlab

@@ -793,8 +793,8 @@ bool Claims::Taken(int column, double y_div) const {
 
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
-                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows,
-                      bool one_way) {
+                      const TrackGrid& grid, const Claims& claims, bool off_grid_rows, bool one_way,
+                      std::optional<Chopper> beam_chopper) {
   Strip strip = CutStrip(photo, graticule.mapping, graticule.divisions, settings, grid);
   const double line_height = SuppressGrid(strip, graticule.divisions);
   const cv::Mat1f& image = strip.image;
@@ -912,7 +912,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
     }
     if (!step_trace) {
       const std::vector<std::vector<Node>>& before = kept.empty() ? columns : kept;
-      const std::vector<Chosen> suspect = ForeignRuns(chosen);
+      const std::vector<Chosen> suspect = ForeignRuns(chosen, beam_chopper);
       if (!suspect.empty()) {
         std::vector<std::vector<Node>> without_runs = before;
         // One candidate per column at most: erasing it leaves the others valid.
@@ -1001,6 +1001,16 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
     ++path.seen_columns;
   }
   return path;
+}
+
+std::optional<Chopper> ChopperOf(const CoarsePath& path) {
+  std::vector<Chosen> course;
+  for (int c = 0; c < path.grid.columns; ++c) {
+    if (!std::isnan(path.y_div[static_cast<std::size_t>(c)])) {
+      course.push_back({c, 0, path.link[static_cast<std::size_t>(c)]});
+    }
+  }
+  return ChopperOf(course);
 }
 
 void Claim(const CoarsePath& path, double half_width_div, Claims& claims) {

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "digitize/digitize.h"
@@ -52,16 +53,28 @@ struct CoarsePath {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 };
 
+// A chopper as a course shows it, in the strip's columns: its dashes' and
+// its gaps' usual lengths.
+struct Chopper {
+  double dash_columns = 0.0, gap_columns = 0.0;
+};
+
+// The chopper a path's course shows, when it shows one the columns resolve.
+std::optional<Chopper> ChopperOf(const CoarsePath& path);
+
 // With `off_grid_rows`, no candidate is taken on a horizontal grid line's
 // row (within a line's width of it): the course is sought again so where its
 // first one followed a grid line. With `one_way` (a calibration's trace,
 // TraceRequest::one_way_until_s) and TraceOptions::one_way_courses the
 // course is sought never turning back by more than a reading's noise, the
-// way, up or down, that keeps more of the course sought any way.
+// way, up or down, that keeps more of the course sought any way. With
+// `beam_chopper` (the chopper another displacement trace on the photo shows:
+// they share a chopped beam) a line the course takes unbroken over several
+// of its periods is not the trace's (ForeignRuns).
 CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TraceSettings& settings, const TraceOptions& options,
                       const TrackGrid& grid, const Claims& claims, bool off_grid_rows = false,
-                      bool one_way = false);
+                      bool one_way = false, std::optional<Chopper> beam_chopper = std::nullopt);
 
 // Adds the path's course (and its bridged gaps) to `claims`.
 void Claim(const CoarsePath& path, double half_width_div, Claims& claims);

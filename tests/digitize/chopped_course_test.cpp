@@ -2,6 +2,7 @@
 // scratch, a ring's arc) runs through its wide gaps, where the beam was
 // blanked, and is not the trace's course.
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -70,6 +71,35 @@ TEST_CASE("chopped course: a run across two of a sparse chopper's wide gaps is f
   // three periods (15 columns) tell, as before.
   CHECK(digitize::ForeignRuns(DashedCourse(350, 2, 5, 177, 14)).empty());
   CHECK(CountIn(digitize::ForeignRuns(DashedCourse(350, 2, 5, 177, 16)), 177, 193) == 16);
+}
+
+TEST_CASE("chopped course: a line taken all along is foreign to the beam's chopper") {
+  // A hair along the band outshone the dashes column by column (randomised
+  // seed 1019's run 0.713): the course is one unbroken run and shows no
+  // chopper of its own, so it alone cannot be judged.
+  std::vector<digitize::Chosen> line;
+  for (int c = 20; c < 330; ++c) {
+    line.push_back(
+        {c, 0, c == 20 ? digitize::CoarsePath::kRestart : digitize::CoarsePath::kOnCourse});
+  }
+  CHECK_FALSE(digitize::ChopperOf(line).has_value());
+  CHECK(digitize::ForeignRuns(line).empty());
+  // The other displacement trace, on the same chopped beam, shows the
+  // chopper: dashes of 4 columns every 24.
+  const std::optional<digitize::Chopper> beam =
+      digitize::ChopperOf(DashedCourse(350, 4, 24, 400, 0));
+  REQUIRE(beam.has_value());
+  CHECK(beam->dash_columns == Approx(4.0));
+  CHECK(beam->gap_columns == Approx(20.0));
+  CHECK(digitize::ForeignRuns(line, beam).size() == line.size());
+  // A dashed course is judged by its own chopper, as before: its dashes are
+  // its own, whatever the beam's.
+  const std::vector<digitize::Chosen> dashes = DashedCourse(350, 4, 24, 400, 0);
+  CHECK(digitize::ForeignRuns(dashes, beam).empty());
+  // A line no longer than a period and a gap of the beam's chopper may be a
+  // dash blurred into its neighbour: not judged.
+  std::vector<digitize::Chosen> short_line(line.begin(), line.begin() + 40);
+  CHECK(digitize::ForeignRuns(short_line, beam).empty());
 }
 
 }  // namespace impactlab
