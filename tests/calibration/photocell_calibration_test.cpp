@@ -406,6 +406,48 @@ TEST_CASE("photocell: a clean trace has nothing left out, a folding cell is stil
   }
 }
 
+// A cell that saturates gently towards the release (the generator's tanh
+// law, randomised seed 2029's left cell).
+double SaturatingCell(double x, double /*x0*/) {
+  return 0.1436 - 0.714 * std::tanh(0.918 * (x + 0.186)) / 0.918;
+}
+
+TEST_CASE(
+    "photocell: where the best order bends through the reading's own systematic errors, a "
+    "monotone order near as close is taken, with an honest band") {
+  // Sweeps each sample of which states 1 mV of scatter, read a few mV off
+  // in steps where the trace crosses grid lines near the release (a printed
+  // figure's bold trace pulled by a line's dots; randomised seed 2029's
+  // calibration L-0.713: 10 mV low before the crossing at 2 divisions,
+  // 10 mV high after it): the BIC takes the steps for the cell's shape and
+  // its order turns over. A monotone order misses the samples by little
+  // more and is taken, its band widened to cover the best order: all 40
+  // calibrate (32 before), and the curve is within 2 sigma of the cell's at
+  // 112 of 160 points (before, 96 of the 128 calibrated). Steps like these
+  // are not noise the band is made from: it holds them at 70 %, not 95 %.
+  const double x0 = 0.7154;
+  int taken = 0, within = 0, checked = 0;
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    Trace sweep = Sweep(x0, SaturatingCell, 0.001, 1e-3, seed);
+    for (std::size_t i = 0; i < sweep.time_s.size(); ++i) {
+      const double t = sweep.time_s[i];
+      sweep.volts[i] += t < 0.09 ? -0.01 : (t < 0.15 ? 0.01 : 0.0);
+    }
+    const CalibrationResult c = CalibratePhotocell(sweep, kPendulum, x0, CalibrationOptions{});
+    if (!c.ok) continue;
+    ++taken;
+    for (double s : {0.2, 0.5, 0.8, 0.95}) {
+      const double v = SaturatingCell(s * x0, x0);
+      within +=
+          std::abs(c.curve.DisplacementFromVolts(v) - s * x0) < 2.0 * c.curve.DisplacementSigma(v);
+      ++checked;
+    }
+  }
+  INFO(taken << " of 40 calibrated, " << within << " of " << checked << " within 2 sigma");
+  CHECK(taken == 40);
+  CHECK(within >= 0.65 * checked);
+}
+
 TEST_CASE("photocell: converting a voltage outside the calibrated range is refused") {
   const double x0 = 0.405;
   const CalibrationResult c = CalibratePhotocell(Sweep(x0, NonlinearCell, 0.0, 2e-4, 1), kPendulum,
