@@ -49,7 +49,10 @@ echo "$trials kills ($signalled ended by the signal): $kept left the old file, $
 sleep 0 & dead=$!
 wait "$dead"
 printf 'partial' > "$out.tmp-$dead"
-sleep 5 & live=$!
+# Alive for as long as the checks take, however loaded the machine (it is
+# killed below): with 5 s it could end first, its temporary then rightly
+# removed as a dead process's.
+sleep 300 & live=$!
 printf 'partial' > "$out.tmp-$live"
 for step in 5 9; do
   "$exe" reduce "$session" -o "$out" --fresh -q 2> /dev/null &
