@@ -733,7 +733,8 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   if (!fit.ok) {
     // Last, the whole swing again: its best order may bend through the
     // reading's systematic errors rather than a misread stretch.
-    CurveFit last = FitCurve(samples, max_order, release_x, options, shared_sigma_volts, true, true);
+    CurveFit last =
+        FitCurve(samples, max_order, release_x, options, shared_sigma_volts, true, true);
     if (last.ok) fit = std::move(last);
   }
   if (!fit.ok) return Refusal(fit.reason + UnreadStretch(out.ideal_displacement, release_x));

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <random>
 #include <tuple>
 
@@ -240,6 +241,19 @@ double FlatteningCell(double x, double x0) {
   return 2.0 - 1.9 * s + 0.94 * s * s;
 }
 
+// How many of `cell`'s voltages at the `fractions` of X0 `curve` converts to
+// within `sigmas` of its band of their displacement.
+int WithinBand(const PhotocellCurve& curve, double (*cell)(double x, double x0), double x0,
+               std::initializer_list<double> fractions, double sigmas) {
+  int within = 0;
+  for (const double s : fractions) {
+    const double v = cell(s * x0, x0);
+    within +=
+        std::abs(curve.DisplacementFromVolts(v) - s * x0) < sigmas * curve.DisplacementSigma(v);
+  }
+  return within;
+}
+
 TEST_CASE(
     "photocell: where the best order's curve is not monotone, a monotone order that fits as well "
     "is taken, with an honest band") {
@@ -263,12 +277,8 @@ TEST_CASE(
     const CalibrationResult c = CalibratePhotocell(gapped, kPendulum, x0, CalibrationOptions{});
     const auto best = std::min_element(c.bic.begin(), c.bic.end()) - c.bic.begin() + 1;
     taken_lower += c.curve.order() < best;
-    for (double s : {0.5, 0.9}) {
-      const double v = FlatteningCell(s * x0, x0);
-      const double error = c.curve.DisplacementFromVolts(v) - s * x0;
-      within += std::abs(error) < c.curve.DisplacementSigma(v);
-      ++checked;
-    }
+    within += WithinBand(c.curve, FlatteningCell, x0, {0.5, 0.9}, 1.0);
+    checked += 2;
   }
   // The BIC's own order was refused on 19 of the 40 (each refused whole
   // before); 73 of the 80 errors lie within 1 sigma.
@@ -436,12 +446,8 @@ TEST_CASE(
     const CalibrationResult c = CalibratePhotocell(sweep, kPendulum, x0, CalibrationOptions{});
     if (!c.ok) continue;
     ++taken;
-    for (double s : {0.2, 0.5, 0.8, 0.95}) {
-      const double v = SaturatingCell(s * x0, x0);
-      within +=
-          std::abs(c.curve.DisplacementFromVolts(v) - s * x0) < 2.0 * c.curve.DisplacementSigma(v);
-      ++checked;
-    }
+    within += WithinBand(c.curve, SaturatingCell, x0, {0.2, 0.5, 0.8, 0.95}, 2.0);
+    checked += 4;
   }
   INFO(taken << " of 40 calibrated, " << within << " of " << checked << " within 2 sigma");
   CHECK(taken == 40);
