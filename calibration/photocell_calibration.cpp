@@ -360,10 +360,9 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
     }
     // The first lower order (in the BIC's ranking) that `may` allows and
     // whose curve is monotone, in the best order's terms and with the best
-    // order's band widened by the two curves' difference, so that its band
+    // order's `band` widened by the two curves' difference, so that its band
     // covers both; false when there is none.
-    const auto take_lower_covering_best = [&](const auto& may) {
-      const Eigen::MatrixXd band = band_of(best, best_inflation);
+    const auto take_lower_covering_best = [&](const Eigen::MatrixXd& band, const auto& may) {
       const Eigen::VectorXd& best_c = fits[best].coefficients;
       for (const int index : by_bic) {
         if (index >= best || !may(index)) continue;
@@ -388,7 +387,7 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
       const double u_lo = basis.col(1).minCoeff(), u_hi = basis.col(1).maxCoeff();  // T_1 = u
       if (WidestUnread(basis.col(1)) < kMaxUnread * 2.0 &&
           TurnsOnlyWhereUnread(fits[best].coefficients, band, u_lo, u_hi)) {
-        out.ok = take_lower_covering_best([](int) { return true; });
+        out.ok = take_lower_covering_best(band, [](int) { return true; });
       }
     }
     if (!out.ok && systematic_look) {
@@ -404,7 +403,7 @@ CurveFit FitCurve(const SwingSamples& samples, int max_order, double release_x,
       // so: a cell that truly folds back leaves any monotone curve many
       // times further off than its best order.
       const double best_rss = fits[best].rss;
-      out.ok = take_lower_covering_best([&](int index) {
+      out.ok = take_lower_covering_best(band_of(best, best_inflation), [&](int index) {
         return fits[index].rss <= kSystematicRmsRise * kSystematicRmsRise * best_rss;
       });
     }
@@ -733,8 +732,9 @@ CalibrationResult CalibratePhotocell(const Trace& trace, const Pendulum& pendulu
   if (!fit.ok) {
     // Last, the whole swing again: its best order may bend through the
     // reading's systematic errors rather than a misread stretch.
+    // (The second look's own rule failed on these samples already.)
     CurveFit last =
-        FitCurve(samples, max_order, release_x, options, shared_sigma_volts, true, true);
+        FitCurve(samples, max_order, release_x, options, shared_sigma_volts, false, true);
     if (last.ok) fit = std::move(last);
   }
   if (!fit.ok) return Refusal(fit.reason + UnreadStretch(out.ideal_displacement, release_x));
