@@ -3,6 +3,7 @@
 // temporaries of dead processes are removed; unwritable or forbidden outputs
 // are refused naming the output.
 #include <signal.h>
+#include <sys/inotify.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -90,6 +92,30 @@ TEST_CASE("atomic_file: an HDF5 file written atomically reads back") {
   CHECK(file.ReadStringAttribute("/runs/a/contact_time", "units") == "s");
   CHECK(file.ReadStringAttribute("/", "producer") == "test");
   CHECK(Names(dir.path()) == std::vector<std::string>{"results.h5"});
+}
+
+TEST_CASE("atomic_file: an HDF5 file written over an earlier one never opens the earlier one") {
+  // HDF5 opens a new file's name before creating it, and its in-memory
+  // driver read all of an earlier file there into memory (a second reduce to
+  // the same output read the first one's results, to no end).
+  testing::TempDir dir;
+  const fs::path path = dir.path() / "results.h5";
+  WriteHdf5Atomically(path, WriteSmallResults);
+  const int watch = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  REQUIRE(watch >= 0);
+  REQUIRE(::inotify_add_watch(watch, path.c_str(), IN_OPEN | IN_ACCESS) >= 0);
+  WriteHdf5Atomically(path, WriteSmallResults);
+  alignas(inotify_event) char events[4096];
+  const ssize_t got = ::read(watch, events, sizeof events);
+  std::vector<std::uint32_t> opened_or_read;
+  for (ssize_t at = 0; at < got;) {
+    const auto* event = reinterpret_cast<const inotify_event*>(events + at);
+    if (event->mask & (IN_OPEN | IN_ACCESS)) opened_or_read.push_back(event->mask);
+    at += static_cast<ssize_t>(sizeof(inotify_event) + event->len);
+  }
+  ::close(watch);
+  CHECK(opened_or_read.empty());
+  CHECK(Hdf5File::OpenReadOnly(path).ReadScalar("/runs/a/contact_time") == 353.35e-6);
 }
 
 TEST_CASE("atomic_file: a failure inside the writer leaves the old file and no temporary") {
