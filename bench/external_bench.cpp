@@ -252,6 +252,7 @@ int ReduceAndScore(const fs::path& sessions, int jobs, bool per_run) {
 
 int main(int argc, char** argv) {
   impactlab::KeepFreedMemoryForReuse();
+  impactlab::HeapInHugePages();
   CLI::App app{"Reduce and score the external sessions against their truth"};
   std::filesystem::path sessions =
       std::filesystem::path(IMPACTLAB_SOURCE_DIR).parent_path() / "shared" / "external-sessions";

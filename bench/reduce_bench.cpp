@@ -99,6 +99,7 @@ struct StyleFigures {
 int main(int argc, char** argv) {
   using namespace impactlab;
   KeepFreedMemoryForReuse();  // as the CLI does; the decoding timed below gains from it too
+  HeapInHugePages();
   CLI::App app{"End-to-end reduce benchmark against generator truth"};
   std::vector<std::string> styles = {"clean", "polaroid", "phone", "negative", "lowres"};
   int seeds = 2, jobs = 2, worst = 0;

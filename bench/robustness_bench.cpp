@@ -357,6 +357,7 @@ void PrintFailures(const std::vector<PhotoRecord>& records, bool contact_lost) {
 int main(int argc, char** argv) {
   using namespace impactlab;
   KeepFreedMemoryForReuse();
+  HeapInHugePages();
   CLI::App app{"Robustness of the reduction over randomised photos, per factor of their look"};
   int photos = 204, jobs = 2;
   std::uint64_t seed = 1;

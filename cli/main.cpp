@@ -82,6 +82,7 @@ std::optional<std::string> UnknownCommand(const CLI::App& app, int argc, char** 
 
 int main(int argc, char** argv) {
   impactlab::KeepFreedMemoryForReuse();
+  impactlab::HeapInHugePages();
   // A temporary output file being written is removed on Ctrl-C and kill.
   impactlab::InstallTemporaryFileCleanup();
   // Ceres logs a trial point whose residuals cannot be evaluated (a contact
