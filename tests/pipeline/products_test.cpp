@@ -40,8 +40,8 @@ TEST_CASE(
   REQUIRE(hc != nullptr);
   REQUIRE(kv != nullptr);
   CHECK(hc->parameters.at(0).estimate.value == Approx(0.22885522879628764).epsilon(1e-12));
-  // The leave-one-out refits start from the fit of all runs (since 5feb5ca):
-  // they stop at the same optimum within the solver's tolerance, not to 1e-12.
+  // The leave-one-out refits now start from the fit of all runs: they stop
+  // at 5feb5ca's optimum within the solver's tolerance, not to 1e-12.
   CHECK(hc->loo_rms_normalized == Approx(175.95748805540356).epsilon(1e-6));
   REQUIRE(hc->intervals.size() == 1);
   CHECK(hc->intervals[0].upper == Approx(0.25168016308582652).epsilon(1e-12));
