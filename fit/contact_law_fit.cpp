@@ -473,15 +473,8 @@ struct Solved {
   std::vector<double> w;
 };
 
-// A fit's parameters to start another from: its law's and its runs' rebound
-// speeds, the run `left_out` taken away.
-struct WarmStart {
-  const Solved* from = nullptr;
-  std::size_t left_out = 0;
-};
-
 Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
-             const ContactLawFitOptions& options, WarmStart warm = {}) {
+             const ContactLawFitOptions& options) {
   const fit_internal::Stopwatch stopwatch;
   Solved out;
   ContactLawFit& fit = out.fit;
@@ -566,15 +559,6 @@ Solved Solve(ContactLawKind kind, const std::vector<PreparedRun>& runs,
   for (const PreparedRun& p : runs) {
     w.push_back(std::log(SpeedFromAmplitude(p.run->pendulum, p.x.front())) -
                 p.rebounds.front() * q);
-  }
-  // A refit without one run starts where the fit of all stopped (the law
-  // the same, its parameters as many): a few steps from its own optimum.
-  if (warm.from != nullptr && warm.from->theta.size() == theta.size() &&
-      warm.from->w.size() == w.size() + 1) {
-    theta = warm.from->theta;
-    for (std::size_t i = 0, j = 0; i < warm.from->w.size(); ++i) {
-      if (i != warm.left_out) w[j++] = warm.from->w[i];
-    }
   }
 
   ceres::Problem problem;
@@ -843,7 +827,7 @@ ContactLawFit FitContactLaw(ContactLawKind kind, const std::vector<LawRun>& runs
     for (std::size_t i = 0; i < prepared.size(); ++i) {
       if (i != h) training.push_back(prepared[i]);
     }
-    const Solved refit = Solve(kind, training, refit_options, {&solved, h});
+    const Solved refit = Solve(kind, training, refit_options);
     if (!refit.fit.ok) {
       ok = false;
       continue;

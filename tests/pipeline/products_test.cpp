@@ -40,9 +40,7 @@ TEST_CASE(
   REQUIRE(hc != nullptr);
   REQUIRE(kv != nullptr);
   CHECK(hc->parameters.at(0).estimate.value == Approx(0.22885522879628764).epsilon(1e-12));
-  // The leave-one-out refits now start from the fit of all runs: they stop
-  // at 5feb5ca's optimum within the solver's tolerance, not to 1e-12.
-  CHECK(hc->loo_rms_normalized == Approx(175.95748805540356).epsilon(1e-6));
+  CHECK(hc->loo_rms_normalized == Approx(175.95748805540356).epsilon(1e-12));
   REQUIRE(hc->intervals.size() == 1);
   CHECK(hc->intervals[0].upper == Approx(0.25168016308582652).epsilon(1e-12));
   CHECK(kv->parameters.at(0).estimate.value == Approx(0.10071696711663014).epsilon(1e-12));
