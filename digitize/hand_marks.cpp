@@ -111,6 +111,12 @@ std::vector<SampleRun> UnbrokenRuns(const std::vector<cv::Point2d>& screen) {
   return runs;
 }
 
+std::vector<float> RunLengths(const std::vector<SampleRun>& runs) {
+  std::vector<float> lengths;
+  for (const SampleRun& r : runs) lengths.push_back(static_cast<float>(r.length_div));
+  return lengths;
+}
+
 // Whether a reading shows a chopped beam: many runs, nearly all short and
 // alike, with gaps alike between them (a chopper is periodic). A continuous
 // trace seen in pieces (broken at grid lines, on faint flanks) has few runs
@@ -119,9 +125,8 @@ bool DrawnInDashes(const std::vector<SampleRun>& runs) {
   constexpr std::size_t kMinRuns = 10;
   constexpr double kRegularShare = 0.8;
   if (runs.size() < kMinRuns) return false;
-  std::vector<float> lengths, gaps;
+  std::vector<float> gaps;
   for (const SampleRun& r : runs) {
-    lengths.push_back(static_cast<float>(r.length_div));
     if (&r != &runs.front()) gaps.push_back(static_cast<float>(r.gap_before_div));
   }
   const auto regular = [&](std::vector<float> values) {
@@ -130,7 +135,7 @@ bool DrawnInDashes(const std::vector<SampleRun>& runs) {
         std::count_if(values.begin(), values.end(), [&](float v) { return v <= 2.0 * usual; });
     return usual < kCourseMinDiv && alike >= kRegularShare * static_cast<double>(values.size());
   };
-  return regular(lengths) && regular(gaps);
+  return regular(RunLengths(runs)) && regular(gaps);
 }
 
 // Clears `allowed` (mask pixels, origin at `origin`) within half a trace's
@@ -138,19 +143,32 @@ bool DrawnInDashes(const std::vector<SampleRun>& runs) {
 // reading of the traces measured in long unbroken runs: the beam's course,
 // however thick it is there. A first reading may stray onto a mark too, but
 // there only briefly (a label's strokes, a stroke's crossing). A chopped
-// trace's reading clears nothing: its dashes are too short to be taken for
-// marks, and its unbroken runs are not its own.
+// trace's course is its dashes: the runs as long as its usual dash (up to
+// kDashOverUsual times it) are cleared, however thick a dash is (at a
+// peak, where the beam is slow, it glows wider than on the flanks:
+// randomised seed 1018's run 0.713 lost a rebound's peak to that), and
+// what its reading followed unbroken for longer (a ring's arc, a stroke
+// along it) is not its own and stays.
+constexpr double kDashOverUsual = 2.0;
+
 void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point origin,
                   double width_px, cv::Mat1b& allowed) {
   for (const DigitizedTrace& trace : traces) {
-    // A chopped beam draws no unbroken run: what the reading followed
-    // unbroken there is something else (a ring's arc, a stroke along it).
     const std::vector<SampleRun> runs = UnbrokenRuns(trace.screen_div);
-    if (DrawnInDashes(runs)) continue;
-    const int radius =
-        std::max(1, static_cast<int>(std::lround(0.5 * std::max(width_px, trace.width_px) / f)));
+    const bool dashed = DrawnInDashes(runs);
+    std::vector<float> lengths = RunLengths(runs);
+    const double longest_dash = dashed ? kDashOverUsual * MedianOf(lengths) : 0.0;
+    const double half_width_px = 0.5 * std::max(width_px, trace.width_px);
     for (const SampleRun& run : runs) {
-      if (run.length_div < kCourseMinDiv) continue;
+      if (dashed ? run.length_div > longest_dash : run.length_div < kCourseMinDiv) continue;
+      // A dash is cleared as far as its own half length reaches: its glow,
+      // however wide, lies within it.
+      const double reach_px =
+          dashed
+              ? std::max(half_width_px,
+                         0.5 * cv::norm(trace.centre_px[run.end - 1] - trace.centre_px[run.first]))
+              : half_width_px;
+      const int radius = std::max(1, static_cast<int>(std::lround(reach_px / f)));
       for (std::size_t k = run.first; k < run.end; ++k) {
         cv::circle(allowed, MaskPixel(trace.centre_px[k], f, origin), radius, cv::Scalar(0),
                    cv::FILLED);

@@ -153,6 +153,61 @@ TEST_CASE("digitize marks: what a chopped trace's first reading followed unbroke
                   .Covers(top));
 }
 
+TEST_CASE("digitize marks: a chopped trace's dash glowing wide at a peak is the trace's own") {
+  // Sparse dashes, and the one at the left trace's peak drawn as wide as a
+  // pencil stroke: where the beam is slow it glows wider than on the flanks
+  // (randomised seed 1018's run 0.713 lost a rebound's peak so, its dash
+  // taken for a mark). The first reading measured that dash among the
+  // others, each as long as the chopper's slot allows: it is the beam's
+  // course, however thick, and no mark is found on it.
+  const testing::RunScene run = testing::StandardRunScene();
+  RenderOptions options = testing::CleanOptions(2000, 5, true);
+  options.chop_dash_div = 0.2;
+  options.chop_duty = 0.5;
+  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  const TraceTruth& truth = photo.traces[1];
+  REQUIRE(truth.name == "left");
+  std::size_t peak = 0;
+  double highest = -10.0;
+  for (std::size_t i = 0; i < truth.screen_div.size(); ++i) {
+    const cv::Point2d p = truth.screen_div[i];
+    if (truth.drawn[i] && p.x > 4.0 && p.x < 6.0 && p.y > highest) peak = i, highest = p.y;
+  }
+  REQUIRE(highest > -10.0);
+  // The peak's dash: the drawn samples round it.
+  std::size_t first = peak, last = peak;
+  while (first > 0 && truth.drawn[first - 1]) --first;
+  while (last + 1 < truth.screen_div.size() && truth.drawn[last + 1]) ++last;
+  const double px_per_div = cv::norm(photo.ImageFromScreen({1.0, 0.0}) - photo.ImageFromScreen({}));
+  constexpr double kGlowDiv = 0.08;  // four times the beam's width
+  for (std::size_t i = first; i < last; ++i) {
+    cv::line(photo.image, Pixel(photo, truth.screen_div[i]), Pixel(photo, truth.screen_div[i + 1]),
+             cv::Scalar(235), static_cast<int>(kGlowDiv * px_per_div), cv::LINE_AA);
+  }
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "glow.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+
+  // The first reading: the trace's dashes, sampled every 0.01 division.
+  DigitizedTrace left;
+  left.name = "left";
+  left.width_px = 0.02 * px_per_div;
+  left.height = 0.8;
+  double last_x = -1.0;
+  for (std::size_t i = 0; i < truth.screen_div.size(); ++i) {
+    const cv::Point2d p = truth.screen_div[i];
+    if (!truth.drawn[i] || p.x - last_x < 0.01) continue;
+    left.screen_div.push_back(p);
+    left.centre_px.push_back(photo.ImageFromScreen(p));
+    last_x = p.x;
+  }
+  REQUIRE(digitize::ReadInDashes(left));
+  const cv::Point2d dash = photo.ImageFromScreen(truth.screen_div[peak]);
+  // Without the reading, the wide dash is a mark; with it, the trace's own.
+  CHECK(digitize::FindHandMarks(prepared, graticule, 0.02 * px_per_div, 0.8, {}).Covers(dash));
+  CHECK_FALSE(
+      digitize::FindHandMarks(prepared, graticule, 0.02 * px_per_div, 0.8, {left}).Covers(dash));
+}
+
 TEST_CASE("digitize prints: a figure printed through a dot screen is read like the photo") {
   const testing::RunScene run = testing::StandardRunScene();
   const RenderedPhoto photo = RunPhoto(run, 5);
