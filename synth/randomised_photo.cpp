@@ -97,6 +97,16 @@ nlohmann::json LookJson(const RenderedPhoto& photo, const BeamLook& beam, const 
   look["beam_fwhm_px"] = beam.beam_fwhm_div * px_per_div;
   look["slow_brightness"] = beam.slow_brightness;
   look["contact_brightness"] = beam.contact_brightness;
+  // How much light a line puts across itself, in pixels at a slow trace
+  // core's brightness: what a reading has to go on, whatever made the line
+  // faint (a dim lamp, a thin line, a small photo). A grid line's is its
+  // brightness times its width in this photo's pixels; a slow trace's, its
+  // brightness times the beam's width.
+  if (look.contains("graticule_brightness") && look.contains("graticule_fwhm_div")) {
+    look["graticule_line_px"] = look["graticule_brightness"].get<double>() *
+                                look["graticule_fwhm_div"].get<double>() * px_per_div;
+  }
+  look["beam_line_px"] = beam.slow_brightness * beam.beam_fwhm_div * px_per_div;
   if (bands != nullptr) {
     look["chop_slot_div"] = beam.chop_slot_div;
     look["chop_period_px"] = 2.0 * beam.chop_slot_div * px_per_div;

@@ -91,6 +91,12 @@ TEST_CASE("synth: a randomised session draws each photo's scope settings and rec
       }
       CHECK(look["chop_duty"].get<double>() >= 0.2);
       CHECK(look["chop_slot_div"].get<double>() <= 0.5);
+      // A line's light across it, in pixels at a slow trace core's brightness.
+      const auto number = [&look](const char* key) { return look[key].get<double>(); };
+      CHECK(number("graticule_line_px") ==
+            Approx(number("graticule_brightness") * number("graticule_fwhm_div") *
+                   number("px_per_div")));
+      CHECK(number("beam_line_px") == Approx(number("slow_brightness") * number("beam_fwhm_px")));
       positions.insert(look["contact_position"].get<std::string>());
       // The bands lie on the 8-division screen and do not overlap.
       const auto& s = run["settings"];
