@@ -36,6 +36,15 @@ std::size_t FarOffTruth(const DigitizedTrace& trace, const RenderedPhoto& photo)
   return far;
 }
 
+// The standard run scene drawn on a clean grey photo with its beam chopped
+// into dashes `dash_div` long, unblanked over `duty` of each.
+RenderedPhoto ChoppedRunPhoto(double dash_div, double duty) {
+  RenderOptions options = testing::CleanOptions(2000, 5, true);
+  options.chop_dash_div = dash_div;
+  options.chop_duty = duty;
+  return RenderOscillograph(testing::StandardRunScene().scene, options);
+}
+
 cv::Point Pixel(const RenderedPhoto& photo, cv::Point2d screen_div) {
   const cv::Point2d p = photo.ImageFromScreen(screen_div);
   return {static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y))};
@@ -91,11 +100,7 @@ TEST_CASE("digitize marks: what a chopped trace's first reading followed unbroke
   // the trace's to keep from the marks (annotated-e903's run 0.314 had kept
   // a ring's arc so, and failed). Had the beam drawn continuously, an
   // unbroken run would be its own course, however thick.
-  const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options = testing::CleanOptions(2000, 5, true);
-  options.chop_dash_div = 0.13;
-  options.chop_duty = 0.4;
-  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  RenderedPhoto photo = ChoppedRunPhoto(0.13, 0.4);
   const TraceTruth& truth = photo.traces[1];
   REQUIRE(truth.name == "left");
   cv::Point2d peak(0.0, -10.0);
@@ -160,11 +165,7 @@ TEST_CASE("digitize marks: a chopped trace's dash glowing wide at a peak is the 
   // taken for a mark). The first reading measured that dash among the
   // others, each as long as the chopper's slot allows: it is the beam's
   // course, however thick, and no mark is found on it.
-  const testing::RunScene run = testing::StandardRunScene();
-  RenderOptions options = testing::CleanOptions(2000, 5, true);
-  options.chop_dash_div = 0.2;
-  options.chop_duty = 0.5;
-  RenderedPhoto photo = RenderOscillograph(run.scene, options);
+  RenderedPhoto photo = ChoppedRunPhoto(0.2, 0.5);
   const TraceTruth& truth = photo.traces[1];
   REQUIRE(truth.name == "left");
   std::size_t peak = 0;
