@@ -209,6 +209,46 @@ TEST_CASE("digitize marks: a chopped trace's dash glowing wide at a peak is the 
       digitize::FindHandMarks(prepared, graticule, 0.02 * px_per_div, 0.8, {left}).Covers(dash));
 }
 
+TEST_CASE("digitize marks: a contact trace's levels are its own course, read in pieces or not") {
+  // A contact level printed bold (four times the beam's width) along the
+  // screen's bottom row, and a first reading of it in pieces a tenth of a
+  // division long (broken at the ticks of an axis it runs along) and then
+  // unbroken for 2.5 divisions. A chopped displacement trace's reading so
+  // regular would be its dashes, and its long unbroken run something else
+  // (a stroke along it). But a contact trace is drawn by a beam of its own,
+  // never chopped: all of it is its course (randomised seed 1007's run
+  // 0.405 had its bold levels taken for two marks and its pulse lost).
+  const testing::RunScene run = testing::StandardRunScene();
+  RenderedPhoto photo = RunPhoto(run, 3);
+  const double px_per_div = cv::norm(photo.ImageFromScreen({1.0, 0.0}) - photo.ImageFromScreen({}));
+  constexpr double kLevelDiv = -3.5, kBoldDiv = 0.08;
+  cv::line(photo.image, Pixel(photo, {1.0, kLevelDiv}), Pixel(photo, {6.0, kLevelDiv}),
+           cv::Scalar(235), static_cast<int>(kBoldDiv * px_per_div), cv::LINE_AA);
+  const PreparedPhoto prepared = PreparePhoto({photo.image, "level.png"}, {});
+  const GraticuleFit graticule = FindGraticule(prepared, {10, 8}, {});
+
+  DigitizedTrace level;
+  level.width_px = kBoldDiv * px_per_div;
+  level.height = 0.8;
+  const auto add = [&](double x) {
+    level.screen_div.push_back({x, kLevelDiv});
+    level.centre_px.push_back(photo.ImageFromScreen({x, kLevelDiv}));
+  };
+  for (int piece = 0; piece < 12; ++piece) {
+    for (int k = 0; k <= 10; ++k) add(1.0 + 0.16 * piece + 0.01 * k);
+  }
+  for (double x = 3.5; x <= 6.0; x += 0.01) add(x);
+  const cv::Point2d unbroken = photo.ImageFromScreen({4.5, kLevelDiv});
+  const double beam_px = 0.02 * px_per_div;
+
+  level.name = "left";  // a displacement trace's reading: dashes, and a stroke along them
+  REQUIRE(digitize::ReadInDashes(level));
+  CHECK(digitize::FindHandMarks(prepared, graticule, beam_px, 0.8, {level}).Covers(unbroken));
+  level.name = "contact";
+  level.settings.impact = 2;
+  CHECK_FALSE(digitize::FindHandMarks(prepared, graticule, beam_px, 0.8, {level}).Covers(unbroken));
+}
+
 TEST_CASE("digitize prints: a figure printed through a dot screen is read like the photo") {
   const testing::RunScene run = testing::StandardRunScene();
   const RenderedPhoto photo = RunPhoto(run, 5);
