@@ -164,8 +164,11 @@ void ClearCourses(const std::vector<DigitizedTrace>& traces, int f, cv::Point or
     const bool contact = trace.settings.impact.has_value();
     const bool dashed = !contact && DrawnInDashes(runs);
     const double shortest_course = contact ? 0.0 : kCourseMinDiv;
-    std::vector<float> lengths = RunLengths(runs);
-    const double longest_dash = dashed ? kDashOverUsual * MedianOf(lengths) : 0.0;
+    double longest_dash = 0.0;
+    if (dashed) {
+      std::vector<float> lengths = RunLengths(runs);
+      longest_dash = kDashOverUsual * MedianOf(lengths);
+    }
     const double half_width_px = 0.5 * std::max(width_px, trace.width_px);
     for (const SampleRun& run : runs) {
       if (dashed ? run.length_div > longest_dash : run.length_div < shortest_course) continue;

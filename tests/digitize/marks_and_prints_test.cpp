@@ -210,14 +210,13 @@ TEST_CASE("digitize marks: a chopped trace's dash glowing wide at a peak is the 
 }
 
 TEST_CASE("digitize marks: a contact trace's levels are its own course, read in pieces or not") {
-  // A contact level printed bold (four times the beam's width) along the
-  // screen's bottom row, and a first reading of it in pieces a tenth of a
-  // division long (broken at the ticks of an axis it runs along) and then
-  // unbroken for 2.5 divisions. A chopped displacement trace's reading so
-  // regular would be its dashes, and its long unbroken run something else
-  // (a stroke along it). But a contact trace is drawn by a beam of its own,
-  // never chopped: all of it is its course (randomised seed 1007's run
-  // 0.405 had its bold levels taken for two marks and its pulse lost).
+  // A contact level printed bold (four times the beam's width) half a
+  // division above the screen's bottom line, and a first reading of it in
+  // twelve pieces a tenth of a division long (broken as at the ticks of an
+  // axis it runs along) and then unbroken for 2.5 divisions. A chopped displacement trace's reading
+  // so regular would be its dashes, and its long unbroken run something else (a stroke along it).
+  // But a contact trace is drawn by a beam of its own, never chopped: all of it is its course
+  // (randomised seed 1007's run 0.405 had its bold levels taken for two marks and its pulse lost).
   const testing::RunScene run = testing::StandardRunScene();
   RenderedPhoto photo = RunPhoto(run, 3);
   const double px_per_div = cv::norm(photo.ImageFromScreen({1.0, 0.0}) - photo.ImageFromScreen({}));
