@@ -26,8 +26,11 @@ void AddSynthCommand(CLI::App& app, Action& action) {
   cmd->add_option("--preset", args->options.preset, "thesis (8 runs) or quick (2 small runs)")
       ->check(CLI::IsMember({"thesis", "quick"}))
       ->capture_default_str();
-  cmd->add_option("--style", args->style, "clean, polaroid, phone, negative, lowres or randomised")
-      ->check(CLI::IsMember({"clean", "polaroid", "phone", "negative", "lowres", "randomised"}))
+  cmd->add_option("--style", args->style,
+                  "clean, polaroid, phone, negative, lowres, randomised or digital (a digital "
+                  "scope's screen)")
+      ->check(CLI::IsMember(
+          {"clean", "polaroid", "phone", "negative", "lowres", "randomised", "digital"}))
       ->capture_default_str();
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed, the same session")
       ->capture_default_str();

@@ -10,6 +10,7 @@
 
 #include "render/beam.h"
 #include "render/camera.h"
+#include "render/digital_screen.h"
 #include "render/photo.h"
 #include "render/screen.h"
 #include "render/styles.h"
@@ -18,13 +19,14 @@ namespace impactlab {
 
 namespace {
 
-constexpr std::array<std::pair<PhotoStyle, std::string_view>, 6> kStyleNames = {{
+constexpr std::array<std::pair<PhotoStyle, std::string_view>, 7> kStyleNames = {{
     {PhotoStyle::kClean, "clean"},
     {PhotoStyle::kPolaroid, "polaroid"},
     {PhotoStyle::kPhone, "phone"},
     {PhotoStyle::kNegative, "negative"},
     {PhotoStyle::kLowres, "lowres"},
     {PhotoStyle::kRandomised, "randomised"},
+    {PhotoStyle::kDigital, "digital"},
 }};
 
 bool Fail(std::string* error, std::string message) {
@@ -162,6 +164,7 @@ RenderedPhoto RenderOscillograph(const OscillographScene& scene, const RenderOpt
     throw std::invalid_argument("render options: " + error);
   }
   CheckScene(scene);
+  if (options.style == PhotoStyle::kDigital) return render::RenderDigitalScreen(scene, options);
 
   std::mt19937_64 random(options.seed);
   std::mt19937_64 handling_random = render::HandlingStream(options.seed);

@@ -64,9 +64,13 @@ enum class PhotoStyle {
   // sensor, graticule, surround, dirt and hand marks, size, bit depth, polarity,
   // JPEG) drawn per seed from wide ranges (docs/rendering.md).
   kRandomised,
+  // A phone photo of a digital scope's screen: a dotted graticule on part of
+  // an LCD, coloured pixelated waveforms, on-screen text and markers
+  // (render/digital_screen.h).
+  kDigital,
 };
 
-// "clean", "polaroid", "phone", "negative", "lowres", "randomised".
+// "clean", "polaroid", "phone", "negative", "lowres", "randomised", "digital".
 std::string_view PhotoStyleName(PhotoStyle style);
 std::optional<PhotoStyle> ParsePhotoStyle(std::string_view name);
 

@@ -188,6 +188,8 @@ StyleLook DrawStyleLook(const RenderOptions& options, const ScreenLayout& layout
       DrawRandomised(look, layout, random);
       if (options.handling) DrawHandling(look, layout, handling_random);
       break;
+    case PhotoStyle::kDigital:  // drawn by RenderDigitalScreen, not through a look
+      break;
   }
   // The randomised style draws its file format; an option asking for grey or
   // 16 bits still gets them.

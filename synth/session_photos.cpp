@@ -57,8 +57,9 @@ SessionPhoto Photograph(const OscillographScene& scene, const PhotoPlan& plan,
   // randomised photo is stored as it was drawn: JPEG at its own quality, else
   // PNG or (one in four) TIFF, 8 or 16 bits.
   bool jpeg = options.style == PhotoStyle::kPolaroid || options.style == PhotoStyle::kPhone ||
-              options.style == PhotoStyle::kLowres;
-  int quality = 90;
+              options.style == PhotoStyle::kLowres || options.style == PhotoStyle::kDigital;
+  // A digital scope's photo was taken by a phone at its own quality.
+  int quality = options.style == PhotoStyle::kDigital ? photo.jpeg_quality : 90;
   std::string lossless_extension = ".png";
   if (randomised) {
     jpeg = photo.jpeg_quality > 0;
