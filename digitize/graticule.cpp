@@ -493,16 +493,29 @@ DivisionCheck CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
       std::max(0.2, (std::max(measured_half_length_px, half_length_px) + 2.0 * fit.line_width_px) /
                         fit.px_per_div) /
       0.02));
+  // Each place read as the lines were measured: averaged along the line over
+  // options.line_average_div, so that a dotted line's own dots, far
+  // brighter than the line's measured height where that is averaged over
+  // their gaps, do not hide every place of it.
+  const int parallels =
+      static_cast<int>(0.5 * options.line_average_div * fit.px_per_div / kParallelStepPx);
+  const double parallel_step_div = kParallelStepPx / fit.px_per_div;
   auto Hidden = [&](int family, int index, const std::vector<double>& along) {
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
     const cv::Point2d across = family == 0 ? cv::Point2d(0.02, 0.0) : cv::Point2d(0.0, 0.02);
+    const cv::Point2d on_line =
+        family == 0 ? cv::Point2d(0.0, parallel_step_div) : cv::Point2d(parallel_step_div, 0.0);
     std::vector<bool> hidden;
     for (const double a : along) {
       const cv::Point2d on =
           family == 0 ? cv::Point2d(line_div, a - 0.5 * divisions[1]) : cv::Point2d(a, line_div);
       double brightest = 0.0, darkest = 1.0, brightest_off = 0.0;
       for (int k = -reach; k <= reach; ++k) {
-        const double v = ink(ImageFromScreen(fit.mapping, on + across * k));
+        double v = 0.0;
+        for (int j = -parallels; j <= parallels; ++j) {
+          v += ink(ImageFromScreen(fit.mapping, on + across * k + on_line * j));
+        }
+        v /= 2 * parallels + 1;
         brightest = std::max(brightest, v), darkest = std::min(darkest, v);
         if (std::abs(k) * 0.02 * fit.px_per_div > 2.0 * fit.line_width_px) {
           brightest_off = std::max(brightest_off, v);
@@ -1062,7 +1075,26 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
   result.line_contrast = Median(heights);
   result.elapsed_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  if (result.samples_used < expected / 4) {
+  // A dotted graticule (a digital scope's: a dot every fifth of a division
+  // along each line) is seen by a measurement across a line only where it
+  // meets a dot: over a short stretch, most see nothing, and a lattice a
+  // division off passes, its extra line unseen beyond the screen. Where
+  // fewer than half the measurements see a line, the lines are measured
+  // again, each measurement averaging a stretch longer than the dots'
+  // spacing (Refine's retry for a faint grid below, and, as there, not on a
+  // print), and every check then judges those.
+  if (result.samples_used < expected / 2 && photo.halftone_period_px == 0.0 &&
+      options.line_average_div < kFaintLineAverageDiv) {
+    GraticuleOptions longer = options;
+    longer.line_average_div = kFaintLineAverageDiv;
+    return Refine(photo, divisions, longer, homography, hinted, start);
+  }
+  // Measured along long stretches, the grid's own lattice sees its lines
+  // at most places, dotted or faint (a digital scope's dotted graticules:
+  // 57-71 % of them in the generator's; lattices a division or more off
+  // them, on a panel's menus and text, 35-48 %).
+  const bool long_stretches = options.line_average_div >= kFaintLineAverageDiv;
+  if (result.samples_used < (long_stretches ? expected / 2 : expected / 4)) {
     NotFound(photo, divisions,
              fmt::format("only {} of {} measurements across the grid lines look like a grid line",
                          result.samples_used, expected),
@@ -1070,6 +1102,22 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
   }
   auto [problem, doubt] = CheckDivisions(ink, result, samples, options, measured_half_length_px,
                                          half_length_px, search_px);
+  if (problem && photo.halftone_period_px == 0.0 &&
+      options.line_average_div < kFaintLineAverageDiv) {
+    // A line of a dotted graticule, measured over short stretches, is seen
+    // only where a measurement meets its dots, and may pass for missing
+    // where the lattice is the grid's: measured again averaging longer
+    // stretches (as above), the lattice is taken when its lines then say
+    // nothing against it.
+    GraticuleOptions longer = options;
+    longer.line_average_div = kFaintLineAverageDiv;
+    try {
+      Refined again = Refine(photo, divisions, longer, homography, hinted, start);
+      if (!again.problem) return again;
+    } catch (const InputError&) {
+      // Not found so either: what the short measurements said stands.
+    }
+  }
   // On a print the screen's rows, within half a period of any line, give a
   // lattice anywhere along them a period / sqrt(12) RMS: the share of a
   // division allowed stays well under it (options.h).
