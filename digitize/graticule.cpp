@@ -493,12 +493,15 @@ DivisionCheck CheckDivisions(const InkSampler& ink, const GraticuleFit& fit,
       std::max(0.2, (std::max(measured_half_length_px, half_length_px) + 2.0 * fit.line_width_px) /
                         fit.px_per_div) /
       0.02));
-  // Each place read as the lines were measured: averaged along the line over
-  // options.line_average_div, so that a dotted line's own dots, far
-  // brighter than the line's measured height where that is averaged over
-  // their gaps, do not hide every place of it.
+  // Where the lines were measured along long stretches (a dotted or faint
+  // grid), each place is read so too: a dotted line's own dots, far brighter
+  // than the line's measured height averaged over their gaps, would hide
+  // every place of it. Over the short default stretch a point reads as the
+  // measurement did.
   const int parallels =
-      static_cast<int>(0.5 * options.line_average_div * fit.px_per_div / kParallelStepPx);
+      options.line_average_div >= kFaintLineAverageDiv
+          ? static_cast<int>(0.5 * options.line_average_div * fit.px_per_div / kParallelStepPx)
+          : 0;
   const double parallel_step_div = kParallelStepPx / fit.px_per_div;
   auto Hidden = [&](int family, int index, const std::vector<double>& along) {
     const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
@@ -755,6 +758,50 @@ double LinesAboveScreen(const InkSampler& ink, const GraticuleFit& fit, int samp
 // The lattice from `homography` (photo pixels from screen divisions) fitted
 // to the lines measured, and what its lines say against it. Throws
 // InputError when the lines cannot be measured or fitted.
+// Whether the fitted lattice's lines are dotted, as a person sees it: along
+// the middle of every other inner line (the centre axes and the frame left
+// out), every pixel, the line's height above the ground either side,
+// smoothed over three pixels (a raster's dots are 2-3 px, their gaps 7 px or
+// more, in the generator's photos). A dotted line is mostly gaps: its median height is
+// under a third of its 90th percentile, which stands more than three times
+// the heights' noise above it. A solid line's median is near its top, and a
+// faint one in noise has its 90th percentile only 1.3 sigmas above the
+// median; a trace crossing a line, or a worn stretch, is a few of the places.
+bool LinesDotted(const InkSampler& ink, const GraticuleFit& fit) {
+  const std::array<int, 2>& divisions = fit.divisions;
+  const double step_div = 1.0 / fit.px_per_div;
+  const double off_div = std::max(0.08, 3.0 * fit.line_width_px / fit.px_per_div);
+  std::vector<double> heights, noise;
+  for (const auto& [family, index] : GridLines(divisions)) {
+    if (index % 2 == 0 || index == divisions[family] || 2 * index == divisions[family]) continue;
+    const double line_div = family == 0 ? index : index - 0.5 * divisions[1];
+    const double length = divisions[1 - family];
+    const double start = family == 0 ? -0.5 * divisions[1] : 0.0;
+    const cv::Point2d across = family == 0 ? cv::Point2d(off_div, 0.0) : cv::Point2d(0.0, off_div);
+    std::vector<double> line;
+    for (double a = 0.1; a < length - 0.1; a += step_div) {
+      const cv::Point2d on =
+          family == 0 ? cv::Point2d(line_div, start + a) : cv::Point2d(start + a, line_div);
+      const double left = ink(ImageFromScreen(fit.mapping, on - across));
+      const double right = ink(ImageFromScreen(fit.mapping, on + across));
+      line.push_back(ink(ImageFromScreen(fit.mapping, on)) - 0.5 * (left + right));
+      noise.push_back(left - right);
+    }
+    for (std::size_t i = 1; i + 1 < line.size(); ++i) {
+      heights.push_back((line[i - 1] + line[i] + line[i + 1]) / 3.0);
+    }
+  }
+  if (heights.size() < 50) return false;
+  std::sort(heights.begin(), heights.end());
+  const double median = heights[heights.size() / 2], top = heights[heights.size() * 9 / 10];
+  for (double& n : noise) n = std::abs(n);
+  std::nth_element(noise.begin(), noise.begin() + noise.size() / 2, noise.end());
+  // The smoothed height's noise: the ground's difference (sqrt 2 sigma) to
+  // sigma, times sqrt(1.5 / 3) for the height of three averaged samples.
+  const double sigma = 1.4826 * noise[noise.size() / 2] / std::sqrt(2.0) * std::sqrt(0.5);
+  return top > 0.0 && median < top / 3.0 && top - median > 3.0 * sigma;
+}
+
 struct Refined {
   GraticuleFit fit;
   std::optional<DivisionProblem> problem;
@@ -1100,6 +1147,7 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                          result.samples_used, expected),
              hinted);
   }
+  result.dotted = photo.halftone_period_px == 0.0 && LinesDotted(ink, result);
   auto [problem, doubt] = CheckDivisions(ink, result, samples, options, measured_half_length_px,
                                          half_length_px, search_px);
   if (problem && photo.halftone_period_px == 0.0 &&

@@ -46,6 +46,7 @@ TEST_CASE("digital screen: a dotted graticule found is the screen's, and most ar
         ++found;
         const GraticuleMapping truth = testing::MappingFromTruth((*photo_truth)["mapping"]);
         CHECK(testing::WorstMappingError(fit, truth) < 2.0);
+        CHECK(fit.dotted);  // a raster's graticule: its steps are placed to a column
       } catch (const InputError&) {
         // Refused: said why (tests/digitize/errors_test.cpp pins the wording).
       }
@@ -54,6 +55,27 @@ TEST_CASE("digital screen: a dotted graticule found is the screen's, and most ar
   INFO(found << " of " << photos << " found");
   CHECK(photos == 36);
   CHECK(found >= 20);
+}
+
+// The styles of a CRT's photo: solid graticule lines, never taken for a
+// raster's dots (whose columns would widen a contact time's error).
+TEST_CASE("digital screen: a CRT photo's graticule is not dotted") {
+  for (const PhotoStyle style : {PhotoStyle::kClean, PhotoStyle::kPolaroid, PhotoStyle::kPhone,
+                                 PhotoStyle::kNegative, PhotoStyle::kLowres}) {
+    testing::TempDir dir;
+    SynthOptions synth;
+    synth.preset = "quick";
+    synth.style = style;
+    synth.seed = 1;
+    const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+    for (const auto& run : summary.truth["runs"]) {
+      const std::string file = run["photo"]["file"];
+      INFO(PhotoStyleName(style) << " " << file);
+      const Photo photo = LoadPhoto(dir.path() / "s" / file);
+      const GraticuleOptions options;
+      CHECK_FALSE(FindGraticule(PreparePhoto(photo, options), {10, 8}, options).dotted);
+    }
+  }
 }
 
 }  // namespace impactlab

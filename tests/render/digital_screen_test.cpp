@@ -9,23 +9,16 @@
 #include <opencv2/core.hpp>
 
 #include "render/oscillograph.h"
+#include "tests/render/sweep_settings.h"
 
 namespace impactlab {
 namespace {
 
-TraceSettings ChannelSweep(double time_per_div, double volts_per_div, double zero_div) {
-  TraceSettings settings;
-  settings.time_per_div = time_per_div;
-  settings.volts_per_div = volts_per_div;
-  settings.zero_div = zero_div;
-  return settings;
-}
-
 // A decaying swing on channel 1 (yellow) and a slow ramp on channel 2 (cyan).
 OscillographScene SwingScene() {
   OscillographScene scene;
-  ScreenTrace right{"right", {}, {}, ChannelSweep(0.5, 0.2, 1.5)};
-  ScreenTrace left{"left", {}, {}, ChannelSweep(0.5, 0.5, -2.5)};
+  ScreenTrace right{"right", {}, {}, testing::SweepSettings(0.5, 0.2, 1.5)};
+  ScreenTrace left{"left", {}, {}, testing::SweepSettings(0.5, 0.5, -2.5)};
   for (int i = 0; i <= 4000; ++i) {
     const double t = 5.0 * i / 4000;
     right.time_s.push_back(t);
@@ -63,7 +56,8 @@ TEST_CASE("digital screen: each waveform lies where the truth says, in its chann
         const cv::Vec3b on = PixelAt(photo.image, truth.centre_px[i]);
         // A third of a division off the waveform: the screen's dark ground
         // (or a dot of the graticule, far dimmer than a waveform).
-        const cv::Vec3b off = PixelAt(photo.image, photo.ImageFromScreen(s + cv::Point2d(0.0, 0.33)));
+        const cv::Vec3b off =
+            PixelAt(photo.image, photo.ImageFromScreen(s + cv::Point2d(0.0, 0.33)));
         on_brighter += LumaOf(on) > LumaOf(off) + 40.0;
         if (t == 0) yellow += on[2] > on[0] + 30 && on[1] > on[0] + 30;  // red and green over blue
         if (t == 1) cyan += on[0] > on[2] + 30 && on[1] > on[2] + 30;    // blue and green over red

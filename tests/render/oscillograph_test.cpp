@@ -15,6 +15,7 @@
 
 #include "render/oscillograph.h"
 #include "render/styles.h"
+#include "tests/render/sweep_settings.h"
 
 namespace impactlab {
 namespace {
@@ -23,20 +24,12 @@ constexpr std::array<PhotoStyle, 5> kAllStyles = {PhotoStyle::kClean, PhotoStyle
                                                   PhotoStyle::kPhone, PhotoStyle::kNegative,
                                                   PhotoStyle::kLowres};
 
-TraceSettings Sweep(double time_per_div, double volts_per_div, double zero_div) {
-  TraceSettings settings;
-  settings.time_per_div = time_per_div;
-  settings.volts_per_div = volts_per_div;
-  settings.zero_div = zero_div;
-  return settings;
-}
-
 // Two slow, continuous displacement-like traces, one in each half of the
 // screen, clear of the graticule rows y = +-1 where the graticule is measured.
 OscillographScene TwoSineScene() {
   OscillographScene scene;
-  ScreenTrace right{"right", {}, {}, Sweep(0.5, 0.2, 2.0)};
-  ScreenTrace left{"left", {}, {}, Sweep(0.5, 0.2, -2.5)};
+  ScreenTrace right{"right", {}, {}, testing::SweepSettings(0.5, 0.2, 2.0)};
+  ScreenTrace left{"left", {}, {}, testing::SweepSettings(0.5, 0.2, -2.5)};
   for (int i = 0; i <= 2000; ++i) {
     const double t = 5.0 * i / 2000;
     right.time_s.push_back(t);
@@ -263,7 +256,7 @@ TEST_CASE("oscillograph: truth is the mapping applied to the samples' screen pos
 TEST_CASE("oscillograph: samples off the graticule are clipped and have no truth") {
   OscillographScene scene;
   // A calibration swing of 12 divisions peak to peak, sampled beyond the sweep.
-  ScreenTrace swing{"calibration", {}, {}, Sweep(0.5, 0.1, 0.0)};
+  ScreenTrace swing{"calibration", {}, {}, testing::SweepSettings(0.5, 0.1, 0.0)};
   for (int i = 0; i <= 3000; ++i) {
     swing.time_s.push_back(-1.0 + 7.0 * i / 3000);
     swing.volts.push_back(0.6 * std::sin(2.0 * std::numbers::pi * swing.time_s.back() / 2.0));
@@ -287,8 +280,8 @@ namespace {
 // centre, over a 5 s sweep.
 OscillographScene TwoFlatChoppedTraces() {
   OscillographScene scene;
-  ScreenTrace upper{"right", {}, {}, Sweep(0.5, 0.2, 1.5), BeamMode::kChopped, 0};
-  ScreenTrace lower{"left", {}, {}, Sweep(0.5, 0.2, -1.5), BeamMode::kChopped, 0};
+  ScreenTrace upper{"right", {}, {}, testing::SweepSettings(0.5, 0.2, 1.5), BeamMode::kChopped, 0};
+  ScreenTrace lower{"left", {}, {}, testing::SweepSettings(0.5, 0.2, -1.5), BeamMode::kChopped, 0};
   for (int i = 0; i <= 4000; ++i) {
     upper.time_s.push_back(5.0 * i / 4000);
     upper.volts.push_back(0.0);
@@ -335,7 +328,7 @@ TEST_CASE("oscillograph: chopped traces on one beam alternate in dashes") {
 
 TEST_CASE("oscillograph: a fast step writes faintly") {
   OscillographScene scene;
-  ScreenTrace contact{"contact", {}, {}, Sweep(100e-6, 1.0, -3.2)};
+  ScreenTrace contact{"contact", {}, {}, testing::SweepSettings(100e-6, 1.0, -3.2)};
   for (int i = 0; i <= 1000; ++i) {
     const double t = i * 1e-6;
     contact.time_s.push_back(t);
