@@ -132,10 +132,11 @@ struct GraticuleFit {
   double line_width_px = 0.0;      // a grid line's full width at half maximum, photo pixels
   double line_contrast = 0.0;      // a grid line's height above the screen, ink units (0..1)
   bool from_corners_hint = false;  // started from GraticuleOptions::corners_px, not a search
-  // Its lines dotted (seen by measurements across them only along stretches
-  // longer than their dots' spacing): a raster display's graticule, whose
-  // traces are drawn on the same raster, each line one of its pixels wide
-  // (line_width_px: a display column, which places a trace's step no finer).
+  // Its lines dotted (mostly gaps along them, their dots standing clear of
+  // the noise: docs/digitizing.md, "A dotted graticule"): a raster display's
+  // graticule, whose traces are drawn on the same raster, each line one of
+  // its pixels wide (line_width_px: a display column, which places a
+  // trace's step no finer).
   bool dotted = false;
   double elapsed_ms = 0.0;  // time spent finding and fitting
 };

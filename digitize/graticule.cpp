@@ -755,18 +755,16 @@ double LinesAboveScreen(const InkSampler& ink, const GraticuleFit& fit, int samp
   return least;
 }
 
-// The lattice from `homography` (photo pixels from screen divisions) fitted
-// to the lines measured, and what its lines say against it. Throws
-// InputError when the lines cannot be measured or fitted.
 // Whether the fitted lattice's lines are dotted, as a person sees it: along
 // the middle of every other inner line (the centre axes and the frame left
 // out), every pixel, the line's height above the ground either side,
 // smoothed over three pixels (a raster's dots are 2-3 px, their gaps 7 px or
-// more, in the generator's photos). A dotted line is mostly gaps: its median height is
-// under a third of its 90th percentile, which stands more than three times
-// the heights' noise above it. A solid line's median is near its top, and a
-// faint one in noise has its 90th percentile only 1.3 sigmas above the
-// median; a trace crossing a line, or a worn stretch, is a few of the places.
+// more, in the generator's photos). A dotted line is mostly gaps: its median
+// height is under a third of its 90th percentile, which stands more than
+// three times the heights' noise above it. A solid line's median is near
+// its top, and a faint one in noise has its 90th percentile only 1.3 sigmas
+// above the median; a trace crossing a line, or a worn stretch, is a few of
+// the places.
 bool LinesDotted(const InkSampler& ink, const GraticuleFit& fit) {
   const std::array<int, 2>& divisions = fit.divisions;
   const double step_div = 1.0 / fit.px_per_div;
@@ -802,6 +800,9 @@ bool LinesDotted(const InkSampler& ink, const GraticuleFit& fit) {
   return top > 0.0 && median < top / 3.0 && top - median > 3.0 * sigma;
 }
 
+// The lattice from `homography` (photo pixels from screen divisions) fitted
+// to the lines measured, and what its lines say against it. Throws
+// InputError when the lines cannot be measured or fitted.
 struct Refined {
   GraticuleFit fit;
   std::optional<DivisionProblem> problem;
