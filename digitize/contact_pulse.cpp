@@ -1152,8 +1152,9 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
   const double raster_sigma_div =
       graticule.dotted ? graticule.line_width_px / std::sqrt(12.0) / px_per_div : 0.0;
   const double raster_variance = raster_sigma_div * raster_sigma_div;
-  const double print_variances[2] = {print_variance(solution[0], rise) + raster_variance,
-                                     print_variance(solution[1], fall) + raster_variance};
+  // What places each edge no finer than a dot or a column, whatever measured it.
+  const double placement_variances[2] = {print_variance(solution[0], rise) + raster_variance,
+                                         print_variance(solution[1], fall) + raster_variance};
   auto finish = [&](int e, const EdgeMeasures& m) {
     PulseEdge edge;
     edge.from_image = m.stroke || m.jump || (m.alone && m.alone->from_image);
@@ -1162,13 +1163,14 @@ std::optional<ContactPulseFit> MeasurePulse(const PreparedPhoto& photo,
     // Screen x to seconds.
     edge.time_s = (x - s.t0_div) * s.time_per_div;
     edge.sigma_s =
-        std::sqrt(covariance(e, e) + mapping_variance + print_variances[e]) * s.time_per_div;
+        std::sqrt(covariance(e, e) + mapping_variance + placement_variances[e]) * s.time_per_div;
     return edge;
   };
   const PulseEdge rise_edge = finish(0, rise_m);
   const PulseEdge fall_edge = finish(1, fall_m);
   const double width_variance = covariance(0, 0) + covariance(1, 1) - 2.0 * covariance(0, 1) +
-                                2.0 * mapping_variance + print_variances[0] + print_variances[1];
+                                2.0 * mapping_variance + placement_variances[0] +
+                                placement_variances[1];
   ContactPulseFit fit;
   fit.pulse.rise_s = {rise_edge.time_s, rise_edge.sigma_s};
   fit.pulse.fall_s = {fall_edge.time_s, fall_edge.sigma_s};

@@ -969,10 +969,9 @@ std::vector<int> CloserShrinks(const PreparedPhoto& photo, const GraticuleOption
   return shrinks;
 }
 
-}  // namespace
-
-GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
-                           const GraticuleOptions& options) {
+// The graticule found and fitted (FindGraticule), its `dotted` not yet judged.
+GraticuleFit SearchGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                             const GraticuleOptions& options) {
   if (std::string error; !options.Check(&error)) {
     throw std::invalid_argument("graticule options: " + error);
   }
@@ -1038,6 +1037,17 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
     }
     throw;
   }
+}
+
+}  // namespace
+
+GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
+                           const GraticuleOptions& options) {
+  GraticuleFit fit = SearchGraticule(photo, divisions, options);
+  // Judged once, on the lattice taken: a print's dots are the screen's, not a raster's.
+  fit.dotted = photo.halftone_period_px == 0.0 &&
+               LinesDotted(InkSampler(photo.image, photo.dark_traces), fit);
+  return fit;
 }
 
 namespace {
@@ -1148,7 +1158,6 @@ Refined Refine(const PreparedPhoto& photo, std::array<int, 2> divisions,
                          result.samples_used, expected),
              hinted);
   }
-  result.dotted = photo.halftone_period_px == 0.0 && LinesDotted(ink, result);
   auto [problem, doubt] = CheckDivisions(ink, result, samples, options, measured_half_length_px,
                                          half_length_px, search_px);
   if (problem && photo.halftone_period_px == 0.0 &&

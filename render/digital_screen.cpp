@@ -139,8 +139,9 @@ void DrawAnnotations(Display& d, const OscillographScene& scene, bool calibratio
   for (std::size_t i = 0; i < scene.traces.size(); ++i) {
     scales += fmt::format("CH{} {:g}V  ", i + 1, scene.traces[i].settings.volts_per_div);
   }
-  Text(d, scales + fmt::format("M {:g}s", scene.traces.front().settings.time_per_div),
-       {left, top - 8.0}, grey, 0.42);
+  if (!scene.traces.empty())
+    scales += fmt::format("M {:g}s", scene.traces.front().settings.time_per_div);
+  Text(d, scales, {left, top - 8.0}, grey, 0.42);
   Text(d, Chance(random, 0.5) ? "Stop" : "Trig'd", {right - 60.0, top - 8.0},
        cv::Scalar(0.3, 0.8, 0.3), 0.42);
   if (d.bgr.cols - right > 90.0) {
@@ -166,7 +167,7 @@ void DrawAnnotations(Display& d, const OscillographScene& scene, bool calibratio
   }
   const double trigger = Uniform(random, top + 10.0, bottom - 10.0);
   Text(d, "T", {right - 12.0, trigger}, cv::Scalar(0.0, 0.6, 1.0), 0.4);
-  if (Chance(random, 0.6)) {
+  if (Chance(random, 0.6) && !scene.traces.empty()) {
     const cv::Scalar colour = ChannelColour(scene.traces.front().name, calibration_in_cyan);
     Text(d, fmt::format("CH1 Max {:.3g}V", Uniform(random, 0.1, 9.0)),
          {left + 0.2 * d.px_per_div, top + 0.45 * d.px_per_div}, colour, 0.42);
