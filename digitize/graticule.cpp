@@ -18,6 +18,7 @@
 
 #include "digitize/bold_lines.h"
 #include "digitize/digitize.h"
+#include "digitize/dotted_lines.h"
 #include "digitize/grey_ink.h"
 #include "digitize/ink_sampler.h"
 #include "digitize/lattice.h"
@@ -969,6 +970,26 @@ std::vector<int> CloserShrinks(const PreparedPhoto& photo, const GraticuleOption
   return shrinks;
 }
 
+// `fit` when its outermost lines stand in `working`'s ridge image
+// (digitize/dotted_lines.h), or the lattice a division the way they point
+// when every check passes it and its own do; nullopt otherwise.
+std::optional<GraticuleFit> StandOnOuterLines(const PreparedPhoto& working, GraticuleFit fit,
+                                              std::array<int, 2> divisions,
+                                              const GraticuleOptions& options,
+                                              std::chrono::steady_clock::time_point start) {
+  const digitize::OuterLines outer = digitize::JudgeOuterLines(working, fit);
+  if (outer.agree) return fit;
+  if (outer.shift_div == cv::Point2d(0.0, 0.0)) return std::nullopt;
+  const cv::Matx33d moved(1.0, 0.0, outer.shift_div.x, 0.0, 1.0, outer.shift_div.y, 0.0, 0.0, 1.0);
+  try {
+    Refined other =
+        Refine(working, divisions, options, fit.mapping.homography * moved, false, start);
+    if (!other.problem && digitize::JudgeOuterLines(working, other.fit).agree) return other.fit;
+  } catch (const InputError&) {
+  }
+  return std::nullopt;
+}
+
 // The graticule found and fitted (FindGraticule), its `dotted` not yet judged.
 GraticuleFit SearchGraticule(const PreparedPhoto& photo, std::array<int, 2> divisions,
                              const GraticuleOptions& options) {
@@ -1033,6 +1054,34 @@ GraticuleFit SearchGraticule(const PreparedPhoto& photo, std::array<int, 2> divi
     try {
       return SearchAndRefine(photo, working, divisions, options, start, &faint_searched,
                              digitize::kFaintRidgeFloorSigmas);
+    } catch (const InputError&) {
+    }
+    // Still none: a digital scope's dotted grid, whose menu boxes, frame and
+    // text outvote its dots pixel by pixel (digitize/dotted_lines.h). Looked
+    // for among the dots alone, and its lines measured as dotted lines are,
+    // each measurement averaging a stretch longer than the dots' spacing; a
+    // lattice found so is refined and checked as any other, and its
+    // outermost lines must stand (moved a division where they point the
+    // grid lies beyond it); when none passes, the first reason stands. A
+    // display's pixels can pass for a print's
+    // screen (its black matrix a lattice of the same kind), so this is asked
+    // of prints too: a print's descreened lines are continuous, and leave no
+    // rows of dots to find.
+    PreparedPhoto dots = working;
+    float ridge_median = 0.0f;
+    dots.ridge = digitize::DotsOf(
+        working.ridge,
+        digitize::RidgeFloor(working.ridge, digitize::kRidgeFloorSigmas, &ridge_median));
+    GraticuleOptions dotted_lines = options;
+    dotted_lines.line_average_div = std::max(options.line_average_div, kFaintLineAverageDiv);
+    bool dots_searched = false;
+    try {
+      GraticuleFit fit =
+          SearchAndRefine(photo, dots, divisions, dotted_lines, start, &dots_searched);
+      if (std::optional<GraticuleFit> standing =
+              StandOnOuterLines(working, std::move(fit), divisions, dotted_lines, start)) {
+        return *std::move(standing);
+      }
     } catch (const InputError&) {
     }
     throw;

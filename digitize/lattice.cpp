@@ -17,6 +17,22 @@
 
 namespace impactlab::digitize {
 
+float RidgeFloor(const cv::Mat1f& ridge, double floor_sigmas, float* median) {
+  // The noise is judged in the middle of the frame, where the screen is: the
+  // flat surround of a scanned print would make it look smaller than it is.
+  std::vector<float> sample;
+  for (int row = ridge.rows / 5; row < ridge.rows * 4 / 5; row += 2) {
+    const float* p = ridge.ptr<float>(row);
+    for (int col = ridge.cols / 5; col < ridge.cols * 4 / 5; col += 2) sample.push_back(p[col]);
+  }
+  if (sample.empty()) return *median = 0.0f, 0.005f;
+  const auto middle = sample.begin() + sample.size() / 2;
+  *median = SelectNth(sample.begin(), middle, sample.end());
+  for (float& v : sample) v = std::abs(v - *median);
+  const float sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
+  return std::max(*median + static_cast<float>(floor_sigmas) * sigma, 0.005f);
+}
+
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
@@ -77,18 +93,8 @@ struct RidgePoint {
 // grid line's height, so that the bright traces do not outvote the grid.
 std::vector<RidgePoint> RidgePoints(const cv::Mat1f& ridge, double floor_sigmas,
                                     float* unit_weight) {
-  // The noise is judged in the middle of the frame, where the screen is: the
-  // flat surround of a scanned print would make it look smaller than it is.
-  std::vector<float> sample;
-  for (int row = ridge.rows / 5; row < ridge.rows * 4 / 5; row += 2) {
-    const float* p = ridge.ptr<float>(row);
-    for (int col = ridge.cols / 5; col < ridge.cols * 4 / 5; col += 2) sample.push_back(p[col]);
-  }
-  const auto middle = sample.begin() + sample.size() / 2;
-  const float median = SelectNth(sample.begin(), middle, sample.end());
-  for (float& v : sample) v = std::abs(v - median);
-  const float sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
-  const float threshold = std::max(median + static_cast<float>(floor_sigmas) * sigma, 0.005f);
+  float median = 0.0f;
+  const float threshold = RidgeFloor(ridge, floor_sigmas, &median);
 
   const float cx = 0.5f * (ridge.cols - 1), cy = 0.5f * (ridge.rows - 1);
   std::vector<RidgePoint> points;

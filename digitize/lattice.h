@@ -42,6 +42,10 @@ inline constexpr double kRidgeFloorSigmas = 3.0;
 // where the noise's, in every cell alike, does not.
 inline constexpr double kFaintRidgeFloorSigmas = 1.5;
 
+// The height a ridge pixel must stand at to vote: `floor_sigmas` robust
+// sigmas above the median of the frame's middle (and at least 0.005), the
+// median in `median`.
+float RidgeFloor(const cv::Mat1f& ridge, double floor_sigmas, float* median);
 // nullopt when no lattice of `divisions` is found; `why` then says what
 // failed. Ridge pixels vote when they stand `ridge_floor_sigmas` above the
 // noise.

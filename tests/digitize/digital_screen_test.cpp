@@ -16,11 +16,13 @@
 namespace impactlab {
 
 // Every photo of six quick digital sessions (36). Each dotted graticule
-// found is the screen's, to a pixel or two anywhere on it (0.11-1.61 px
-// when this was written): none is taken a division or more off it, on the
-// panel's menus and text, as 5 of them were (50-91 px) before its lines
-// were measured along stretches longer than their dots' spacing and judged
-// so; and most are found (22 of 36; the rest are refused, saying why).
+// found is the screen's, to a pixel or two anywhere on it: none is taken a
+// division or more off it, on the panel's menus and text, as 5 of them were
+// (50-91 px) before its lines were measured along stretches longer than
+// their dots' spacing and judged so, and as 2 lattices found among the dots
+// alone were (51-57 px) before their outermost lines decided; and most are
+// found (27 of 36 when this was written, 22 before the search among the
+// dots; the rest are refused, saying why).
 TEST_CASE("digital screen: a dotted graticule found is the screen's, and most are found") {
   int found = 0, photos = 0;
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
@@ -54,7 +56,7 @@ TEST_CASE("digital screen: a dotted graticule found is the screen's, and most ar
   }
   INFO(found << " of " << photos << " found");
   CHECK(photos == 36);
-  CHECK(found >= 20);
+  CHECK(found >= 25);
 }
 
 // The styles of a CRT's photo: solid graticule lines, never taken for a
