@@ -19,7 +19,7 @@ namespace impactlab {
 struct RunBands {
   std::array<double, 2> right{0.4, 4.0};
   std::array<double, 2> left{-2.4, 0.0};
-  std::array<double, 2> contact{-4.0, -2.8};
+  std::array<double, 2> contact{-4.0, -2.5};  // holds the step, -3.875 to -2.675 div
   std::string contact_position = "below";  // "above", "between" or "below" the slow traces
   double contact_step_fraction = 0.0;      // of its band the contact step spans; 0: fixed 2 V/div
 };
