@@ -143,8 +143,14 @@ Strip CutStrip(const PreparedPhoto& photo, const GraticuleMapping& mapping,
 // their rows, but never more than twice the lines' usual height, so that a
 // trace lying along a grid line survives. The usual height comes from the
 // vertical lines (their columns' medians stand out of their neighbours'),
-// which no trace can cover for more than a few rows. Returns it.
-double SuppressGrid(Strip& strip, std::array<int, 2> divisions) {
+// which no trace can cover for more than a few rows. Returns it. On a
+// raster's dotted graticule (`dotted`) the outermost horizontal lines are
+// the display's solid frame, far above the dotted lines' height, and are
+// taken out uncapped: capped, the frame stood in the strip, and a trace
+// resting a tenth of a division above it was followed along the frame
+// instead (the generator's digital thesis sessions: a contact step's rise
+// read 75 us late, its time 23 % short).
+double SuppressGrid(Strip& strip, std::array<int, 2> divisions, bool dotted) {
   cv::Mat1f& image = strip.image;
   // Each column's median, from a copy with the columns laid out as rows: read
   // down a column, every value would be a cache line of its own.
@@ -172,12 +178,14 @@ double SuppressGrid(Strip& strip, std::array<int, 2> divisions) {
   std::vector<float> row_values(image.cols);
   const double half = 0.5 * divisions[1];
   for (int k = 0; k <= divisions[1]; ++k) {
+    const bool frame = dotted && (k == 0 || k == divisions[1]);
+    const double row_cap = frame ? std::numeric_limits<double>::infinity() : cap;
     const double centre = strip.RowOf(k - half);
     for (int r = static_cast<int>(std::floor(centre - 1.5));
          r <= static_cast<int>(std::ceil(centre + 1.5)); ++r) {
       if (r < 0 || r >= image.rows || std::abs(r - centre) > 1.5) continue;
       for (int c = 0; c < image.cols; ++c) row_values[c] = image(r, c);
-      const float take = static_cast<float>(std::clamp(QuantileOf(row_values, 0.25), 0.0, cap));
+      const float take = static_cast<float>(std::clamp(QuantileOf(row_values, 0.25), 0.0, row_cap));
       for (int c = 0; c < image.cols; ++c) image(r, c) -= take;
     }
   }
@@ -796,7 +804,7 @@ CoarsePath TrackTrace(const PreparedPhoto& photo, const GraticuleFit& graticule,
                       const TrackGrid& grid, const Claims& claims, bool off_grid_rows, bool one_way,
                       std::optional<Chopper> beam_chopper) {
   Strip strip = CutStrip(photo, graticule.mapping, graticule.divisions, settings, grid);
-  const double line_height = SuppressGrid(strip, graticule.divisions);
+  const double line_height = SuppressGrid(strip, graticule.divisions, graticule.dotted);
   const cv::Mat1f& image = strip.image;
 
   // The noise, from every third value (plenty, and a third of the work).
