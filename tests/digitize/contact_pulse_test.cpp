@@ -117,15 +117,8 @@ struct RandomisedPulse {
 RandomisedPulse PulseOfRandomisedRun(std::uint64_t seed, const std::string& run_id) {
   testing::TempDir dir;
   const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(seed));
-  const Run* run = nullptr;
-  for (const Run& r : summary.manifest.runs) {
-    if (r.id == run_id) run = &r;
-  }
+  const auto [run, truth] = testing::FindGeneratedRun(summary, run_id);
   REQUIRE(run != nullptr);
-  const nlohmann::json* truth = nullptr;
-  for (const auto& r : summary.truth["runs"]) {
-    if (r["id"] == run_id) truth = &r;
-  }
   REQUIRE(truth != nullptr);
   const std::vector<TraceRequest> requests = TraceRequestsOf(*run);
   const DigitizeResult result =

@@ -14,6 +14,7 @@
 
 #include "digitize/digitize.h"
 #include "synth/session_generator.h"
+#include "tests/digitize/randomised_session.h"
 #include "tests/support/temp_dir.h"
 
 namespace impactlab {
@@ -27,15 +28,8 @@ TEST_CASE("digitize: a contact step resting just above a digital screen's frame 
   synth.seed = 4;
   const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
   const std::string run_id = "1.519";
-  const Run* run = nullptr;
-  for (const Run& r : summary.manifest.runs) {
-    if (r.id == run_id) run = &r;
-  }
+  const auto [run, truth] = testing::FindGeneratedRun(summary, run_id);
   REQUIRE(run != nullptr);
-  const nlohmann::json* truth = nullptr;
-  for (const auto& r : summary.truth["runs"]) {
-    if (r["id"] == run_id) truth = &r;
-  }
   REQUIRE(truth != nullptr);
   const std::vector<TraceRequest> requests = TraceRequestsOf(*run);
   const DigitizeResult result =

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -31,6 +32,23 @@ inline GraticuleMapping MappingFromTruth(const nlohmann::json& mapping) {
                                  mapping["distortion_centre_px"][1].get<double>()};
   result.distortion_radius_px = mapping["distortion_radius_px"].get<double>();
   return result;
+}
+
+// A generated session's run `id`: its manifest entry and its truth (null
+// where the session has none).
+struct GeneratedRun {
+  const Run* run = nullptr;
+  const nlohmann::json* truth = nullptr;
+};
+inline GeneratedRun FindGeneratedRun(const SynthSummary& summary, const std::string& id) {
+  GeneratedRun found;
+  for (const Run& r : summary.manifest.runs) {
+    if (r.id == id) found.run = &r;
+  }
+  for (const auto& r : summary.truth["runs"]) {
+    if (r["id"] == id) found.truth = &r;
+  }
+  return found;
 }
 
 }  // namespace impactlab::testing
