@@ -1063,10 +1063,9 @@ GraticuleFit SearchGraticule(const PreparedPhoto& photo, std::array<int, 2> divi
     // lattice found so is refined and checked as any other, and its
     // outermost lines must stand (moved a division where they point the
     // grid lies beyond it); when none passes, the first reason stands. A
-    // display's pixels can pass for a print's
-    // screen (its black matrix a lattice of the same kind), so this is asked
-    // of prints too: a print's descreened lines are continuous, and leave no
-    // rows of dots to find.
+    // display's pixels can pass for a print's screen (its black matrix a
+    // lattice of the same kind), so this is asked of prints too: a print's
+    // descreened lines are continuous, and leave no rows of dots to find.
     PreparedPhoto dots = working;
     float ridge_median = 0.0f;
     dots.ridge = digitize::DotsOf(
