@@ -1067,10 +1067,8 @@ GraticuleFit SearchGraticule(const PreparedPhoto& photo, std::array<int, 2> divi
     // lattice of the same kind), so this is asked of prints too: a print's
     // descreened lines are continuous, and leave no rows of dots to find.
     PreparedPhoto dots = working;
-    float ridge_median = 0.0f;
-    dots.ridge = digitize::DotsOf(
-        working.ridge,
-        digitize::RidgeFloor(working.ridge, digitize::kRidgeFloorSigmas, &ridge_median));
+    dots.ridge = digitize::DotsOf(working.ridge,
+                                  digitize::RidgeFloor(working.ridge, digitize::kRidgeFloorSigmas));
     GraticuleOptions dotted_lines = options;
     dotted_lines.line_average_div = std::max(options.line_average_div, kFaintLineAverageDiv);
     bool dots_searched = false;

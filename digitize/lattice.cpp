@@ -25,12 +25,15 @@ float RidgeFloor(const cv::Mat1f& ridge, double floor_sigmas, float* median) {
     const float* p = ridge.ptr<float>(row);
     for (int col = ridge.cols / 5; col < ridge.cols * 4 / 5; col += 2) sample.push_back(p[col]);
   }
-  if (sample.empty()) return *median = 0.0f, 0.005f;
-  const auto middle = sample.begin() + sample.size() / 2;
-  *median = SelectNth(sample.begin(), middle, sample.end());
-  for (float& v : sample) v = std::abs(v - *median);
-  const float sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
-  return std::max(*median + static_cast<float>(floor_sigmas) * sigma, 0.005f);
+  float centre = 0.0f, sigma = 0.0f;
+  if (!sample.empty()) {
+    const auto middle = sample.begin() + sample.size() / 2;
+    centre = SelectNth(sample.begin(), middle, sample.end());
+    for (float& v : sample) v = std::abs(v - centre);
+    sigma = 1.4826f * SelectNth(sample.begin(), middle, sample.end());
+  }
+  if (median) *median = centre;
+  return std::max(centre + static_cast<float>(floor_sigmas) * sigma, 0.005f);
 }
 
 namespace {

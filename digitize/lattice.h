@@ -44,8 +44,8 @@ inline constexpr double kFaintRidgeFloorSigmas = 1.5;
 
 // The height a ridge pixel must stand at to vote: `floor_sigmas` robust
 // sigmas above the median of the frame's middle (and at least 0.005), the
-// median in `median`.
-float RidgeFloor(const cv::Mat1f& ridge, double floor_sigmas, float* median);
+// median in `median` when asked for.
+float RidgeFloor(const cv::Mat1f& ridge, double floor_sigmas, float* median = nullptr);
 // nullopt when no lattice of `divisions` is found; `why` then says what
 // failed. Ridge pixels vote when they stand `ridge_floor_sigmas` above the
 // noise.

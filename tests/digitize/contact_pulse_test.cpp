@@ -117,18 +117,12 @@ struct RandomisedPulse {
 RandomisedPulse PulseOfRandomisedRun(std::uint64_t seed, const std::string& run_id) {
   testing::TempDir dir;
   const SynthSummary summary = GenerateSession(dir.path() / "s", testing::RandomisedSynth(seed));
-  const auto [run, truth] = testing::FindGeneratedRun(summary, run_id);
-  REQUIRE(run != nullptr);
-  REQUIRE(truth != nullptr);
-  const std::vector<TraceRequest> requests = TraceRequestsOf(*run);
-  const DigitizeResult result =
-      DigitizePhoto(LoadPhoto(dir.path() / "s" / (*truth)["photo"]["file"].get<std::string>()),
-                    {10, 8}, requests, {});
-  std::optional<ContactPulseFit> pulse;
-  for (std::size_t k = 0; k < requests.size(); ++k) {
-    if (requests[k].name == "contact") pulse = result.pulses[k];
-  }
+  const testing::DigitizedRun digitized =
+      testing::DigitizeGeneratedRun(dir.path() / "s", summary, run_id);
+  const std::optional<ContactPulseFit>& pulse =
+      digitized.result.pulses[digitized.IndexOf("contact")];
   REQUIRE(pulse);
+  const nlohmann::json* truth = digitized.truth;
   RandomisedPulse out;
   out.width = pulse->pulse.width_s;
   out.truth_s = (*truth)["contact"]["duration_s"].get<double>();

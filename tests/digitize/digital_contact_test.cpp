@@ -5,8 +5,8 @@
 // frame out of its strip only up to twice the dotted lines' height, and
 // followed the frame instead of the rest level until well past the rise: the
 // rise read 75 us late, the contact time 23 % short at 166 of its sigmas.
-#include <string>
-#include <vector>
+
+#include <cmath>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -22,25 +22,16 @@ namespace impactlab {
 TEST_CASE("digitize: a contact step resting just above a digital screen's frame is read on it") {
   cv::setNumThreads(1);
   testing::TempDir dir;
-  SynthOptions synth;
-  synth.preset = "thesis";
-  synth.style = PhotoStyle::kDigital;
-  synth.seed = 4;
-  const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
-  const std::string run_id = "1.519";
-  const auto [run, truth] = testing::FindGeneratedRun(summary, run_id);
-  REQUIRE(run != nullptr);
-  REQUIRE(truth != nullptr);
-  const std::vector<TraceRequest> requests = TraceRequestsOf(*run);
-  const DigitizeResult result =
-      DigitizePhoto(LoadPhoto(dir.path() / "s" / (*truth)["photo"]["file"].get<std::string>()),
-                    {10, 8}, requests, {});
+  const SynthSummary summary =
+      GenerateSession(dir.path() / "s", testing::SynthOf("thesis", PhotoStyle::kDigital, 4));
+  const testing::DigitizedRun run =
+      testing::DigitizeGeneratedRun(dir.path() / "s", summary, "1.519");
+  const DigitizeResult& result = run.result;
   INFO(result.Failure());
   REQUIRE(result.ok);
   CHECK(result.graticule.dotted);
-  std::size_t k = 0;
-  while (k < requests.size() && requests[k].name != "contact") ++k;
-  REQUIRE(k < requests.size());
+  const std::size_t k = run.IndexOf("contact");
+  const nlohmann::json* truth = run.truth;
   // The rest level is read at its own height before the rise (0.05 V), not
   // the frame's (-0.2 V).
   const DigitizedTrace& trace = result.traces[k];

@@ -27,11 +27,8 @@ TEST_CASE("digital screen: a dotted graticule found is the screen's, and most ar
   int found = 0, photos = 0;
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
     testing::TempDir dir;
-    SynthOptions synth;
-    synth.preset = "quick";
-    synth.style = PhotoStyle::kDigital;
-    synth.seed = seed;
-    const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+    const SynthSummary summary =
+        GenerateSession(dir.path() / "s", testing::SynthOf("quick", PhotoStyle::kDigital, seed));
     std::vector<const nlohmann::json*> truths;
     for (const auto& run : summary.truth["runs"]) truths.push_back(&run["photo"]);
     for (const auto& calibration : summary.truth["calibrations"]) {
@@ -65,11 +62,8 @@ TEST_CASE("digital screen: a CRT photo's graticule is not dotted") {
   for (const PhotoStyle style : {PhotoStyle::kClean, PhotoStyle::kPolaroid, PhotoStyle::kPhone,
                                  PhotoStyle::kNegative, PhotoStyle::kLowres}) {
     testing::TempDir dir;
-    SynthOptions synth;
-    synth.preset = "quick";
-    synth.style = style;
-    synth.seed = 1;
-    const SynthSummary summary = GenerateSession(dir.path() / "s", synth);
+    const SynthSummary summary =
+        GenerateSession(dir.path() / "s", testing::SynthOf("quick", style, 1));
     for (const auto& run : summary.truth["runs"]) {
       const std::string file = run["photo"]["file"];
       INFO(PhotoStyleName(style) << " " << file);
