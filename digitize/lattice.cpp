@@ -75,6 +75,9 @@ constexpr double kMaxTurnPerLineDeg = 2.5;
 // Measured on 81 right lattices of randomised photos: within 0.0036; on
 // wrong ones, bent through a print's frame or traces in step: 0.025-0.26.
 constexpr double kPerspectiveTolerance = 0.015;
+// A screen's divisions are square: seen tilted (up to 25 degrees) and in
+// perspective, one family's spacing lies within these factors of the other's.
+constexpr double kMinSpacingRatio = 0.7, kMaxSpacingRatio = 1.45;
 // A grid line's votes count at most this many times the lattice's typical
 // line's (the ridge points' own cap, applied to whole lines).
 constexpr double kLineVoteCap = 1.5;
@@ -763,6 +766,53 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
           {theta, line.rho - accumulator.rho_offset(), line.votes * accumulator.unit()});
     }
   };
+  // The last look, where the peaks hold too few of a faint grid's lines in
+  // step or two families that are not one view (randomised seed 2015's
+  // calibration: a grid at 1.3 % of a trace's brightness, lines 0.4
+  // px wide under glare; 3 of its 11 vertical lines among the peaks, every
+  // one of them in its family's comb): each family is its comb alone, its
+  // n + 1 evenly spaced lines parallel at the family's dominant direction,
+  // none missing. The family whose comb is wider spaced is held (a comb at
+  // half a faint grid's spacing catches each of its lines too) and the
+  // other's is sought within the spacings a square division allows. The
+  // lattice is good to a few pixels and a division: its lines' fit and the
+  // checks after it decide, as for any other. False when either comb lacks
+  // a line.
+  auto combs_alone = [&]() {
+    std::vector<CombLine> comb[2];
+    for (int f = 0; f < 2; ++f) {
+      comb[f] = FindComb(accumulator.CountProfile(dominant[f]), divisions[f] + 1, min_spacing(f),
+                         max_spacing(f));
+      if (static_cast<int>(comb[f].size()) != divisions[f] + 1) return false;
+    }
+    const auto spacing = [&](int f) {
+      return (comb[f].back().rho - comb[f].front().rho) / divisions[f];
+    };
+    const int held = spacing(0) >= spacing(1) ? 0 : 1, other = 1 - held;
+    const double held_spacing = spacing(held);
+    if (!(spacing(other) >= kMinSpacingRatio * held_spacing &&
+          spacing(other) <= kMaxSpacingRatio * held_spacing)) {
+      comb[other] = FindComb(accumulator.CountProfile(dominant[other]), divisions[other] + 1,
+                             std::max(min_spacing(other), kMinSpacingRatio * held_spacing),
+                             std::min(max_spacing(other), kMaxSpacingRatio * held_spacing));
+      if (static_cast<int>(comb[other].size()) != divisions[other] + 1) return false;
+    }
+    for (int f = 0; f < 2; ++f) {
+      const double theta = Accumulator::Theta(dominant[f]);
+      lines[f].clear();
+      FamilyMatch match;
+      for (const CombLine& line : comb[f]) {
+        match.lines.emplace_back(static_cast<int>(lines[f].size()),
+                                 static_cast<int>(lines[f].size()));
+        lines[f].push_back(
+            {theta, line.rho - accumulator.rho_offset(), line.votes * accumulator.unit()});
+      }
+      match.window_certain = true;
+      matches[f] = std::move(match);
+    }
+    return true;
+  };
+  bool from_combs = false;
   for (int f = 0; f < 2; ++f) {
     const int lo = std::max(0, dominant[f] - spread);
     const int hi = std::min(kThetaBins - 1, dominant[f] + spread);
@@ -775,6 +825,10 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
       matches[f] = MatchFamily(lines[f], theta, n_lines, min_spacing(f), max_spacing(f));
     }
     if (!matches[f] || static_cast<int>(matches[f]->lines.size()) < needed(f)) {
+      if (combs_alone()) {
+        from_combs = true;
+        break;
+      }
       *why = fmt::format("found {} of the {} {} grid lines in step",
                          matches[f] ? matches[f]->lines.size() : 0, n_lines, family_names[f]);
       return std::nullopt;
@@ -798,7 +852,7 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   const std::optional<FamilyMatch> apart[2] = {matches[0], matches[1]};
   const std::size_t apart_lines[2] = {lines[0].size(), lines[1].size()};
   for (int f = 0; f < 2; ++f) {
-    if (agrees(f)) continue;
+    if (from_combs || agrees(f)) continue;
     std::optional<FamilyMatch> again = MatchFamily(lines[f], theta_of(f), divisions[f] + 1,
                                                    min_spacing(f), max_spacing(f), expected_c(f));
     if (enough(again, f)) matches[f] = std::move(again);
@@ -809,7 +863,7 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   // matched again, the other's held, with its comb's lines as candidates
   // and anchors and the perspective the held family gives; the lattice is
   // taken when the two then agree (the one with more lines when both do).
-  if (!agrees(0) || !agrees(1)) {
+  if (!from_combs && (!agrees(0) || !agrees(1))) {
     std::optional<FamilyMatch> rescued[2];
     for (int g = 0; g < 2; ++g) {
       // The held family as matched apart: matched again above with the
@@ -825,8 +879,8 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
                                   (held.back().first - held.front().first);
       comb_from[g] = 0;
       lines[g].resize(std::min(lines[g].size(), apart_lines[g]));
-      add_comb(g, std::max(min_spacing(g), 0.7 * held_spacing),
-               std::min(max_spacing(g), 1.45 * held_spacing));
+      add_comb(g, std::max(min_spacing(g), kMinSpacingRatio * held_spacing),
+               std::min(max_spacing(g), kMaxSpacingRatio * held_spacing));
       std::optional<FamilyMatch> again =
           MatchFamily(lines[g], theta_of(g), divisions[g] + 1, min_spacing(g), max_spacing(g),
                       expected_c(g), comb_from[g]);
@@ -839,7 +893,8 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
     const int g = !rescued[0] ? 1 : !rescued[1] ? 0 : total(1) > total(0) ? 1 : 0;
     if (rescued[g]) matches[g] = std::move(rescued[g]), matches[1 - g] = apart[1 - g];
   }
-  if (!agrees(0) || !agrees(1)) {
+  if (!from_combs && (!agrees(0) || !agrees(1))) from_combs = combs_alone();
+  if (!from_combs && (!agrees(0) || !agrees(1))) {
     *why = "the two families of lines found are not one perspective view of a grid";
     return std::nullopt;
   }
