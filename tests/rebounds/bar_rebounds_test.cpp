@@ -73,18 +73,19 @@ TEST_CASE("bar_rebounds: the session's maxima are the bars' mean, then the avera
     }
     return b;
   };
-  // The left bar lost its last rebound; the averaged history has one more.
+  // The left bar lost its last rebound; the averaged history has one more,
+  // which agrees with the right bar's through the common swing.
   // The bars' maxima differ by a common swing of alternating sign (0.01).
   const BarRebounds right = bar({0.50, 0.40, 0.32}, 3e-4, 0.75);
   const BarRebounds left = bar({0.52, 0.38}, 4e-4, 0.76);
-  const BarRebounds averaged = bar({0.5101, 0.3902, 0.3203}, 2e-4, 0.755);
+  const BarRebounds averaged = bar({0.5101, 0.3902, 0.3303}, 2e-4, 0.755);
   const BarRebounds both = MeanOfBars(right, left, averaged);
   REQUIRE(both.xmax.size() == 3);
   CHECK(both.xmax[0] == Approx(0.51));
   CHECK(both.xmax[1] == Approx(0.39));
   CHECK(both.xmax_sigma[0] == Approx(0.5 * std::hypot(3e-4, 4e-4)));  // 2.5e-4
   CHECK(both.t_peak[1] == Approx(0.755 + 0.75));
-  CHECK(both.xmax[2] == Approx(0.3203));  // past what both bars have
+  CHECK(both.xmax[2] == Approx(0.3303));  // past what both bars have
   CHECK(both.xmax_sigma[2] == Approx(2e-4));
 }
 
@@ -387,6 +388,43 @@ TEST_CASE("bar_rebounds: a rebound one bar does not show is the other's; its lat
     // A rebound neither bar shows ends the sequence: it stays gap-free.
     const auto [right, left] = BarsMissing(mean, kCommon, {2}, {2});
     CHECK(MeanOfBars(right, left, BarRebounds{}).xmax.size() == 2);
+  }
+}
+
+// Randomised seed 5020's run 0.713: the right bar's trace lost for 0.57 s
+// over rebound 0's crest. The averaged history, read only where both bars
+// are, had the crest's flanks alone and stated 0.357 +- 0.022 for 0.575;
+// the left bar saw the crest. An averaged row that disagrees with the bar
+// that shows the rebound (through the bars' common swing) gives way to it;
+// one that agrees is kept.
+TEST_CASE("bar_rebounds: an averaged row the bar that saw its crest disagrees with gives way") {
+  const std::vector<double> mean = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kCommon = 4e-4;
+  const auto [right, left] = BarsMissing(mean, kCommon, {0}, {});
+  const auto averaged_with_first = [&](double first, double sigma) {
+    BarRebounds averaged;
+    for (std::size_t n = 0; n < mean.size(); ++n) {
+      AppendRow(averaged, n == 0 ? first : mean[n], n == 0 ? sigma : 2e-4,
+                0.75 + 0.75 * static_cast<double>(n));
+    }
+    return averaged;
+  };
+  {
+    // Extrapolated over a lost crest: 38 % low, at ten of its sigmas.
+    const BarRebounds both = MeanOfBars(right, left, averaged_with_first(0.62 * mean[0], 0.01));
+    REQUIRE(both.xmax.size() == 5);
+    CHECK(both.xmax[0] == Approx(mean[0]).epsilon(1e-12));  // the left bar's less c
+    const double common_sigma = 0.5 * std::hypot(3e-4, 3e-4) / 2.0;
+    CHECK(both.xmax_sigma[0] == Approx(std::hypot(3e-4, common_sigma)));
+    for (std::size_t n = 1; n < 5; ++n) CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+  }
+  {
+    // Within its error of the left bar's: the average's row stands.
+    const double first = mean[0] + 2e-4;
+    const BarRebounds both = MeanOfBars(right, left, averaged_with_first(first, 3e-4));
+    REQUIRE(both.xmax.size() == 5);
+    CHECK(both.xmax[0] == Approx(first).epsilon(1e-12));
+    CHECK(both.xmax_sigma[0] == Approx(3e-4));
   }
 }
 
