@@ -403,7 +403,28 @@ ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pend
         const double scatter = rr / static_cast<double>(fall.size() - 2);
         const Eigen::Matrix2d cov = CorrelationInflation(residual) * scatter * normal.inverse();
         const Eigen::Vector2d gradient = ab / amplitude;
-        swing.amplitude_sigma = std::sqrt(std::max(0.0, gradient.dot(cov * gradient)));
+        double variance = gradient.dot(cov * gradient);
+        // As a peak's (FitPeak): the fit follows part of the errors' slow
+        // wander, so its residuals' correlation falls off early; the errors'
+        // autocovariance, the fit's absorption undone, gives the amplitude's
+        // variance through its weights on the samples, and the larger of
+        // the two estimates is kept.
+        const std::size_t m = fall.size();
+        std::vector<double> jacobian(2 * m);
+        for (std::size_t k = 0; k < m; ++k) {
+          const Eigen::Vector2d row = basis(fall[k]);
+          jacobian[k] = row(0);
+          jacobian[m + k] = row(1);
+        }
+        const std::vector<double> autocovariance = FitErrorAutocovariance(
+            residual, jacobian, 2, std::min(static_cast<int>(m) / 4, kPeakFitMaxLag));
+        if (!autocovariance.empty()) {
+          const Eigen::Vector2d through = normal.inverse() * gradient;
+          std::vector<double> weights(m);
+          for (std::size_t k = 0; k < m; ++k) weights[k] = basis(fall[k]).dot(through);
+          variance = std::max(variance, CorrelatedVariance(autocovariance, weights));
+        }
+        swing.amplitude_sigma = std::sqrt(std::max(0.0, variance));
       }
       break;
     }

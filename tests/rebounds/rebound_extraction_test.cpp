@@ -91,6 +91,34 @@ TEST_CASE("rebounds: with noise correlated along the trace the maxima's pulls st
   CHECK(pull_rms < 1.4);
 }
 
+// The release's X0 from the fall's fit, under the same errors: a fit over a
+// quarter swing follows part of their slow wander, so the residuals' own
+// correlation falls off early, and the inflation it gives understated the
+// amplitude's sigma (pull RMS 1.56 over these 60 seeds, now 1.32; the per-bar
+// releases of randomised seeds 1001-2034: 54 % within one sigma). Its
+// variance from the errors' autocovariance, as a peak's, holds it.
+TEST_CASE("rebounds: with noise correlated along the trace the release's pull stays near 1") {
+  const double x0 = 0.405, noise = 0.002, dt = 2e-3, rho = std::exp(-dt / 20e-3);
+  double sum_pull2 = 0.0;
+  int count = 0;
+  for (unsigned seed = 1; seed <= 60; ++seed) {
+    Truth truth = Simulate(x0, dt, 0.0, seed);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> e(0.0, noise * std::sqrt(1.0 - rho * rho));
+    double state = 0.0;
+    for (double& x : truth.history.displacement) x += (state = rho * state + e(rng));
+    const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
+    REQUIRE(r.release.sigma > 0.0);
+    const double pull = (r.release.value - x0) / r.release.sigma;
+    sum_pull2 += pull * pull;
+    ++count;
+  }
+  const double pull_rms = std::sqrt(sum_pull2 / count);
+  INFO("release pull RMS " << pull_rms);
+  CHECK(pull_rms > 0.6);
+  CHECK(pull_rms < 1.4);
+}
+
 // Drops the samples of `h` within [from, to] s: a faint stretch of a photo.
 // Every maximum read from a noiseless history, against the model's.
 void CheckMaximaAgainstTruth(const ReboundExtraction& r, const ReboundSequence& s) {
