@@ -36,6 +36,19 @@ Truth Simulate(double x0, double dt, double noise, unsigned seed) {
   return truth;
 }
 
+// As Simulate, with AR(1) noise of sigma `noise` whose correlation falls by
+// e every `correlation_s` seconds: a digitized trace errs smoothly over
+// neighbouring samples.
+Truth SimulateCorrelated(double x0, double dt, double noise, double correlation_s, unsigned seed) {
+  Truth truth = Simulate(x0, dt, 0.0, seed);
+  const double rho = std::exp(-dt / correlation_s);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> e(0.0, noise * std::sqrt(1.0 - rho * rho));
+  double state = 0.0;
+  for (double& x : truth.history.displacement) x += (state = rho * state + e(rng));
+  return truth;
+}
+
 TEST_CASE("rebounds: noiseless maxima and peak times are found far below the sample spacing") {
   const Truth truth = Simulate(1.519, 2e-3, 0.0, 1);
   const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
@@ -69,15 +82,10 @@ TEST_CASE("rebounds: with noise correlated along the trace the maxima's pulls st
   // A digitized trace errs smoothly over neighbouring samples: AR(1) noise
   // with a correlation time of 10 ms (five samples). Treating its samples as
   // independent would understate each maximum's sigma about 3x.
-  const double x0 = 0.405, noise = 0.002, dt = 2e-3, rho = std::exp(-dt / 10e-3);
   double sum_pull2 = 0.0;
   int count = 0;
   for (unsigned seed = 1; seed <= 20; ++seed) {
-    Truth truth = Simulate(x0, dt, 0.0, seed);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> e(0.0, noise * std::sqrt(1.0 - rho * rho));
-    double state = 0.0;
-    for (double& x : truth.history.displacement) x += (state = rho * state + e(rng));
+    const Truth truth = SimulateCorrelated(0.405, 2e-3, 0.002, 10e-3, seed);
     const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
     for (const ExtractedRebound& rb : r.rebounds) {
       const double pull = (rb.xmax.value - truth.sequence.xmax[rb.number]) / rb.xmax.sigma;
@@ -98,18 +106,14 @@ TEST_CASE("rebounds: with noise correlated along the trace the maxima's pulls st
 // releases of randomised seeds 1001-2034: 54 % within one sigma). Its
 // variance from the errors' autocovariance, as a peak's, holds it.
 TEST_CASE("rebounds: with noise correlated along the trace the release's pull stays near 1") {
-  const double x0 = 0.405, noise = 0.002, dt = 2e-3, rho = std::exp(-dt / 20e-3);
+  constexpr double kX0 = 0.405;
   double sum_pull2 = 0.0;
   int count = 0;
   for (unsigned seed = 1; seed <= 60; ++seed) {
-    Truth truth = Simulate(x0, dt, 0.0, seed);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> e(0.0, noise * std::sqrt(1.0 - rho * rho));
-    double state = 0.0;
-    for (double& x : truth.history.displacement) x += (state = rho * state + e(rng));
+    const Truth truth = SimulateCorrelated(kX0, 2e-3, 0.002, 20e-3, seed);
     const ReboundExtraction r = ExtractRebounds(truth.history, kPendulum, {});
     REQUIRE(r.release.sigma > 0.0);
-    const double pull = (r.release.value - x0) / r.release.sigma;
+    const double pull = (r.release.value - kX0) / r.release.sigma;
     sum_pull2 += pull * pull;
     ++count;
   }
