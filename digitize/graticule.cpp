@@ -1112,9 +1112,8 @@ GraticuleFit FindGraticule(const PreparedPhoto& photo, std::array<int, 2> divisi
                "a division over does not pass",
                false);
     }
-    const bool dotted = fit.dotted;
     fit = *std::move(standing);
-    fit.dotted = dotted;
+    fit.dotted = true;
   }
   return fit;
 }

@@ -779,10 +779,11 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
   // checks after it decide, as for any other. False when either comb lacks
   // a line.
   auto combs_alone = [&]() {
+    std::vector<double> profile[2];
     std::vector<CombLine> comb[2];
     for (int f = 0; f < 2; ++f) {
-      comb[f] = FindComb(accumulator.CountProfile(dominant[f]), divisions[f] + 1, min_spacing(f),
-                         max_spacing(f));
+      profile[f] = accumulator.CountProfile(dominant[f]);
+      comb[f] = FindComb(profile[f], divisions[f] + 1, min_spacing(f), max_spacing(f));
       if (static_cast<int>(comb[f].size()) != divisions[f] + 1) return false;
     }
     const auto spacing = [&](int f) {
@@ -792,7 +793,7 @@ std::optional<Lattice> FindLattice(const PreparedPhoto& photo, std::array<int, 2
     const double held_spacing = spacing(held);
     if (!(spacing(other) >= kMinSpacingRatio * held_spacing &&
           spacing(other) <= kMaxSpacingRatio * held_spacing)) {
-      comb[other] = FindComb(accumulator.CountProfile(dominant[other]), divisions[other] + 1,
+      comb[other] = FindComb(profile[other], divisions[other] + 1,
                              std::max(min_spacing(other), kMinSpacingRatio * held_spacing),
                              std::min(max_spacing(other), kMaxSpacingRatio * held_spacing));
       if (static_cast<int>(comb[other].size()) != divisions[other] + 1) return false;
