@@ -51,69 +51,92 @@ std::vector<SharedRebound> Shared(const BarRebounds& right, const BarRebounds& l
 
 double Alternating(int n) { return n % 2 == 0 ? 1.0 : -1.0; }
 
-// The bars' common swing at rebound 0 (session numbering), from the
-// rebounds `shared` both bars show: the pair's centre of mass swings on
-// through every impact (the impact exchanges momentum between the bars, not
-// its sum), half a period per rebound, so each bar's maximum is the mean of
-// the two plus this length with alternating sign: right_n = mean_n +
-// (-1)^n c, left_n = mean_n - (-1)^n c. Estimated as the weighted mean of
-// (-1)^n (right_n - left_n) / 2, with its standard error widened by the
-// scatter about it (a Birge ratio) where two or more rebounds give it;
-// rebound `skip` left out (none by default).
-Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left,
-                     const std::vector<SharedRebound>& shared, int skip = -1) {
-  double sum_w = 0.0, sum_wc = 0.0;
-  std::vector<std::array<double, 2>> readings;  // c_n and its sigma
+// One reading of the bars' common swing at rebound 0 (session numbering):
+// the pair's centre of mass swings on through every impact (the impact
+// exchanges momentum between the bars, not its sum), half a period per
+// rebound, so each bar's maximum is the mean of the two plus this length
+// with alternating sign: right_n = mean_n + (-1)^n c, left_n = mean_n -
+// (-1)^n c. A rebound both bars show reads it as (-1)^n (right_n - left_n) /
+// 2 (`n` its number); a bar's release reads it too
+// (CommonSwingFromRelease; n = kFromRelease).
+struct SwingReading {
+  double c = 0.0, sigma = 0.0;
+  int n = 0;
+};
+constexpr int kFromRelease = -1;
+
+std::vector<SwingReading> SharedReadings(const BarRebounds& right, const BarRebounds& left,
+                                         const std::vector<SharedRebound>& shared) {
+  std::vector<SwingReading> out;
   for (const SharedRebound& s : shared) {
-    if (s.n == skip) continue;
     const double c = Alternating(s.n) * 0.5 * (right.xmax[s.right] - left.xmax[s.left]);
     const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
-    if (!(sigma > 0.0)) continue;
-    readings.push_back({c, sigma});
-    sum_w += 1.0 / (sigma * sigma);
-    sum_wc += c / (sigma * sigma);
+    if (sigma > 0.0) out.push_back({c, sigma, s.n});
   }
-  if (readings.empty()) return {0.0, 0.0};
+  return out;
+}
+
+// The weighted mean of `readings` but the one at index `skip` (none by
+// default), with its standard error widened by the scatter about it (a
+// Birge ratio) where two or more give it; {0, 0} where none does.
+constexpr std::size_t kSkipNone = static_cast<std::size_t>(-1);
+
+Estimate WeightedSwing(const std::vector<SwingReading>& readings, std::size_t skip = kSkipNone) {
+  double sum_w = 0.0, sum_wc = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    if (i == skip) continue;
+    const double w = 1.0 / (readings[i].sigma * readings[i].sigma);
+    sum_w += w;
+    sum_wc += w * readings[i].c;
+    ++count;
+  }
+  if (count == 0) return {0.0, 0.0};
   const double mean = sum_wc / sum_w;
   double chi2 = 0.0;
-  for (const auto& [c, sigma] : readings) chi2 += std::pow((c - mean) / sigma, 2);
-  const double birge =
-      readings.size() > 1 ? std::max(1.0, std::sqrt(chi2 / (readings.size() - 1.0))) : 1.0;
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    if (i != skip) chi2 += std::pow((readings[i].c - mean) / readings[i].sigma, 2);
+  }
+  const double birge = count > 1 ? std::max(1.0, std::sqrt(chi2 / (count - 1.0))) : 1.0;
   return {mean, birge / std::sqrt(sum_w)};
+}
+
+// The bars' common swing from the rebounds `shared` both bars show, rebound
+// `skip` left out (none by default).
+Estimate CommonSwing(const BarRebounds& right, const BarRebounds& left,
+                     const std::vector<SharedRebound>& shared, int skip = -1) {
+  std::vector<SwingReading> readings = SharedReadings(right, left, shared);
+  std::erase_if(readings, [&](const SwingReading& r) { return r.n == skip; });
+  return WeightedSwing(readings);
 }
 
 // The common swing for a rebound only one bar shows, where c carries the
 // whole of that bar's offset from the mean rather than only weighting two
-// readings: CommonSwing over the shared rebounds, less the one reading
-// furthest from the rest where it lies more than kOutlierSigmas from their
-// mean (a bar misread at that rebound), and only where two or more readings
+// readings: the weighted mean of `readings`, less the one furthest from the
+// rest where it lies more than kOutlierSigmas from their mean (a bar misread
+// at that rebound, or at its release), and only where two or more readings
 // remain and agree within kOutlierSigmas as a whole (Birge ratio); else
 // unknown ({0, 0}), and the bar's rows alone give no maximum.
 constexpr double kOutlierSigmas = 3.0;
 
-Estimate CommonSwingForOneBar(const BarRebounds& right, const BarRebounds& left,
-                              const std::vector<SharedRebound>& shared) {
-  if (shared.size() < 2) return {0.0, 0.0};
-  const Estimate all = CommonSwing(right, left, shared);
-  int worst = -1;
+Estimate CommonSwingForOneBar(const std::vector<SwingReading>& readings) {
+  if (readings.size() < 2) return {0.0, 0.0};
+  std::size_t worst = kSkipNone;
   double worst_apart = kOutlierSigmas;
-  if (shared.size() >= 3) {
-    for (const SharedRebound& s : shared) {
-      const Estimate rest = CommonSwing(right, left, shared, s.n);
-      const double c = Alternating(s.n) * 0.5 * (right.xmax[s.right] - left.xmax[s.left]);
-      const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
-      const double apart = std::abs(c - rest.value) / std::hypot(sigma, rest.sigma);
-      if (apart > worst_apart) worst_apart = apart, worst = s.n;
+  if (readings.size() >= 3) {
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      const Estimate rest = WeightedSwing(readings, i);
+      const double apart =
+          std::abs(readings[i].c - rest.value) / std::hypot(readings[i].sigma, rest.sigma);
+      if (apart > worst_apart) worst_apart = apart, worst = i;
     }
   }
-  const Estimate common = worst < 0 ? all : CommonSwing(right, left, shared, worst);
-  // CommonSwing's sigma is the plain one times the Birge ratio: the ratio
+  const Estimate common = WeightedSwing(readings, worst);
+  // WeightedSwing's sigma is the plain one times the Birge ratio: the ratio
   // back from the two.
   double plain_w = 0.0;
-  for (const SharedRebound& s : shared) {
-    if (s.n == worst) continue;
-    const double sigma = 0.5 * std::hypot(right.xmax_sigma[s.right], left.xmax_sigma[s.left]);
-    if (sigma > 0.0) plain_w += 1.0 / (sigma * sigma);
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    if (i != worst) plain_w += 1.0 / (readings[i].sigma * readings[i].sigma);
   }
   if (!(common.sigma > 0.0) || !(plain_w > 0.0)) return {0.0, 0.0};
   const double birge = common.sigma * std::sqrt(plain_w);
@@ -450,14 +473,25 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                     : averaged.release;
   // The average's rows hold as far as its numbering does.
   const int average_end = disagreement ? 0 : AnchoredRows(right, left, averaged);
-  const Estimate common = CommonSwingForOneBar(right, left, shared);
+  // The common swing from the rebounds both bars show; where they share
+  // fewer than two, each bar's release reads it too, and the readings must
+  // agree (CommonSwingForOneBar): a bar's release alone (off X0 by a
+  // mistyped X0, a hold's corner read as the release) tests nothing.
+  std::vector<SwingReading> readings = SharedReadings(right, left, shared);
+  if (shared.size() < 2) {
+    for (const bool right_bar : {true, false}) {
+      const Estimate c = CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
+      if (c.sigma > 0.0) readings.push_back({c.value, c.sigma, kFromRelease});
+    }
+  }
+  const Estimate common = CommonSwingForOneBar(readings);
   const bool swing_follows = shared.size() < 2 || common.sigma > 0.0;
-  // Where the bars do not measure it and one bar's trace is lost, the
-  // other's common swing from its own release.
+  // Where nothing else reads it and one bar's trace is lost, the other's
+  // common swing from its own release.
   const auto lost = [](const BarRebounds& bar) { return bar.xmax.size() <= 1; };
   const auto common_for = [&](bool right_bar) {
-    if (shared.size() >= 2) return common;
-    if (!lost(right_bar ? left : right)) return Estimate{};
+    if (shared.size() >= 2 || common.sigma > 0.0) return common;
+    if (readings.size() >= 2 || !lost(right_bar ? left : right)) return Estimate{};
     return CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
   };
   for (int n = 0;; ++n) {

@@ -138,10 +138,13 @@ struct TypedRelease {
   int first_rebound = 1;
 };
 // `typed`: where the bars share fewer than two rebounds, so that they do not
-// measure their common swing, and one bar's trace shows at most one rebound
-// (lost under marks, in a halftone's tone, off its band), the other bar's
-// maxima give the pair's through the common swing from its own release
-// (CommonSwingFromRelease), its error added in quadrature.
+// measure their common swing, each bar's release reads it too
+// (CommonSwingFromRelease), and two or more of these readings and the shared
+// rebound's that agree give it, as the shared rebounds' do; where only one
+// bar's release reads it and the other bar's trace shows at most one rebound
+// (lost under marks, in a halftone's tone, off its band), the first bar's
+// maxima give the pair's through that reading alone, its error added in
+// quadrature.
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged, const TypedRelease& typed = {});
 

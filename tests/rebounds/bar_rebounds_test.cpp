@@ -260,6 +260,58 @@ TEST_CASE(
   CHECK(MeanOfBars(right, left, averaged, {kX0, 1}).xmax.empty());
 }
 
+TEST_CASE(
+    "bar_rebounds: bars that share one rebound read their common swing there and at their "
+    "releases") {
+  // Randomised seeds 2033's, 4010's and 6003's runs 0.713: each bar's trace
+  // lost over some rebounds, the bars share one, and a rebound only one bar
+  // shows needs the common swing, which one shared rebound alone cannot
+  // test. Each bar's release reads it too (right_n = mean_n +
+  // (-1)^(n + first_rebound) d, released at X0 +- d): three readings, which
+  // must agree.
+  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kX0 = 0.405, kD = 8e-4;
+  BarRebounds right, left;
+  for (int n = 0; n < 5; ++n) {
+    const double d = n % 2 == 0 ? -kD : kD;  // first_rebound 1
+    if (n <= 2) {
+      right.rebound.push_back(n);
+      AppendRow(right, mean[n] + d, 3e-4, 0.75 + 0.75 * n);
+    }
+    if (n >= 2) {
+      left.rebound.push_back(n);
+      AppendRow(left, mean[n] - d, 3e-4, 0.75 + 0.75 * n);
+    }
+  }
+  right.release = {kX0 + kD, 4e-4};
+  left.release = {kX0 - kD, 4e-4};
+  const BarRebounds averaged;
+  // Without the typed X0 the shared rebound alone gives the common swing:
+  // untested, refused.
+  CHECK(MeanOfBars(right, left, averaged).xmax.empty());
+  const BarRebounds both = MeanOfBars(right, left, averaged, {kX0, 1});
+  REQUIRE(both.xmax.size() == 5);
+  // The common swing's sigma from its three readings: the shared rebound's
+  // (half the bars' sigmas in quadrature) and the two releases'.
+  const double shared_sigma = 0.5 * std::hypot(3e-4, 3e-4);
+  const double common_sigma = 1.0 / std::sqrt(1.0 / (shared_sigma * shared_sigma) + 2.0 / 16e-8);
+  for (std::size_t n = 0; n < 5; ++n) {
+    CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+    if (n != 2) CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, common_sigma)));
+  }
+  // A release read 25 sigmas off (a hold's corner taken for it) is the one
+  // left out: the other two agree.
+  left.release = {kX0 - kD - 0.01, 4e-4};
+  const BarRebounds without_it = MeanOfBars(right, left, averaged, {kX0, 1});
+  REQUIRE(without_it.xmax.size() == 5);
+  CHECK(without_it.xmax[0] == Approx(mean[0]).epsilon(1e-12));
+  // Where no two readings agree nothing gives the common swing: refused as
+  // before.
+  right.release = {kX0 + kD + 0.01, 4e-4};
+  left.release = {kX0 - kD + 0.008, 4e-4};
+  CHECK(MeanOfBars(right, left, averaged, {kX0, 1}).xmax.empty());
+}
+
 TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other") {
   // Randomised seed 1028's run 0.405: the left bar's rebound 3 crest was
   // misread (0.0416 +- 0.0095 where the truth is 0.0790), the right bar's
