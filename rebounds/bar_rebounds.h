@@ -143,8 +143,9 @@ struct TypedRelease {
 // rebound's that agree give it, as the shared rebounds' do; where only one
 // bar's release reads it and the other bar's trace shows at most one rebound
 // (lost under marks, in a halftone's tone, off its band), the first bar's
-// maxima give the pair's through that reading alone, its error added in
-// quadrature.
+// maxima give the pair's through that reading alone, its sigma at least the
+// offset it reads (nothing tells a misread release from bars let go
+// unevenly), added in quadrature.
 BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
                        const BarRebounds& averaged, const TypedRelease& typed = {});
 

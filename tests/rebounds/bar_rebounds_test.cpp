@@ -239,10 +239,19 @@ TEST_CASE(
   CHECK(MeanOfBars(right, left, averaged).xmax.empty());
   const BarRebounds both = MeanOfBars(right, left, averaged, {kX0, 1});
   REQUIRE(both.xmax.size() == 4);  // rebound 4's peaks disagree, no clock tells which
+  // One release, which nothing tests: its reading of the common swing, 2
+  // of its sigmas, may as well be the release misread, and the common
+  // swing's sigma is at least that reading.
   for (std::size_t n = 0; n < 4; ++n) {
     CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
-    CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, 4e-4)));
+    CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, kD)));
   }
+  // Read within its sigma, the release's own sigma stands.
+  right.release = {kX0 + 0.5 * kD, 4e-4};
+  const BarRebounds near = MeanOfBars(right, left, averaged, {kX0, 1});
+  REQUIRE(near.xmax.size() == 4);
+  CHECK(near.xmax_sigma[0] == Approx(std::hypot(3e-4, 4e-4)));
+  right.release = {kX0 + kD, 4e-4};
   // A release further from the typed X0 than 3 % of it is a slip in one of
   // them, which gives no common swing.
   right.release = {1.04 * kX0, 4e-4};
