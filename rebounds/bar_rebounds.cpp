@@ -329,6 +329,24 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
   return out;
 }
 
+BarRebounds Informative(const BarRebounds& bar) {
+  BarRebounds out;
+  out.release = bar.release;
+  out.left_out_from_s = bar.left_out_from_s;
+  out.left_out_to_s = bar.left_out_to_s;
+  for (std::size_t i = 0; i < bar.xmax.size(); ++i) {
+    if (!(bar.xmax_sigma[i] <= std::abs(bar.xmax[i]))) continue;
+    out.rebound.push_back(bar.Number(i));
+    out.xmax.push_back(bar.xmax[i]);
+    out.xmax_sigma.push_back(bar.xmax_sigma[i]);
+    out.t_peak.push_back(bar.t_peak[i]);
+    out.t_peak_sigma.push_back(bar.t_peak_sigma[i]);
+    out.duration.push_back(bar.duration[i]);
+    if (i < bar.duration_sigma.size()) out.duration_sigma.push_back(bar.duration_sigma[i]);
+  }
+  return out;
+}
+
 BarRebounds GapFree(BarRebounds bar) {
   const std::size_t rows = bar.GapFreeRows();
   for (std::vector<double>* v : {&bar.xmax, &bar.xmax_sigma, &bar.t_peak, &bar.t_peak_sigma,
@@ -457,8 +475,9 @@ Estimate CommonSwingFromRelease(const BarRebounds& bar, bool right_bar, const Ty
   return {Alternating(typed.first_rebound) * offset, bar.release.sigma};
 }
 
-BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
+BarRebounds MeanOfBars(const BarRebounds& right_read, const BarRebounds& left_read,
                        const BarRebounds& averaged, const TypedRelease& typed) {
+  const BarRebounds right = Informative(right_read), left = Informative(left_read);
   BarRebounds out;
   const std::optional<BarDisagreement> disagreement = FirstDisagreement(right, left);
   // The rebounds whose peaks the bars agree on set the pendulum's clock and
@@ -486,9 +505,9 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
   }
   const Estimate common = CommonSwingForOneBar(readings);
   const bool swing_follows = shared.size() < 2 || common.sigma > 0.0;
-  // Where nothing else reads it and one bar is lost (its trace, or its
-  // calibration), the other's common swing from its own release: one
-  // reading that nothing tests. A release read off the typed X0 may be the
+  // Where the bars share fewer than two rebounds and one bar is lost (its
+  // trace shows at most one), the other's common swing from its own
+  // release: one reading that nothing tests. A release read off the typed X0 may be the
   // bars let go unevenly or the release misread (its trace lost over the
   // hold and the fall's start, the fall's fit then extrapolated: in a trial
   // that read runs on one bar where the other's calibration failed,
@@ -497,11 +516,17 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
   // 0.1 %), and one bar alone cannot tell which: its sigma is at least the
   // offset it reads.
   const auto lost = [](const BarRebounds& bar) { return bar.xmax.size() <= 1; };
+  // (A lost bar's one row, shared or not, is as doubtful as the rest of it
+  // was: randomised seed 3017's run 0.405 showed its left bar only at
+  // rebound 3, misread 6 % of X0 low, which as a reading of the common swing
+  // disagreed with the right bar's release and ended the maxima there.)
   const auto common_for = [&](bool right_bar) {
-    if (shared.size() >= 2 || common.sigma > 0.0) return common;
-    if (readings.size() >= 2 || !lost(right_bar ? left : right)) return Estimate{};
-    const Estimate c = CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
-    return Estimate{c.value, std::max(c.sigma, std::abs(c.value))};
+    if (shared.size() >= 2) return common;
+    if (lost(right_bar ? left : right)) {
+      const Estimate c = CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
+      return Estimate{c.value, std::max(c.sigma, std::abs(c.value))};
+    }
+    return common;
   };
   for (int n = 0;; ++n) {
     std::optional<std::size_t> r = right.RowOf(n), l = left.RowOf(n);
@@ -509,9 +534,14 @@ BarRebounds MeanOfBars(const BarRebounds& right, const BarRebounds& left,
       // The bar whose peak the clock of the agreeing rebounds puts here is
       // the one read right; where both or neither are (or no clock runs),
       // nothing tells them apart and the sequence ends.
-      const bool right_on = OnTheClock(right, left, shared, n, right, *r);
-      const bool left_on = OnTheClock(right, left, shared, n, left, *l);
-      if (shared.empty() || right_on == left_on) break;
+      // A lost bar's one row gives way to the other bar's, as it gives no
+      // common swing (above).
+      bool right_on = lost(left), left_on = lost(right);
+      if (right_on == left_on) {
+        right_on = OnTheClock(right, left, shared, n, right, *r);
+        left_on = OnTheClock(right, left, shared, n, left, *l);
+        if (shared.empty() || right_on == left_on) break;
+      }
       (right_on ? l : r).reset();
     }
     if (r && l) {

@@ -107,8 +107,15 @@ std::optional<BarDisagreement> OffTheClock(const BarRebounds& right, const BarRe
 std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebounds& left,
                                          std::size_t rows);
 
+// `bar`'s rows but those whose maximum is stated to more than its own size
+// (not finite, or sigma > |xmax|): such a row says nothing of the maximum (a
+// bar read through a curve unknown there: randomised seed 2034's run
+// 0.405's right bar, its maxima stated to 7-21 times X0), and the bar is
+// read as not showing that rebound.
+BarRebounds Informative(const BarRebounds& bar);
+
 // The session's maxima from both bars (session numbering, gap-free), each
-// rebound from the best the bars give:
+// rebound from the best the bars give (their Informative rows):
 // - both bars show it and their peaks agree: the mean of the bars' own (the thesis's average of
 //   the two displacements at its peak, without reading one bar at the
 //   other's sample times), each bar weighted by its sigma through the bars'
@@ -127,7 +134,8 @@ std::optional<std::string> OneBarStretch(const BarRebounds& right, const BarRebo
 // and the common swing come from the rebounds the bars agree on.
 // The sequence stops at the first rebound none of these gives, at the first
 // the bars disagree about where the clock does not tell one bar (both or
-// neither on it, or no clock), and at the first taken from one history alone
+// neither on it, or no clock; a lost bar's one row, below, gives way to the
+// other bar's), and at the first taken from one history alone
 // whose peak is more than a tenth of a half period from where the clock puts
 // it. The averaged history gives no row where the bars disagree anywhere
 // (it mixes the misread bar's trace).

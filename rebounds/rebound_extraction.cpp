@@ -316,6 +316,18 @@ bool SlowsAcross(const DisplacementHistory& h, std::size_t top, std::size_t last
   return x[top] - x[last] > 0.05 * x[top] && across < 0.5 * so_far;
 }
 
+// How well the release's time is known, as a share of a half period: the
+// magnet lets go within about a millisecond, and a photo's time origin
+// (t0_div) is read through the graticule's mapping to a tenth of a pixel, a
+// millisecond or so on a slow sweep (0.2 % of the thesis pendulum's 0.75 s
+// half period is 1.5 ms). Over some 400 bars of randomised seeds
+// 1001-4034 and eight of 5001-6034, a free phase read X0 with a median
+// error of 0.33 % of X0, 35 bars more than 3 % off, pull RMS 2.86; this
+// prior, 0.27 %, 21 and 1.53 (a prior of 1 % of the half period: 0.32 %, 28; 0.5 %: 0.31 %, 26,
+// 2.11; the phase held at t = 0: 0.18 %, 13, but 17 bars read worse by
+// more than 0.3 % of X0, a misread fall forced through t = 0).
+constexpr double kReleaseTimeShare = 0.002;
+
 // The release swing: the bar, held at X0, is let go at t_release and falls
 // as X0 cos(w (t - t_release)) to the first impact a half period later.
 struct ReleaseSwing {
@@ -377,7 +389,26 @@ ReleaseSwing FindReleaseSwing(const DisplacementHistory& h, const Pendulum& pend
       normal += basis(i) * basis(i).transpose();
       rhs += x[i] * basis(i);
     }
-    const Eigen::Vector2d ab = normal.ldlt().solve(rhs);
+    Eigen::Vector2d ab = normal.ldlt().solve(rhs);
+    // The release is at t = 0, the traces' time origin (the session's
+    // contract: the sweep starts at the release), to within the magnet's
+    // letting go and the origin's reading, kReleaseTimeShare of a half
+    // period: a prior on the fall's phase, which holds the fit where the
+    // trace shows only a short arc of the fall (its hold and the fall's
+    // start lost), whose amplitude and phase the arc alone hardly tell
+    // apart. Linearised about the phase at t = 0, it adds to the normal
+    // equations the information on (a, b) across that direction.
+    if (const double free_amplitude = std::hypot(ab(0), ab(1));
+        fall.size() > 2 && free_amplitude > 0.0) {
+      double rss = 0.0;
+      for (const std::size_t i : fall) rss += std::pow(x[i] - basis(i).dot(ab), 2);
+      const double scatter = rss / static_cast<double>(fall.size() - 2);
+      const double phase_at_zero = -omega * t[top];
+      const Eigen::Vector2d across(-std::sin(phase_at_zero), std::cos(phase_at_zero));
+      const double phase_sigma = omega * kReleaseTimeShare * HalfPeriod(pendulum, free_amplitude);
+      normal += scatter / std::pow(free_amplitude * phase_sigma, 2) * across * across.transpose();
+      ab = normal.ldlt().solve(rhs);
+    }
     const double amplitude = std::hypot(ab(0), ab(1));
     if (!(amplitude > 0.0) || ab(0) <= 0.0) break;  // no fall to fit: the top is the release
     swing.amplitude = amplitude;

@@ -238,18 +238,19 @@ TEST_CASE(
   // Without the typed X0 nothing gives the common swing: refused as before.
   CHECK(MeanOfBars(right, left, averaged).xmax.empty());
   const BarRebounds both = MeanOfBars(right, left, averaged, {kX0, 1});
-  REQUIRE(both.xmax.size() == 4);  // rebound 4's peaks disagree, no clock tells which
-  // One release, which nothing tests: its reading of the common swing, 2
-  // of its sigmas, may as well be the release misread, and the common
-  // swing's sigma is at least that reading.
-  for (std::size_t n = 0; n < 4; ++n) {
+  // Rebound 4's peaks disagree, and the lost bar's row gives way to the
+  // other's. One release, which nothing tests: its reading of the common
+  // swing, 2 of its sigmas, may as well be the release misread, and the
+  // common swing's sigma is at least that reading.
+  REQUIRE(both.xmax.size() == 5);
+  for (std::size_t n = 0; n < 5; ++n) {
     CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
     CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, kD)));
   }
   // Read within its sigma, the release's own sigma stands.
   right.release = {kX0 + 0.5 * kD, 4e-4};
   const BarRebounds near = MeanOfBars(right, left, averaged, {kX0, 1});
-  REQUIRE(near.xmax.size() == 4);
+  REQUIRE(near.xmax.size() == 5);
   CHECK(near.xmax_sigma[0] == Approx(std::hypot(3e-4, 4e-4)));
   right.release = {kX0 + kD, 4e-4};
   // A release further from the typed X0 than 3 % of it is a slip in one of
@@ -319,6 +320,32 @@ TEST_CASE(
   right.release = {kX0 + kD + 0.01, 4e-4};
   left.release = {kX0 - kD + 0.008, 4e-4};
   CHECK(MeanOfBars(right, left, averaged, {kX0, 1}).xmax.empty());
+}
+
+TEST_CASE("bar_rebounds: rows stated to more than their own size are no rows of the bar") {
+  // Randomised seed 2034's run 0.405: the left bar's rows read through a
+  // curve unknown there, each maximum stated to several times X0. As rows
+  // they made the common swing as uncertain as they are; read as no rows,
+  // the left bar is lost and the right one gives the pair's maxima less the
+  // common swing from its release.
+  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+  constexpr double kX0 = 0.405, kD = 2e-4;
+  BarRebounds right, left;
+  for (int n = 0; n < 5; ++n) {
+    const double d = n % 2 == 0 ? -kD : kD;  // first_rebound 1
+    AppendRow(right, mean[n] + d, 3e-4, 0.75 + 0.75 * n);
+    AppendRow(left, mean[n] - d + 0.05, 3.0, 0.75 + 0.75 * n);
+  }
+  right.release = {kX0 + kD, 4e-4};
+  const BarRebounds informative = Informative(left);
+  CHECK(informative.xmax.empty());
+  CHECK(Informative(right).xmax.size() == 5);
+  const BarRebounds both = MeanOfBars(right, left, BarRebounds{}, {kX0, 1});
+  REQUIRE(both.xmax.size() == 5);
+  for (std::size_t n = 0; n < 5; ++n) {
+    CHECK(both.xmax[n] == Approx(mean[n]).epsilon(1e-12));
+    CHECK(both.xmax_sigma[n] == Approx(std::hypot(3e-4, 4e-4)));
+  }
 }
 
 TEST_CASE("bar_rebounds: a bar read badly at one rebound gives way to the other") {
