@@ -25,6 +25,16 @@ void AppendRow(BarRebounds& bar, double xmax, double xmax_sigma, double t_peak) 
   bar.duration_sigma.push_back(1e-3);
 }
 
+// A pair's maxima (the mean of its bars) over five rebounds, and its typed X0.
+constexpr double kPairMean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
+constexpr double kPairX0 = 0.405;
+
+// Bars let go at X0 +- d about the typed X0 (half the gap between them): the
+// centre of mass starts d from the impact point and swings on, so at session
+// rebound n (first_rebound 1: n + 1 half periods on) the right bar's maximum
+// is the pair's plus this, the left bar's less it.
+double ReleaseSwingAt(int n, double d) { return n % 2 == 0 ? -d : d; }
+
 TEST_CASE("bar_rebounds: session numbering starts at first_rebound and keeps rows past a gap") {
   ReboundExtraction e;
   for (int number : {1, 2, 3, 5, 6}) {
@@ -213,19 +223,14 @@ TEST_CASE("bar_rebounds: rebounds one bar lost are the other's less the bars' co
 TEST_CASE(
     "bar_rebounds: a bar whose trace is lost leaves the other's maxima less the common swing "
     "from its release") {
-  // Bars let go at X0 +- d about the typed X0 (half the gap between them):
-  // the centre of mass starts d from the impact point and swings on, so at
-  // session rebound n (PENDUL n + first_rebound, that many half periods on)
-  // right_n = mean_n + (-1)^(n + first_rebound) d. The left bar's trace is
-  // lost but for one stray rebound: the bars share none, and only the right
-  // bar's release measures d (randomised seeds 2011's, 3008's, 3017's runs
-  // 0.405).
-  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
-  constexpr double kX0 = 0.405, kD = 8e-4;
+  // The left bar's trace is lost but for one stray rebound: the bars share
+  // none, and only the right bar's release measures d (ReleaseSwingAt;
+  // randomised seeds 2011's, 3008's, 3017's runs 0.405).
+  const auto& mean = kPairMean;
+  constexpr double kX0 = kPairX0, kD = 8e-4;
   BarRebounds right, left;
-  for (int n = 0; n < 5; ++n) {
-    AppendRow(right, mean[n] + (n % 2 == 0 ? -kD : kD), 3e-4, 0.75 + 0.75 * n);  // first_rebound 1
-  }
+  for (int n = 0; n < 5; ++n)
+    AppendRow(right, mean[n] + ReleaseSwingAt(n, kD), 3e-4, 0.75 + 0.75 * n);
   right.release = {kX0 + kD, 4e-4};
   left.rebound = {4};
   left.xmax = {0.2};  // read off the trace: far from the pair's 0.100 +- d
@@ -276,14 +281,13 @@ TEST_CASE(
   // Randomised seeds 2033's, 4010's and 6003's runs 0.713: each bar's trace
   // lost over some rebounds, the bars share one, and a rebound only one bar
   // shows needs the common swing, which one shared rebound alone cannot
-  // test. Each bar's release reads it too (right_n = mean_n +
-  // (-1)^(n + first_rebound) d, released at X0 +- d): three readings, which
-  // must agree.
-  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
-  constexpr double kX0 = 0.405, kD = 8e-4;
+  // test. Each bar's release reads it too (ReleaseSwingAt): three
+  // readings, which must agree.
+  const auto& mean = kPairMean;
+  constexpr double kX0 = kPairX0, kD = 8e-4;
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
-    const double d = n % 2 == 0 ? -kD : kD;  // first_rebound 1
+    const double d = ReleaseSwingAt(n, kD);
     if (n <= 2) {
       right.rebound.push_back(n);
       AppendRow(right, mean[n] + d, 3e-4, 0.75 + 0.75 * n);
@@ -328,13 +332,12 @@ TEST_CASE("bar_rebounds: rows stated to more than their own size are no rows of 
   // they made the common swing as uncertain as they are; read as no rows,
   // the left bar is lost and the right one gives the pair's maxima less the
   // common swing from its release.
-  const double mean[] = {0.250, 0.199, 0.158, 0.126, 0.100};
-  constexpr double kX0 = 0.405, kD = 2e-4;
+  const auto& mean = kPairMean;
+  constexpr double kX0 = kPairX0, kD = 2e-4;
   BarRebounds right, left;
   for (int n = 0; n < 5; ++n) {
-    const double d = n % 2 == 0 ? -kD : kD;  // first_rebound 1
-    AppendRow(right, mean[n] + d, 3e-4, 0.75 + 0.75 * n);
-    AppendRow(left, mean[n] - d + 0.05, 3.0, 0.75 + 0.75 * n);
+    AppendRow(right, mean[n] + ReleaseSwingAt(n, kD), 3e-4, 0.75 + 0.75 * n);
+    AppendRow(left, mean[n] - ReleaseSwingAt(n, kD) + 0.05, 3.0, 0.75 + 0.75 * n);
   }
   right.release = {kX0 + kD, 4e-4};
   const BarRebounds informative = Informative(left);

@@ -22,16 +22,19 @@ namespace {
 // (issue 15's target is 99 % of photos reduced, maxima within 0.15 % p95).
 constexpr double kMinShareReduced = 0.18;   // of the sample's photo runs (3 of 16)
 constexpr double kMaxXmaxErrorPctX0 = 0.5;  // any reported maximum, % of X0
-// ... unless its own stated error covers it: a maximum read from one bar
-// that read it badly says so (seed 7's run 0.405, read since its bars'
+// ... but for at most kMaxBeyondFloor of the sample's maxima, each within
+// kCoveredSigmas of its own stated error: a maximum read from one bar that
+// read it badly, and says so (seed 7's run 0.405, read since its bars'
 // releases give their common swing: rebound 0 from the right bar alone,
-// 2.5 % of X0 off at a sigma of 5.4 %).
+// 2.5 % of X0 off at a sigma of 5.4 %; every other maximum of the sample
+// within the floor).
+constexpr int kMaxBeyondFloor = 1;
 constexpr double kCoveredSigmas = 3.0;
 
 }  // namespace
 
 TEST_CASE("synth: a randomised sample reduces, and its maxima follow the truth") {
-  int runs = 0, reduced = 0;
+  int runs = 0, reduced = 0, beyond_floor = 0;
   double worst_pct = 0.0;
   std::string failures;
   // Seeds 1..8 as they come; the photos are 1000 px wide to keep the test
@@ -67,7 +70,10 @@ TEST_CASE("synth: a randomised sample reduces, and its maxima follow the truth")
         const double pct = 100.0 * error / x0;
         INFO("seed " << seed << " run " << run->id << " rebound " << n << ": " << pct
                      << " % of X0, sigma " << 100.0 * run->measured.xmax_sigma[n] / x0);
-        CHECK((pct <= kMaxXmaxErrorPctX0 || error <= kCoveredSigmas * run->measured.xmax_sigma[n]));
+        if (pct > kMaxXmaxErrorPctX0) {
+          ++beyond_floor;
+          CHECK(error <= kCoveredSigmas * run->measured.xmax_sigma[n]);
+        }
         worst_pct = std::max(worst_pct, pct);
       }
     }
@@ -76,6 +82,7 @@ TEST_CASE("synth: a randomised sample reduces, and its maxima follow the truth")
                << " % of X0; failures:\n"
                << failures);
   CHECK(static_cast<double>(reduced) / runs >= kMinShareReduced);
+  CHECK(beyond_floor <= kMaxBeyondFloor);
   WARN(reduced << " of " << runs << " runs reduced, worst maximum " << worst_pct << " % of X0\n"
                << failures);
 }
