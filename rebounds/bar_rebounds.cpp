@@ -238,11 +238,41 @@ void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift
   session.duration_sigma.push_back(SigmaAt(bar.duration_sigma, i));
 }
 
+// The spacing of the peaks both bars read, rebound by rebound: the median
+// of (t_j - t_i) / (j - i) over every two rows of different rebounds (the
+// bars peak together, on one clock), which a misread peak or two hardly
+// moves; `otherwise` where the rows span one rebound.
+double PeakSpacing(const BarRebounds& right, const BarRebounds& left, double otherwise) {
+  std::vector<std::pair<int, double>> peaks;
+  for (const BarRebounds* bar : {&right, &left}) {
+    for (std::size_t i = 0; i < bar->t_peak.size(); ++i) {
+      if (std::isfinite(bar->t_peak[i])) peaks.emplace_back(bar->Number(i), bar->t_peak[i]);
+    }
+  }
+  std::vector<double> spacings;
+  for (std::size_t i = 0; i < peaks.size(); ++i) {
+    for (std::size_t j = i + 1; j < peaks.size(); ++j) {
+      const int apart = peaks[j].first - peaks[i].first;
+      if (apart != 0) spacings.push_back((peaks[j].second - peaks[i].second) / apart);
+    }
+  }
+  if (spacings.empty()) return otherwise;
+  std::sort(spacings.begin(), spacings.end());
+  const std::size_t middle = spacings.size() / 2;
+  return spacings.size() % 2 == 1 ? spacings[middle]
+                                  : 0.5 * (spacings[middle - 1] + spacings[middle]);
+}
+
 // When the pendulum's clock says rebound `n` peaks: the bars meet at
 // equilibrium once every half period, so rebound n peaks (n - m) half periods
 // after rebound m, m the nearest rebound both bars show; the half period is
-// the spacing of their peaks where two or more give it, else their own
-// durations. `half_period` receives it. nullopt where the bars share none.
+// the spacing of their peaks where two or more give it, else the spacing of
+// every peak either bar reads (PeakSpacing). Not one rebound's durations:
+// a duration is read between crossings of X = 0, which the calibration
+// curve's error there moves, and most at a late rebound's small, slow swing
+// (randomised seed 2029's run 0.405: its one shared rebound, the fifth, read
+// 0.772 s for 0.750, which put rebound 0 0.09 s early, and the left bar's
+// true rebound 0 was refused as off the clock).
 std::optional<double> DuePeak(const BarRebounds& right, const BarRebounds& left,
                               const std::vector<SharedRebound>& shared, int n,
                               double& half_period) {
@@ -251,8 +281,10 @@ std::optional<double> DuePeak(const BarRebounds& right, const BarRebounds& left,
     return 0.5 * (right.t_peak[s.right] + left.t_peak[s.left]);
   };
   const SharedRebound &first = shared.front(), &last = shared.back();
-  half_period = last.n > first.n ? (peak(last) - peak(first)) / (last.n - first.n)
-                                 : 0.5 * (right.duration[first.right] + left.duration[first.left]);
+  half_period = last.n > first.n
+                    ? (peak(last) - peak(first)) / (last.n - first.n)
+                    : PeakSpacing(right, left,
+                                  0.5 * (right.duration[first.right] + left.duration[first.left]));
   const SharedRebound* nearest = &first;
   for (const SharedRebound& s : shared) {
     if (std::abs(s.n - n) < std::abs(nearest->n - n)) nearest = &s;

@@ -552,6 +552,27 @@ TEST_CASE("bar_rebounds: a rebound from one history alone must peak on the pendu
   CHECK(MeanOfBars(right3, left3, averaged).xmax.size() == 3);
 }
 
+TEST_CASE(
+    "bar_rebounds: where the bars share one rebound, the clock runs at their peaks' spacing") {
+  // Randomised seed 2029's run 0.405: the bars share only rebound 4, and
+  // every duration read 0.772 s for the true half period of 0.750 (each read
+  // between crossings of X = 0, which the calibration curve's error there
+  // moves alike). Four such half periods back from rebound 4 put rebound 0
+  // 0.09 s early, and the left bar's true rebound 0 was refused as off the
+  // clock. The bars' peaks are 0.750 s apart.
+  const std::vector<double> mean = {0.269, 0.179, 0.119, 0.079, 0.053, 0.035};
+  auto [right, left] = BarsMissing(mean, 3e-4, {0, 1, 2, 5}, {3});
+  for (BarRebounds* bar : {&right, &left}) {
+    std::fill(bar->duration.begin(), bar->duration.end(), 0.772);
+  }
+  CHECK_FALSE(OffTheClock(right, left, 0).has_value());
+  // A rebound 0 read 0.2 s late is still off it.
+  left.t_peak[left.RowOf(0).value()] += 0.2;
+  const std::optional<BarDisagreement> why = OffTheClock(right, left, 0);
+  REQUIRE(why.has_value());
+  CHECK_THAT(why->why, Catch::Contains("left bar's rebound 0"));
+}
+
 // The pulls (error over stated sigma) of the session's maxima over `runs`
 // runs of six rebounds, each bar read with independent Gaussian errors of
 // sigma `right_sigma` and `left_sigma` about the truth (the bars a common
