@@ -241,12 +241,16 @@ void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift
 // The spacing of the peaks both bars read, rebound by rebound: the median
 // of (t_j - t_i) / (j - i) over every two rows of different rebounds (the
 // bars peak together, on one clock), which a misread peak or two hardly
-// moves; `otherwise` where the rows span one rebound.
-double PeakSpacing(const BarRebounds& right, const BarRebounds& left, double otherwise) {
+// moves. The rows of rebound `tested` are left out: the clock tests them.
+// `otherwise` where the other rows span one rebound.
+double PeakSpacing(const BarRebounds& right, const BarRebounds& left, int tested,
+                   double otherwise) {
   std::vector<std::pair<int, double>> peaks;
   for (const BarRebounds* bar : {&right, &left}) {
     for (std::size_t i = 0; i < bar->t_peak.size(); ++i) {
-      if (std::isfinite(bar->t_peak[i])) peaks.emplace_back(bar->Number(i), bar->t_peak[i]);
+      if (bar->Number(i) != tested && std::isfinite(bar->t_peak[i])) {
+        peaks.emplace_back(bar->Number(i), bar->t_peak[i]);
+      }
     }
   }
   std::vector<double> spacings;
@@ -267,12 +271,12 @@ double PeakSpacing(const BarRebounds& right, const BarRebounds& left, double oth
 // equilibrium once every half period, so rebound n peaks (n - m) half periods
 // after rebound m, m the nearest rebound both bars show; the half period is
 // the spacing of their peaks where two or more give it, else the spacing of
-// every peak either bar reads (PeakSpacing). Not one rebound's durations:
-// a duration is read between crossings of X = 0, which the calibration
-// curve's error there moves, and most at a late rebound's small, slow swing
-// (randomised seed 2029's run 0.405: its one shared rebound, the fifth, read
-// 0.772 s for 0.750, which put rebound 0 0.09 s early, and the left bar's
-// true rebound 0 was refused as off the clock).
+// every other peak either bar reads (PeakSpacing). Not one rebound's
+// durations: a duration is read between crossings of X = 0, which the
+// calibration curve's error there moves alike for every rebound (randomised
+// seed 2029's run 0.405 read every duration 0.772 s for 0.750; four of them
+// back from its one shared rebound put rebound 0 0.09 s early, and the left
+// bar's true rebound 0 was refused as off the clock).
 std::optional<double> DuePeak(const BarRebounds& right, const BarRebounds& left,
                               const std::vector<SharedRebound>& shared, int n,
                               double& half_period) {
@@ -283,7 +287,7 @@ std::optional<double> DuePeak(const BarRebounds& right, const BarRebounds& left,
   const SharedRebound &first = shared.front(), &last = shared.back();
   half_period = last.n > first.n
                     ? (peak(last) - peak(first)) / (last.n - first.n)
-                    : PeakSpacing(right, left,
+                    : PeakSpacing(right, left, n,
                                   0.5 * (right.duration[first.right] + left.duration[first.left]));
   const SharedRebound* nearest = &first;
   for (const SharedRebound& s : shared) {

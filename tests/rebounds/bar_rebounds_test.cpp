@@ -571,6 +571,11 @@ TEST_CASE(
   const std::optional<BarDisagreement> why = OffTheClock(right, left, 0);
   REQUIRE(why.has_value());
   CHECK_THAT(why->why, Catch::Contains("left bar's rebound 0"));
+  // The peak tested does not set the clock that tests it: with no other
+  // rows beside the shared one, one rebound's durations do, as before.
+  auto [right2, left2] = BarsMissing(mean, 3e-4, {0, 1, 2, 3, 5}, {1, 2, 3, 5});
+  left2.t_peak[left2.RowOf(0).value()] += 0.2;
+  CHECK(OffTheClock(right2, left2, 0).has_value());
 }
 
 // The pulls (error over stated sigma) of the session's maxima over `runs`
