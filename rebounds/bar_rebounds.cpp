@@ -238,7 +238,7 @@ void AppendRow(const BarRebounds& bar, std::size_t i, double shift, double shift
   session.duration_sigma.push_back(SigmaAt(bar.duration_sigma, i));
 }
 
-// The spacing of the peaks both bars read, rebound by rebound: the median
+// The spacing of the peaks the bars read, rebound by rebound: the median
 // of (t_j - t_i) / (j - i) over every two rows of different rebounds (the
 // bars peak together, on one clock), which a misread peak or two hardly
 // moves. The rows of rebound `tested` are left out: the clock tests them.
@@ -276,7 +276,8 @@ double PeakSpacing(const BarRebounds& right, const BarRebounds& left, int tested
 // calibration curve's error there moves alike for every rebound (randomised
 // seed 2029's run 0.405 read every duration 0.772 s for 0.750; four of them
 // back from its one shared rebound put rebound 0 0.09 s early, and the left
-// bar's true rebound 0 was refused as off the clock).
+// bar's true rebound 0 was refused as off the clock). `half_period`
+// receives it. nullopt where the bars share none.
 std::optional<double> DuePeak(const BarRebounds& right, const BarRebounds& left,
                               const std::vector<SharedRebound>& shared, int n,
                               double& half_period) {
