@@ -366,28 +366,38 @@ BarRebounds InSessionNumbering(const ReboundExtraction& extraction, int first_re
   return out;
 }
 
+namespace {
+
+// A bar's columns with one value per row (duration_sigma may be empty: read
+// back from a results file), `rebound` aside.
+std::array<std::vector<double>*, 6> RowColumns(BarRebounds& bar) {
+  return {&bar.xmax,         &bar.xmax_sigma, &bar.t_peak,
+          &bar.t_peak_sigma, &bar.duration,   &bar.duration_sigma};
+}
+
+}  // namespace
+
 BarRebounds Informative(const BarRebounds& bar) {
-  BarRebounds out;
-  out.release = bar.release;
-  out.left_out_from_s = bar.left_out_from_s;
-  out.left_out_to_s = bar.left_out_to_s;
+  BarRebounds out = bar;
+  out.rebound.clear();
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < bar.xmax.size(); ++i) {
     if (!(bar.xmax_sigma[i] <= std::abs(bar.xmax[i]))) continue;
     out.rebound.push_back(bar.Number(i));
-    out.xmax.push_back(bar.xmax[i]);
-    out.xmax_sigma.push_back(bar.xmax_sigma[i]);
-    out.t_peak.push_back(bar.t_peak[i]);
-    out.t_peak_sigma.push_back(bar.t_peak_sigma[i]);
-    out.duration.push_back(bar.duration[i]);
-    if (i < bar.duration_sigma.size()) out.duration_sigma.push_back(bar.duration_sigma[i]);
+    for (std::vector<double>* column : RowColumns(out)) {
+      if (i < column->size()) (*column)[kept] = (*column)[i];
+    }
+    ++kept;
+  }
+  for (std::vector<double>* column : RowColumns(out)) {
+    column->resize(std::min(column->size(), kept));
   }
   return out;
 }
 
 BarRebounds GapFree(BarRebounds bar) {
   const std::size_t rows = bar.GapFreeRows();
-  for (std::vector<double>* v : {&bar.xmax, &bar.xmax_sigma, &bar.t_peak, &bar.t_peak_sigma,
-                                 &bar.duration, &bar.duration_sigma}) {
+  for (std::vector<double>* v : RowColumns(bar)) {
     if (v->size() > rows) v->resize(rows);
   }
   if (bar.rebound.size() > rows) bar.rebound.resize(rows);
@@ -557,8 +567,9 @@ BarRebounds MeanOfBars(const BarRebounds& right_read, const BarRebounds& left_re
   // was: randomised seed 3017's run 0.405 showed its left bar only at
   // rebound 3, misread 6 % of X0 low, which as a reading of the common swing
   // disagreed with the right bar's release and ended the maxima there.)
+  // (A lost bar shares at most one rebound: `common` is the shared ones'
+  // reading wherever the other bar is not lost.)
   const auto common_for = [&](bool right_bar) {
-    if (shared.size() >= 2) return common;
     if (lost(right_bar ? left : right)) {
       const Estimate c = CommonSwingFromRelease(right_bar ? right : left, right_bar, typed);
       return Estimate{c.value, std::max(c.sigma, std::abs(c.value))};
